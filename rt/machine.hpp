@@ -1,0 +1,67 @@
+// machine.hpp — the machine as one object the 2 kHz loop steps: command handling, block
+// execution with contouring, servo, simulated plant and safety, in that order each cycle.
+//
+// The loop (rt_loop.cpp) owns time and the shared segment; Machine owns everything that
+// happens inside one cycle and is pure computation: no system calls, no allocation after
+// construction, no locks, no I/O. That keeps it testable without processes and deterministic
+// under --clock virtual.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "block.hpp"
+#include "command.hpp"
+#include "config.hpp"
+#include "segment.hpp"
+#include "status.hpp"
+
+namespace pcnc {
+
+using MotionRing = SpscRing<Block, kRingSlots>;
+
+/// One cycle's record for the trace (DESIGN.md trace format).
+struct TraceSample {
+  double t = 0.0;
+  std::uint32_t line = 0;
+  MachineState state = MachineState::kIdle;
+  Vec3 commanded{};
+  Vec3 actual{};
+  Vec3 following_error{};
+  double speed = 0.0;
+};
+static_assert(std::is_trivially_copyable_v<TraceSample>);
+
+class Machine {
+ public:
+  explicit Machine(const MachineConfig& config);
+  ~Machine();
+  Machine(const Machine&) = delete;
+  Machine& operator=(const Machine&) = delete;
+
+  /// Takes one mailbox command; called before cycle() for each pending command.
+  void command(const Command& cmd);
+
+  /// Tells the machine whether the host is alive (heartbeat fresh). When it turns false
+  /// while a program runs, the machine stops along the path and enters HOST_LOST.
+  void set_host_alive(bool alive);
+
+  /// One servo period: takes/peeks blocks from `ring` (pops the ones it finished),
+  /// interpolates, runs the servo and plant, checks safety, updates status().
+  void cycle(MotionRing& ring);
+
+  /// Under --clock virtual the loop does not advance time while this is true: a program is
+  /// active and the ring holds fewer blocks than the look-ahead wants (not full and no End
+  /// block queued). Under the real clock such cycles run anyway and count as underruns when
+  /// the executor actually had nothing to do.
+  bool wants_more_blocks(const MotionRing& ring) const;
+
+  const Status& status() const;
+  const TraceSample& trace_sample() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pcnc
