@@ -105,6 +105,7 @@ void read_axis(Section& parent, const char* key, AxisConfig& a) {
   s.number("max_velocity_mm_s", a.max_velocity_mm_s, 1e-3, 1e5);
   s.number("max_accel_mm_s2", a.max_accel_mm_s2, 1e-3, 1e7);
   s.number("following_error_limit_mm", a.following_error_limit_mm, 1e-6, 1e3);
+  s.number("home_mm", a.home_mm, -1e4, 1e4);
   s.number("moving_mass_kg", a.moving_mass_kg, 1e-4, 1e4);
   s.number("force_constant_n_per_a", a.force_constant_n_per_a, 1e-4, 1e5);
   s.number("current_limit_a", a.current_limit_a, 1e-4, 1e4);
@@ -121,6 +122,9 @@ void read_axis(Section& parent, const char* key, AxisConfig& a) {
   s.number("integrator_limit_a", a.integrator_limit_a, 0.0, 1e4);
   s.finish();
   if (!(a.travel_max_mm > a.travel_min_mm)) parent.fail(key, "travel_max_mm must exceed travel_min_mm");
+  if (!(a.home_mm >= a.travel_min_mm && a.home_mm <= a.travel_max_mm)) {
+    parent.fail(key, "home_mm must lie within [travel_min_mm, travel_max_mm]");
+  }
 }
 
 }  // namespace
@@ -155,6 +159,7 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     m.number("rapid_speed_mm_s", c.motion.rapid_speed_mm_s, 0.0, 1e5);
     m.number("jog_accel_fraction", c.motion.jog_accel_fraction, 0.01, 1.0);
     m.number("subsample_steps", c.motion.subsample_steps, 1.0, 1000.0);
+    m.number("block_tolerance_mm", c.motion.block_tolerance_mm, 1e-9, 1.0);
     m.finish();
   }
   {

@@ -19,6 +19,7 @@ struct AxisConfig {
   double max_velocity_mm_s = 50.0;
   double max_accel_mm_s2 = 1000.0;
   double following_error_limit_mm = 0.5;
+  double home_mm = 0.0;  // where the axis stands when pcnc-rt starts (inside the travel)
 
   // simulated drive (plant)
   double moving_mass_kg = 1.0;
@@ -49,6 +50,9 @@ struct MotionConfig {
   double rapid_speed_mm_s = 0.0;        // 0: each axis's max velocity (projected on the move)
   double jog_accel_fraction = 1.0;      // jogs use this fraction of each axis's acceleration
   double subsample_steps = 8.0;         // plant integration sub-steps per cycle (if needed)
+  // rt block check: how far a block's start may sit from the previous block's end (and its
+  // stated length from its geometry) before the rt refuses it as corrupt.
+  double block_tolerance_mm = 0.001;
 };
 
 struct GcodeConfig {

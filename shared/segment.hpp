@@ -35,6 +35,7 @@ struct SegmentHeader {
   std::atomic<std::int32_t> host_pid{0};
   std::atomic<std::uint64_t> rt_heartbeat_ns{0};    // CLOCK_MONOTONIC of the rt's last cycle
   std::atomic<std::uint64_t> host_heartbeat_ns{0};  // CLOCK_MONOTONIC of the host's last beat
+  std::atomic<std::uint64_t> slot_freed_ns{0};      // CLOCK_MONOTONIC when the rt last freed a ring slot
   std::atomic<std::uint32_t> ready{0};              // 1 once the rt initialised everything
 };
 
@@ -91,6 +92,7 @@ class HostSegment {
   HostSegment& operator=(const HostSegment&) = delete;
 
   SharedSegment& shm() { return *seg_; }
+  const SharedSegment& shm() const { return *seg_; }
 
  private:
   SharedSegment* seg_ = nullptr;

@@ -1,0 +1,116 @@
+// main.cpp — pcnc-host, the operator's process: checks a G-code program completely, then
+// feeds its preprocessed blocks to pcnc-rt through the ring and reports the run.
+#include <signal.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <cstdio>
+#include <sstream>
+
+#include "config.hpp"
+#include "job_runner.hpp"
+#include "program.hpp"
+#include "run_report.hpp"
+#include "rt_link.hpp"
+
+namespace {
+std::atomic<bool> g_interrupt{false};
+void on_signal(int) { g_interrupt.store(true); }
+
+bool parse_vec3(const std::string& text, pcnc::Vec3& out) {
+  std::stringstream ss(text);
+  char c1 = 0, c2 = 0;
+  ss >> out[0] >> c1 >> out[1] >> c2 >> out[2];
+  return ss && c1 == ',' && c2 == ',' && ss.peek() == EOF;
+}
+
+void print_diagnostics(const pcnc::CheckResult& check) {
+  for (const auto& d : check.diagnostics) {
+    const bool err = d.severity == pcnc::Diagnostic::Severity::kError;
+    std::fprintf(err ? stderr : stdout, "%s:%d:%d: %s: %s\n", d.file.c_str(), d.line, d.column,
+                 err ? "error" : "warning", d.message.c_str());
+  }
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"pcnc-host: the planning process of pcnc. Checks a G-code program (syntax, words, soft limits, "
+               "feeds) before anything moves, preprocesses each move into a block and feeds pcnc-rt through the "
+               "4-slot shared-memory ring. pcnc-rt must be running with the same config."};
+  std::string config_path = pcnc::default_config_path();
+  std::string run_file, contouring, offset, report_path, log_level = "warn";
+  bool fit = false;
+  double wait_rt_s = 5.0;
+  app.add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
+  app.add_option("--run", run_file, "check and run this G-code program, then exit")->check(CLI::ExistingFile);
+  app.add_option("--contouring", contouring, "contouring at program start: on|off (default: the config's)")
+      ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
+  app.add_flag("--fit", fit, "scale the program down uniformly so it fits the travel");
+  app.add_option("--report", report_path, "write the run report as HTML to this file");
+  app.add_option("--wait-rt", wait_rt_s, "seconds to wait for pcnc-rt's segment")->capture_default_str();
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  spdlog::set_pattern("[%H:%M:%S.%e] [pcnc-host] [%^%l%$] %v");
+  spdlog::set_level(spdlog::level::from_str(log_level));
+  if (run_file.empty()) {
+    std::fprintf(stderr, "pcnc-host: nothing to do: give --run FILE (see --help)\n");
+    return 2;
+  }
+
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+
+  pcnc::MachineConfig config;
+  try {
+    config = pcnc::load_config(config_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pcnc-host: %s\n", e.what());
+    return 2;
+  }
+
+  pcnc::JobOptions options;
+  options.fit = fit;
+  if (!contouring.empty()) options.contouring = contouring == "on";
+  if (!offset.empty()) {
+    pcnc::Vec3 v;
+    if (!parse_vec3(offset, v)) {
+      std::fprintf(stderr, "pcnc-host: --offset must be X,Y,Z in mm, e.g. 12.5,12.5,20; got '%s'\n", offset.c_str());
+      return 2;
+    }
+    options.offset = v;
+  }
+
+  try {
+    auto link = pcnc::RtLink::attach(config, wait_rt_s);
+    const pcnc::Status initial = link->status();
+    options.start_position = initial.commanded;
+
+    pcnc::CheckResult check = pcnc::check_program(run_file, config, options);
+    print_diagnostics(check);
+    if (!check.ok) {
+      std::fprintf(stderr, "pcnc-host: %s has errors; nothing was moved\n", run_file.c_str());
+      return 2;
+    }
+    pcnc::JobRunner runner(*link, config);
+    pcnc::RunReport report;
+    report.program = run_file;
+    report.job = runner.run(run_file, options, check, g_interrupt);
+    report.check = std::move(check);
+    std::fputs(pcnc::format_run_report(report).c_str(), stdout);
+    switch (report.job.end) {
+      case pcnc::JobEnd::kCompleted: return 0;
+      case pcnc::JobEnd::kInterrupted: return 130;
+      case pcnc::JobEnd::kRtLost: return 3;
+      default: return 1;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pcnc-host: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,64 @@
+// ring_feeder.hpp — puts preprocessed blocks into the 4-slot motion ring, in order, with
+// sequence numbers. When the ring is full it sleeps on the rt's slot-freed wake-up (no
+// polling), waking at most every `check_period_s` to notice a dead rt or an abort request.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "latency_histogram.hpp"
+#include "rt_link.hpp"
+
+namespace pcnc {
+
+enum class FeedResult {
+  kPushed,      // the block is in the ring
+  kEndOfInput,  // the fill function had no more blocks
+  kRtLost,      // the rt stopped beating
+  kAborted,     // the abort flag was raised, or the rt left the running state (fault, stop)
+};
+
+const char* to_string(FeedResult r);
+
+class RingFeeder {
+ public:
+  explicit RingFeeder(RtLink& link, double check_period_s = 0.02);
+
+  /// Waits for a free slot, then calls `fill(Block&)` on it in place; `fill` returns false
+  /// when there are no more blocks. The feeder assigns seq = 1, 2, 3, ...
+  template <typename Fill>
+  FeedResult push(Fill&& fill, const std::atomic<bool>* abort = nullptr) {
+    auto& ring = link_.shm().motion;
+    Block* slot = ring.begin_push();
+    const bool waited = slot == nullptr;
+    if (waited) {
+      const FeedResult result = wait_for_slot(abort);
+      if (result != FeedResult::kPushed) return result;
+      slot = ring.begin_push();
+    }
+    if (!fill(*slot)) return FeedResult::kEndOfInput;
+    slot->seq = ++seq_;
+    ring.commit_push();
+    link_.shm().block_published.notify();
+    if (waited) record_refill_latency();
+    return FeedResult::kPushed;
+  }
+
+  /// Restart numbering for a new program (the rt expects seq 1 after kProgramStart).
+  void reset_sequence() { seq_ = 0; }
+  std::uint64_t pushed() const { return seq_; }
+  /// Host refill latency: from the rt freeing a slot of a full ring to the next block
+  /// being published, microseconds.
+  const LatencyHistogram& refill_latency() const { return refill_; }
+
+ private:
+  FeedResult wait_for_slot(const std::atomic<bool>* abort);
+  void record_refill_latency();
+
+  RtLink& link_;
+  double check_period_s_;
+  std::uint64_t seq_ = 0;
+  LatencyHistogram refill_;
+};
+
+}  // namespace pcnc

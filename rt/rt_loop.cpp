@@ -1,0 +1,116 @@
+// rt_loop.cpp — the 2 kHz loop around Machine: timing, mailbox, host wake-ups, status.
+#include "rt_loop.hpp"
+
+#include <time.h>
+
+#include <cerrno>
+
+namespace pcnc {
+
+namespace {
+constexpr std::uint64_t kNsPerS = 1000000000ull;
+
+timespec to_timespec(std::uint64_t ns) {
+  timespec t{};
+  t.tv_sec = static_cast<time_t>(ns / kNsPerS);
+  t.tv_nsec = static_cast<long>(ns % kNsPerS);
+  return t;
+}
+}  // namespace
+
+RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOptions& options)
+    : config_(config),
+      shm_(shm),
+      options_(options),
+      machine_(std::make_unique<Machine>(config)),
+      timing_(std::make_unique<CycleTiming>()),
+      host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)) {}
+
+RtLoop::~RtLoop() = default;
+
+bool RtLoop::host_alive(std::uint64_t now_ns) const {
+  const std::uint64_t beat = shm_.header.host_heartbeat_ns.load(std::memory_order_acquire);
+  return beat != 0 && now_ns < beat + host_timeout_ns_;
+}
+
+void RtLoop::cycle(std::uint64_t now_ns) {
+  shm_.header.rt_heartbeat_ns.store(now_ns, std::memory_order_release);
+  Command cmd;
+  while (shm_.commands.try_pop(cmd)) machine_->command(cmd);
+  machine_->set_host_alive(host_alive(now_ns));
+
+  const std::uint64_t popped_before = shm_.motion.popped();
+  machine_->cycle(shm_.motion);
+  if (shm_.motion.popped() != popped_before) {
+    shm_.header.slot_freed_ns.store(now_ns, std::memory_order_release);
+    shm_.slot_freed.notify();
+  }
+
+  Status s = machine_->status();
+  s.timing = timing_->summary();
+  s.clock_virtual = options_.virtual_clock ? 1 : 0;
+  s.ring_fill = static_cast<std::uint8_t>(shm_.motion.size());
+  shm_.status.store(s);
+}
+
+std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
+  const std::uint64_t period_ns = static_cast<std::uint64_t>(1e9 / config_.motion.cycle_hz + 0.5);
+  std::uint64_t cycles = 0;
+
+  if (options_.virtual_clock) {
+    // Same cycle, no sleeping: time is simulated. While a program needs blocks that the host
+    // has not written yet, wait for the host instead of advancing time, so that replays are
+    // deterministic. When the machine is at rest with nothing to do, wait too (10 ms steps)
+    // instead of burning a core.
+    while (!stop.load(std::memory_order_relaxed)) {
+      const bool need = machine_->wants_more_blocks(shm_.motion);
+      const MachineState st = machine_->status().state;
+      const bool at_rest = st != MachineState::kRunning && st != MachineState::kJogging && st != MachineState::kStopping &&
+                           shm_.motion.empty() && shm_.commands.empty();
+      if (need || at_rest) {
+        shm_.block_published.wait_until(
+            [&] {
+              return !shm_.commands.empty() || (need && !machine_->wants_more_blocks(shm_.motion)) ||
+                     (!need && !shm_.motion.empty()) || stop.load(std::memory_order_relaxed);
+            },
+            0.01);
+        const std::uint64_t now = monotonic_ns();
+        // Keep heartbeats and host-loss detection alive while waiting.
+        shm_.header.rt_heartbeat_ns.store(now, std::memory_order_release);
+        if (need && machine_->wants_more_blocks(shm_.motion) && host_alive(now)) continue;
+        // otherwise (idle), run one cycle now and then so status and heartbeat stay fresh
+      }
+      const std::uint64_t t0 = monotonic_ns();
+      cycle(t0);
+      timing_->compute.add(static_cast<double>(monotonic_ns() - t0) / 1000.0);
+      ++cycles;
+    }
+    return cycles;
+  }
+
+  std::uint64_t next = monotonic_ns() + period_ns;
+  while (!stop.load(std::memory_order_relaxed)) {
+    const timespec deadline = to_timespec(next);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
+      if (stop.load(std::memory_order_relaxed)) return cycles;
+    }
+    const std::uint64_t woke = monotonic_ns();
+    const std::uint64_t late = woke > next ? woke - next : 0;
+    timing_->wake.add(static_cast<double>(late) / 1000.0);
+    cycle(woke);
+    const std::uint64_t done = monotonic_ns();
+    timing_->compute.add(static_cast<double>(done - woke) / 1000.0);
+    ++cycles;
+    next += period_ns;
+    if (done > next) {
+      // Missed the next deadline: count it and re-anchor instead of running a burst of
+      // late cycles back to back.
+      ++timing_->overruns;
+      const std::uint64_t behind = (done - next) / period_ns + 1;
+      next += behind * period_ns;
+    }
+  }
+  return cycles;
+}
+
+}  // namespace pcnc

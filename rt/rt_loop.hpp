@@ -1,0 +1,46 @@
+// rt_loop.hpp — pcnc-rt's timer loop: every period it drains the mailbox, steps the Machine
+// once, wakes the host when a ring slot was freed, publishes status and a trace sample.
+// Under the real clock it sleeps to absolute deadlines with clock_nanosleep; under the
+// virtual clock it runs the same cycle back to back, waiting only for the host's blocks.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include "config.hpp"
+#include "cycle_timing.hpp"
+#include "machine.hpp"
+#include "segment.hpp"
+
+namespace pcnc {
+
+struct RtLoopOptions {
+  bool virtual_clock = false;
+  std::string trace_path;  // empty: no trace
+};
+
+class RtLoop {
+ public:
+  RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOptions& options);
+  ~RtLoop();
+
+  /// Runs until `stop` becomes true. Returns the number of cycles run.
+  std::uint64_t run(const std::atomic<bool>& stop);
+
+  const CycleTiming& timing() const { return *timing_; }
+  const Machine& machine() const { return *machine_; }
+
+ private:
+  void cycle(std::uint64_t now_ns);
+  bool host_alive(std::uint64_t now_ns) const;
+
+  const MachineConfig& config_;
+  SharedSegment& shm_;
+  RtLoopOptions options_;
+  std::unique_ptr<Machine> machine_;
+  std::unique_ptr<CycleTiming> timing_;
+  std::uint64_t host_timeout_ns_;
+};
+
+}  // namespace pcnc

@@ -1,0 +1,166 @@
+// launcher.cpp — process management for `pcnc run`: fork/exec, readiness pipe, signal
+// forwarding, and reporting which process ended and how.
+#include "launcher.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+namespace pcnc {
+namespace {
+
+volatile sig_atomic_t g_signal = 0;
+volatile pid_t g_children[2] = {0, 0};
+
+void forward_signal(int sig) {
+  g_signal = sig;
+  for (pid_t p : g_children) {
+    if (p > 0) kill(p, sig);
+  }
+}
+
+pid_t spawn(const std::string& path, const std::vector<std::string>& args, int keep_fd) {
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(path.c_str()));
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    // Children get default signal dispositions; the terminal's Ctrl-C reaches them anyway
+    // (same process group), the launcher forwards SIGTERM.
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    if (keep_fd >= 0) fcntl(keep_fd, F_SETFD, 0);
+    execv(path.c_str(), argv.data());
+    std::fprintf(stderr, "pcnc: cannot start %s: %s\n", path.c_str(), std::strerror(errno));
+    _exit(127);
+  }
+  return pid;
+}
+
+std::string describe_end(int status) {
+  if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    return "was killed by signal " + std::to_string(sig) + " (" + strsignal(sig) + ")";
+  }
+  return "ended (status " + std::to_string(status) + ")";
+}
+
+// Waits up to timeout for pid; then SIGKILL. Returns its wait status.
+int stop_and_reap(pid_t pid, double timeout_s) {
+  int status = 0;
+  kill(pid, SIGTERM);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  for (;;) {
+    const pid_t r = waitpid(pid, &status, WNOHANG);
+    if (r == pid) return status;
+    if (r < 0 && errno != EINTR) return 0;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return status;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));  // shutdown only
+  }
+}
+
+}  // namespace
+
+std::string executable_dir() {
+  std::error_code ec;
+  auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : exe.parent_path().string();
+}
+
+int launch_pair(const LaunchOptions& options) {
+  struct sigaction sa {};
+  sa.sa_handler = forward_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGHUP, &sa, nullptr);
+
+  int ready[2];
+  if (pipe2(ready, O_CLOEXEC) != 0) {
+    std::fprintf(stderr, "pcnc: pipe: %s\n", std::strerror(errno));
+    return 3;
+  }
+  std::vector<std::string> rt_args = options.rt_args;
+  rt_args.push_back("--ready-fd");
+  rt_args.push_back(std::to_string(ready[1]));
+  const pid_t rt = spawn(options.rt_path, rt_args, ready[1]);
+  close(ready[1]);
+  g_children[0] = rt;
+
+  // Wait for "ready" from pcnc-rt, or its death, or the timeout.
+  char buf[16];
+  pollfd pfd{ready[0], POLLIN, 0};
+  const int pr = poll(&pfd, 1, static_cast<int>(options.rt_start_timeout_s * 1000));
+  const ssize_t n = pr > 0 ? read(ready[0], buf, sizeof buf) : 0;
+  close(ready[0]);
+  if (n <= 0) {
+    int status = 0;
+    if (waitpid(rt, &status, WNOHANG) == rt) {
+      std::fprintf(stderr, "pcnc: pcnc-rt failed to start: it %s\n", describe_end(status).c_str());
+    } else {
+      stop_and_reap(rt, 2.0);
+      std::fprintf(stderr, "pcnc: pcnc-rt did not become ready within %.1f s\n", options.rt_start_timeout_s);
+    }
+    return g_signal ? 128 + g_signal : 3;
+  }
+
+  const pid_t host = spawn(options.host_path, options.host_args, -1);
+  g_children[1] = host;
+
+  int exit_code = 0;
+  for (;;) {
+    int status = 0;
+    const pid_t who = waitpid(-1, &status, 0);
+    if (who < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    if (who == host) {
+      g_children[1] = 0;
+      const int rt_status = stop_and_reap(rt, 5.0);
+      g_children[0] = 0;
+      if (WIFEXITED(status)) {
+        exit_code = WEXITSTATUS(status);
+      } else {
+        std::fprintf(stderr, "pcnc: pcnc-host %s\n", describe_end(status).c_str());
+        exit_code = WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 1;
+      }
+      const bool rt_clean = (WIFEXITED(rt_status) && WEXITSTATUS(rt_status) == 0) ||
+                            (WIFSIGNALED(rt_status) && WTERMSIG(rt_status) == SIGTERM);
+      if (!rt_clean) {
+        std::fprintf(stderr, "pcnc: pcnc-rt %s while stopping\n", describe_end(rt_status).c_str());
+        if (exit_code == 0) exit_code = 3;
+      }
+      break;
+    }
+    if (who == rt) {
+      g_children[0] = 0;
+      if (!g_signal) std::fprintf(stderr, "pcnc: pcnc-rt %s; stopping pcnc-host\n", describe_end(status).c_str());
+      const int host_status = stop_and_reap(host, 5.0);
+      g_children[1] = 0;
+      if (!g_signal) std::fprintf(stderr, "pcnc: pcnc-host %s\n", describe_end(host_status).c_str());
+      exit_code = 3;
+      break;
+    }
+  }
+  if (g_signal) exit_code = 128 + g_signal;
+  return exit_code;
+}
+
+}  // namespace pcnc

@@ -1,0 +1,52 @@
+// pcnc_main.cpp — the `pcnc` command users type: run a program on the two processes,
+// check a program offline, and the other front-end tools, as CLI11 subcommands.
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <cstdio>
+
+#include "config.hpp"
+#include "launcher.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"pcnc: an open PC-based NC controller for a 3-axis desktop mill.\n"
+               "pcnc run replays a G-code program on pcnc-rt (the machine) and pcnc-host (the planner)."};
+  app.require_subcommand(1);
+  int exit_code = 0;
+
+  // ---- run ----
+  auto* run = app.add_subcommand("run", "start pcnc-rt and pcnc-host, run FILE to the end, print a run report");
+  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report;
+  bool fit = false;
+  run->add_option("FILE", file, "G-code program")->required()->check(CLI::ExistingFile);
+  run->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
+  run->add_option("--clock", clock, "real: 2 kHz in real time; virtual: as fast as possible, same cycles")
+      ->check(CLI::IsMember({"real", "virtual"}))
+      ->capture_default_str();
+  run->add_option("--contouring", contouring, "contouring at program start (default: the config's); M21/M22 override")
+      ->check(CLI::IsMember({"on", "off"}));
+  run->add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
+  run->add_flag("--fit", fit, "scale the program down uniformly (never up) so it fits the travel; the report states the scale");
+  run->add_option("--trace", trace, "write the per-cycle trace (CSV) to this file");
+  run->add_option("--report", report, "also write the run report as a self-contained HTML page");
+  run->callback([&] {
+    pcnc::LaunchOptions lo;
+    const std::string dir = pcnc::executable_dir();
+    lo.rt_path = dir + "/../rt/pcnc-rt";
+    lo.host_path = dir + "/../host/pcnc-host";
+    // installed layout: all three side by side
+    if (access((dir + "/pcnc-rt").c_str(), X_OK) == 0) lo.rt_path = dir + "/pcnc-rt";
+    if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
+    lo.rt_args = {"--config", config_path, "--clock", clock};
+    if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
+    lo.host_args = {"--config", config_path, "--run", file};
+    if (!contouring.empty()) lo.host_args.insert(lo.host_args.end(), {"--contouring", contouring});
+    if (!offset.empty()) lo.host_args.insert(lo.host_args.end(), {"--offset", offset});
+    if (fit) lo.host_args.push_back("--fit");
+    if (!report.empty()) lo.host_args.insert(lo.host_args.end(), {"--report", report});
+    exit_code = pcnc::launch_pair(lo);
+  });
+
+  CLI11_PARSE(app, argc, argv);
+  return exit_code;
+}
