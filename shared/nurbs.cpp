@@ -305,7 +305,7 @@ double nurbs_arc_length(const NurbsView& c, double u0, double u1) {
   // 8-point Gauss–Legendre on each piece of each knot span, 4 pieces per span.
   static constexpr double kX[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
                                    0.9602898564975363};
-  static constexpr double kW[4] = {0.3626837833783620, 0.3137066524959194, 0.2223810344533745,
+  static constexpr double kW[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
                                    0.1012285362903763};
   u0 = std::clamp(u0, c.u_min(), c.u_max());
   u1 = std::clamp(u1, c.u_min(), c.u_max());

@@ -1,0 +1,348 @@
+// test_nurbs.cpp — the NURBS value type against exact geometry: circles and lines made of
+// rational quadratics, an independent Cox–de Boor reference, derivatives against finite
+// differences, knot vectors (LinuxCNC G5.2 and the seed's chord length), knot insertion,
+// splitting into block-sized pieces, block storage and validation messages.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "nurbs.hpp"
+
+namespace pcnc {
+namespace {
+
+const double kS = 1.0 / std::sqrt(2.0);
+
+NurbsCurve quarter_circle(double r) {
+  NurbsCurve c;
+  c.degree = 2;
+  c.points = {{r, 0, 0}, {r, r, 0}, {0, r, 0}};
+  c.weights = {1, kS, 1};
+  c.knots = {0, 0, 0, 1, 1, 1};
+  return c;
+}
+
+NurbsCurve full_circle(double r, Vec3 center = {0, 0, 0}) {
+  NurbsCurve c;
+  c.degree = 2;
+  const double xy[9][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}};
+  for (int i = 0; i < 9; ++i) {
+    c.points.push_back(center + Vec3{r * xy[i][0], r * xy[i][1], 0.0});
+    c.weights.push_back(i % 2 == 1 ? kS : 1.0);
+  }
+  c.knots = {0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4};
+  return c;
+}
+
+// The control points of ../shared/gcode/nurbs/g5.2/nurbs-xy.ngc (start at X0 Y0, order 3).
+NurbsCurve nurbs_xy() {
+  return make_nurbs({{0, 0, 0}, {0, 1, 0}, {2, 2, 0}, {2, 0, 0}, {0, 0, 0}}, {1, 1, 1, 1, 2}, 3);
+}
+
+NurbsCurve random_curve(int count, int degree, unsigned seed, KnotRule rule = KnotRule::kOpenUniform) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> coord(0.0, 20.0);
+  std::uniform_real_distribution<double> weight(0.3, 3.0);
+  std::vector<Vec3> pts;
+  std::vector<double> w;
+  for (int i = 0; i < count; ++i) {
+    pts.push_back({coord(rng), coord(rng), coord(rng) * 0.2});
+    w.push_back(weight(rng));
+  }
+  return make_nurbs(pts, w, degree + 1, rule);
+}
+
+// Independent reference: the textbook recursive definition, evaluated directly.
+double basis_ref(const std::vector<double>& t, int i, int p, double u, bool last_span) {
+  if (p == 0) {
+    if (last_span) return (t[i] < u && u <= t[i + 1]) ? 1.0 : 0.0;
+    return (t[i] <= u && u < t[i + 1]) ? 1.0 : 0.0;
+  }
+  double v = 0.0;
+  if (t[i + p] != t[i]) v += (u - t[i]) / (t[i + p] - t[i]) * basis_ref(t, i, p - 1, u, last_span);
+  if (t[i + p + 1] != t[i + 1])
+    v += (t[i + p + 1] - u) / (t[i + p + 1] - t[i + 1]) * basis_ref(t, i + 1, p - 1, u, last_span);
+  return v;
+}
+
+Vec3 point_ref(const NurbsCurve& c, double u) {
+  const bool last = u >= c.u_max();
+  Vec3 a{0, 0, 0};
+  double w = 0;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const double n = basis_ref(c.knots, static_cast<int>(i), c.degree, u, last) * c.weights[i];
+    a = a + n * c.points[i];
+    w += n;
+  }
+  return (1.0 / w) * a;
+}
+
+TEST(NurbsKnots, OpenUniformAsLinuxCncBuildsIt) {
+  // n+1 = 5 control points, order 3: 0 0 0 1 2 3 3 3 (domain 0..count-order+1).
+  EXPECT_EQ(open_uniform_knots(5, 2), (std::vector<double>{0, 0, 0, 1, 2, 3, 3, 3}));
+  // 7 points, order 4 (trident programs): 0 0 0 0 1 2 3 4 4 4 4.
+  EXPECT_EQ(open_uniform_knots(7, 3), (std::vector<double>{0, 0, 0, 0, 1, 2, 3, 4, 4, 4, 4}));
+  // As many points as the order: a Bezier curve on [0, 1].
+  EXPECT_EQ(open_uniform_knots(4, 3), (std::vector<double>{0, 0, 0, 0, 1, 1, 1, 1}));
+}
+
+TEST(NurbsKnots, ChordLengthFollowsSeedEquation4) {
+  // Chords 2, 1, 1 (total 4), order 3, m = n-k+2 = 2: x = ((1/2)*1 + 2) / 4 * 2 = 1.25.
+  const std::vector<Vec3> pts = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {2, 2, 0}};
+  const std::vector<double> k = chord_length_knots(pts, 2);
+  ASSERT_EQ(k.size(), 7u);
+  EXPECT_EQ(k[0], 0.0);
+  EXPECT_EQ(k[2], 0.0);
+  EXPECT_DOUBLE_EQ(k[3], 1.25);
+  EXPECT_EQ(k[4], 2.0);
+  EXPECT_EQ(k[6], 2.0);
+  // Always clamped, increasing, valid, same domain as the open uniform vector.
+  for (unsigned seed = 1; seed < 20; ++seed) {
+    const NurbsCurve c = random_curve(12, 1 + static_cast<int>(seed % 5), seed, KnotRule::kChordLength);
+    EXPECT_EQ(validate(c), "") << seed;
+    EXPECT_DOUBLE_EQ(c.u_max(), open_uniform_knots(12, c.degree)[12]) << seed;
+    for (std::size_t i = 1; i < c.knots.size(); ++i) EXPECT_LE(c.knots[i - 1], c.knots[i]);
+  }
+}
+
+TEST(NurbsEval, QuarterCircleIsExact) {
+  const double r = 10.0;
+  const NurbsCurve c = quarter_circle(r);
+  ASSERT_EQ(validate(c), "");
+  for (int i = 0; i <= 1000; ++i) {
+    const double u = i / 1000.0;
+    const NurbsEval e = nurbs_eval(c.view(), u);
+    EXPECT_NEAR(norm(e.p), r, 1e-11) << u;
+    EXPECT_NEAR(dot(e.p, e.d1), 0.0, 1e-9) << u;  // tangent perpendicular to the radius
+    EXPECT_NEAR(nurbs_curvature(e), 1.0 / r, 1e-10) << u;
+  }
+  EXPECT_NEAR(nurbs_arc_length(c.view(), 0, 1), M_PI * r / 2, 1e-9);
+}
+
+TEST(NurbsEval, FullCircleIsExactAcrossDoubleKnots) {
+  const double r = 7.5;
+  const Vec3 center{12.5, 12.5, 3.0};
+  const NurbsCurve c = full_circle(r, center);
+  ASSERT_EQ(validate(c), "");
+  for (int i = 0; i <= 4000; ++i) {
+    const double u = 4.0 * i / 4000.0;
+    const NurbsEval e = nurbs_eval(c.view(), u);
+    EXPECT_NEAR(norm(e.p - center), r, 1e-11) << u;
+    EXPECT_NEAR(e.p[2], 3.0, 1e-12);
+    EXPECT_NEAR(nurbs_curvature(e), 1.0 / r, 1e-10) << u;
+  }
+  EXPECT_NEAR(nurbs_arc_length(c.view(), 0, 4), 2 * M_PI * r, 1e-9);
+  // The double knots are not corners: the circle is tangent continuous.
+  EXPECT_TRUE(corner_knots(c).empty());
+}
+
+TEST(NurbsEval, LineStaysOnLine) {
+  // Collinear control points with uneven weights: every point is on the line.
+  const Vec3 a{1, 2, 3}, b{11, 7, -2};
+  std::vector<Vec3> pts;
+  for (double s : {0.0, 0.1, 0.5, 0.55, 0.9, 1.0}) pts.push_back(a + s * (b - a));
+  const NurbsCurve c = make_nurbs(pts, {1, 0.5, 2, 1, 3, 1}, 4);
+  ASSERT_EQ(validate(c), "");
+  const Vec3 dir = normalized(b - a);
+  for (int i = 0; i <= 500; ++i) {
+    const double u = c.u_max() * i / 500.0;
+    const Vec3 p = nurbs_point(c.view(), u);
+    const Vec3 off = p - a;
+    EXPECT_NEAR(norm(off - dot(off, dir) * dir), 0.0, 1e-12) << u;
+  }
+}
+
+TEST(NurbsEval, MatchesIndependentReferenceAndEndsAtControlPoints) {
+  const NurbsCurve xy = nurbs_xy();
+  ASSERT_EQ(validate(xy), "");
+  EXPECT_EQ(xy.u_max(), 3.0);
+  for (const NurbsCurve& c : {xy, random_curve(17, 3, 5), random_curve(9, 5, 6), random_curve(6, 1, 7),
+                              random_curve(20, 4, 8, KnotRule::kChordLength)}) {
+    for (int i = 0; i <= 777; ++i) {
+      const double u = c.u_min() + (c.u_max() - c.u_min()) * i / 777.0;
+      const Vec3 got = nurbs_point(c.view(), u);
+      const Vec3 ref = point_ref(c, u);
+      EXPECT_NEAR(norm(got - ref), 0.0, 1e-10) << "u=" << u;
+      EXPECT_NEAR(norm(nurbs_eval(c.view(), u).p - got), 0.0, 1e-12);
+    }
+    EXPECT_NEAR(norm(nurbs_point(c.view(), c.u_min()) - c.points.front()), 0.0, 1e-12);
+    EXPECT_NEAR(norm(nurbs_point(c.view(), c.u_max()) - c.points.back()), 0.0, 1e-12);
+  }
+}
+
+TEST(NurbsEval, DerivativesMatchFiniteDifferences) {
+  for (const NurbsCurve& c : {nurbs_xy(), random_curve(15, 3, 11), random_curve(12, 5, 12), quarter_circle(3)}) {
+    const NurbsView v = c.view();
+    const double h = 1e-5;
+    for (int i = 1; i < 200; ++i) {
+      double u = v.u_min() + (v.u_max() - v.u_min()) * (i + 0.37) / 201.0;
+      // Stay inside one span so the difference quotients see a polynomial piece.
+      const int span = find_span(v, u);
+      if (u - h < c.knots[span] || u + h >= c.knots[span + 1]) continue;
+      const NurbsEval e = nurbs_eval(v, u);
+      const Vec3 fp = nurbs_point(v, u + h), fm = nurbs_point(v, u - h), f0 = nurbs_point(v, u);
+      const Vec3 d1 = (1.0 / (2 * h)) * (fp - fm);
+      const Vec3 d2 = (1.0 / (h * h)) * (fp - 2.0 * f0 + fm);
+      const double scale1 = 1.0 + norm(e.d1);
+      const double scale2 = 1.0 + norm(e.d2);
+      EXPECT_NEAR(norm(e.d1 - d1) / scale1, 0.0, 1e-7) << u;
+      EXPECT_NEAR(norm(e.d2 - d2) / scale2, 0.0, 1e-3) << u;
+    }
+  }
+}
+
+TEST(NurbsEval, DoubledStartPointStillHasATangent) {
+  // trident-xy.ngc starts at X10 Y0 and repeats it as the first listed point: C'(0) = 0.
+  const NurbsCurve c = make_nurbs(
+      {{10, 0, 0}, {10, 0, 0}, {20, 20, 0}, {12, 8, 0}, {10, 20, 0}, {8, 8, 0}, {0, 20, 0}, {10, 0, 0}},
+      std::vector<double>(8, 1.0), 4);
+  ASSERT_EQ(validate(c), "");
+  EXPECT_NEAR(norm(nurbs_eval(c.view(), 0.0).d1), 0.0, 1e-12);
+  const Vec3 t = nurbs_tangent(c.view(), 0.0, true);
+  const Vec3 toward = normalized(Vec3{20, 20, 0} - Vec3{10, 0, 0});
+  EXPECT_NEAR(dot(t, toward), 1.0, 1e-12);
+  const Vec3 probe = normalized(nurbs_point(c.view(), 1e-4) - nurbs_point(c.view(), 0.0));
+  EXPECT_NEAR(dot(t, probe), 1.0, 1e-6);
+}
+
+double max_deviation(const NurbsCurve& a, const NurbsCurve& b, double u0, double u1, int samples = 2000) {
+  double worst = 0.0;
+  for (int i = 0; i <= samples; ++i) {
+    const double u = u0 + (u1 - u0) * i / samples;
+    worst = std::max(worst, norm(nurbs_point(a.view(), u) - nurbs_point(b.view(), u)));
+  }
+  return worst;
+}
+
+TEST(NurbsKnotInsertion, LeavesCurveUnchanged) {
+  for (const NurbsCurve& c : {nurbs_xy(), random_curve(14, 3, 21), random_curve(10, 5, 22), full_circle(5)}) {
+    NurbsCurve d = insert_knot(c, c.u_min() + 0.37 * (c.u_max() - c.u_min()));
+    d = insert_knot(d, c.u_min() + 0.81 * (c.u_max() - c.u_min()), 2);
+    // An existing knot, raised by one (still at most the degree, so still valid).
+    const double existing = c.knots[static_cast<std::size_t>(c.degree + 1)];
+    d = insert_knot(d, existing);
+    EXPECT_EQ(d.points.size(), c.points.size() + 4);
+    if (std::count(c.knots.begin(), c.knots.end(), existing) < c.degree) {
+      EXPECT_EQ(validate(d), "");
+    }
+    EXPECT_LT(max_deviation(c, d, c.u_min(), c.u_max()), 1e-9);
+  }
+}
+
+TEST(NurbsSplit, PiecesFitABlockAndReproduceTheCurve) {
+  for (int degree = 1; degree <= 5; ++degree) {
+    const NurbsCurve c = random_curve(100, degree, 30 + static_cast<unsigned>(degree));
+    const std::vector<NurbsCurve> pieces = split_nurbs(c, kMaxNurbsPoints);
+    ASSERT_GT(pieces.size(), 1u);
+    double u = c.u_min();
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      const NurbsCurve& q = pieces[i];
+      EXPECT_EQ(validate(q), "") << i;
+      EXPECT_LE(q.points.size(), static_cast<std::size_t>(kMaxNurbsPoints));
+      EXPECT_EQ(q.u_min(), u);  // consecutive, no gap
+      u = q.u_max();
+      EXPECT_LT(max_deviation(c, q, q.u_min(), q.u_max(), 500), 1e-9) << "degree " << degree << " piece " << i;
+      if (i + 1 < pieces.size() && degree >= 2) {
+        // Pieces join with the curve's continuity: same point, same first derivative.
+        const NurbsEval end = nurbs_eval(q.view(), q.u_max());
+        const NurbsEval start = nurbs_eval(pieces[i + 1].view(), q.u_max());
+        EXPECT_LT(norm(end.p - start.p), 1e-9);
+        EXPECT_LT(norm(end.d1 - start.d1), 1e-9 * (1 + norm(end.d1)));
+        if (degree >= 3) {
+          EXPECT_LT(norm(end.d2 - start.d2), 1e-7 * (1 + norm(end.d2)));
+        }
+      }
+    }
+    EXPECT_EQ(u, c.u_max());
+  }
+}
+
+TEST(NurbsSplit, CurveThatFitsStaysWholeAndCornersAreCut) {
+  const NurbsCurve xy = nurbs_xy();
+  EXPECT_EQ(split_nurbs(xy).size(), 1u);
+  // Degree 1: a polyline; every interior knot is a corner.
+  const NurbsCurve poly = make_nurbs({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 1, 0}}, {1, 1, 1, 1}, 2);
+  const auto lines = split_nurbs(poly);
+  ASSERT_EQ(lines.size(), 3u);
+  for (const auto& l : lines) EXPECT_EQ(l.points.size(), 2u);
+  // Degree 2 with a double knot at a real corner.
+  NurbsCurve kink;
+  kink.degree = 2;
+  kink.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {2, 2, 0}};
+  kink.weights = {1, 1, 1, 1, 1};
+  kink.knots = {0, 0, 0, 1, 1, 2, 2, 2};
+  ASSERT_EQ(validate(kink), "");
+  EXPECT_EQ(corner_knots(kink), (std::vector<double>{1.0}));
+  EXPECT_EQ(split_nurbs(kink).size(), 2u);
+  // The full circle has double knots but no corner: one piece.
+  EXPECT_EQ(split_nurbs(full_circle(4)).size(), 1u);
+}
+
+TEST(NurbsGeometry, RoundTripThroughBlock) {
+  const NurbsCurve c = random_curve(32, 3, 40);
+  Block b;
+  ASSERT_EQ(to_geometry(c, b.nurbs), "");
+  EXPECT_EQ(b.nurbs.point_count, 32);
+  EXPECT_EQ(b.nurbs.knot_count, 36);
+  const NurbsCurve back = from_geometry(b.nurbs);
+  EXPECT_EQ(back.points, c.points);
+  EXPECT_EQ(back.knots, c.knots);
+  EXPECT_EQ(back.weights, c.weights);
+  for (double u : {0.0, 1.3, 17.9, 29.0}) {
+    EXPECT_EQ(nurbs_point(view_of(b.nurbs), u), nurbs_point(c.view(), u));
+  }
+  EXPECT_NE(to_geometry(random_curve(33, 3, 41), b.nurbs).find("at most 32"), std::string::npos);
+}
+
+TEST(NurbsValidate, NamesEachError) {
+  auto expect_error = [](const NurbsCurve& c, const std::string& words) {
+    const std::string err = validate(c);
+    EXPECT_NE(err.find(words), std::string::npos) << "got: '" << err << "', wanted '" << words << "'";
+  };
+  const NurbsCurve good = nurbs_xy();
+  ASSERT_EQ(validate(good), "");
+
+  NurbsCurve c = good;
+  c.degree = 0;
+  expect_error(c, "order 1 out of range");
+  c.degree = 6;
+  expect_error(c, "order 7 out of range");
+
+  c = make_nurbs({{0, 0, 0}, {1, 0, 0}, {2, 1, 0}}, {1, 1, 1}, 4);
+  expect_error(c, "needs at least 4 control points, got 3");
+
+  c = good;
+  c.weights[2] = 0.0;
+  expect_error(c, "weight of control point 3 is 0");
+  c.weights[2] = -1.5;
+  expect_error(c, "weights must be > 0");
+  c = good;
+  c.weights.pop_back();
+  expect_error(c, "4 weights for 5 control points");
+
+  c = good;
+  c.knots.pop_back();
+  expect_error(c, "needs 8 knots");
+  c = good;
+  c.knots = {0, 0, 0, 2, 1, 3, 3, 3};
+  expect_error(c, "must not decrease");
+  c = good;
+  c.knots = {0, 0, 0, 0, 0, 0, 0, 0};
+  expect_error(c, "empty parameter range");
+  c = good;
+  c.knots = {0, 0, 1, 1, 2, 3, 3, 3};
+  expect_error(c, "clamped");
+  c = make_nurbs({{0, 0, 0}, {1, 0, 0}, {2, 1, 0}, {3, 1, 0}, {4, 0, 0}, {5, 0, 0}}, std::vector<double>(6, 1), 3);
+  c.knots = {0, 0, 0, 1, 1, 1, 2, 2, 2};
+  expect_error(c, "repeats 3 times");
+  c = good;
+  c.points[1][0] = NAN;
+  expect_error(c, "control point 2 is not a finite number");
+}
+
+}  // namespace
+}  // namespace pcnc
