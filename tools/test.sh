@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# test.sh — runs every pcnc test: the normal build's ctest suite, the same suite under
+# AddressSanitizer + UndefinedBehaviorSanitizer, the shared-memory and rt tests under
+# ThreadSanitizer, and a bounded libFuzzer run of the G-code front end.
+# Each build lives in its own directory. Any failure or sanitizer report fails the script.
+#   PCNC_FUZZ_SECONDS   fuzzing time (default 60; 0 skips the fuzz run)
+#   PCNC_SKIP_SANITIZERS=1   only the normal build (quick local runs)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+JOBS=${JOBS:-2}
+FUZZ_SECONDS=${PCNC_FUZZ_SECONDS:-60}
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
+
+step() { printf '\n==== %s ====\n' "$*"; }
+
+step "build (RelWithDebInfo) and ctest"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPCNC_WERROR=ON >/dev/null
+cmake --build build -j "$JOBS"
+ctest --test-dir build --output-on-failure -j "$JOBS"
+
+if [ "${PCNC_SKIP_SANITIZERS:-0}" != "1" ]; then
+  step "AddressSanitizer + UndefinedBehaviorSanitizer build and ctest"
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPCNC_SANITIZE=address,undefined >/dev/null
+  cmake --build build-asan -j "$JOBS"
+  PCNC_RING_TEST_BLOCKS=200000 ctest --test-dir build-asan --output-on-failure -j "$JOBS"
+
+  step "ThreadSanitizer: shared-memory, ring, segment and rt tests"
+  cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPCNC_SANITIZE=thread >/dev/null
+  TSAN_TESTS="test_shared_contract test_segment test_ring_two_process"
+  cmake --build build-tsan -j "$JOBS" --target $TSAN_TESTS
+  PCNC_RING_TEST_BLOCKS=100000 ctest --test-dir build-tsan --output-on-failure -j "$JOBS" \
+    -R '^(SpscRing|Seqlock|Config|Segment|RingTwoProcess)\.'
+fi
+
+if [ "$FUZZ_SECONDS" != "0" ] && [ -x tools/fuzz.sh ]; then
+  step "libFuzzer: G-code front end for ${FUZZ_SECONDS} s"
+  tools/fuzz.sh "$FUZZ_SECONDS"
+fi
+step "all tests passed"
