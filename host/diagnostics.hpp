@@ -1,0 +1,60 @@
+// diagnostics.hpp — errors and warnings of the G-code front end ("file:line:col: error: ...").
+//
+// Every stage (lexer, parser, interpreter, preflight) reports through a DiagnosticSink. The sink
+// keeps memory bounded on programs of any length: errors are kept up to a cap (the rest are
+// counted), and a warning that repeats (same key, e.g. "spindle words ignored") is kept once with
+// the line of its first occurrence and a repeat count.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pcnc {
+
+struct Diagnostic {
+  enum class Severity { kWarning, kError } severity = Severity::kError;
+  std::string file;
+  int line = 0;
+  int column = 0;
+  std::string message;
+};
+
+/// "file:line:col: error: message" (column omitted when 0, line omitted when 0).
+std::string format_diagnostic(const Diagnostic& d);
+
+class DiagnosticSink {
+ public:
+  static constexpr std::size_t kMaxErrors = 50;
+
+  explicit DiagnosticSink(std::string file = {}) : file_(std::move(file)) {}
+
+  void error(int line, int column, std::string message);
+  /// A warning; `key` groups repeats (empty key: never grouped, but still capped).
+  void warning(int line, int column, std::string_view key, std::string message);
+
+  std::uint64_t error_count() const { return error_count_; }
+  std::uint64_t warning_count() const { return warning_count_; }
+  bool has_errors() const { return error_count_ > 0; }
+
+  /// The kept diagnostics in the order they were first reported; repeated warnings get a
+  /// "(repeated N more times)" suffix, and a final note counts errors beyond the cap.
+  std::vector<Diagnostic> take();
+
+  const std::string& file() const { return file_; }
+
+ private:
+  struct Kept {
+    Diagnostic d;
+    std::string key;
+    std::uint64_t repeats = 0;
+  };
+  std::string file_;
+  std::vector<Kept> kept_;
+  std::uint64_t error_count_ = 0;
+  std::uint64_t warning_count_ = 0;
+  std::uint64_t dropped_warnings_ = 0;
+};
+
+}  // namespace pcnc

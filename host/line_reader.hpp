@@ -1,0 +1,51 @@
+// line_reader.hpp — streams a G-code file (or text in memory) line by line in bounded memory.
+//
+// Reads the file in fixed chunks with read(2) and hands out string_views into its buffer: no
+// allocation per line, no iostreams. Lines end at '\n' (a '\r' before it is dropped). A line
+// longer than kMaxLine is cut there and flagged so the caller can report it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pcnc {
+
+class LineReader {
+ public:
+  static constexpr std::size_t kChunk = 1 << 16;
+  static constexpr std::size_t kMaxLine = 1 << 16;
+
+  /// Opens `path`; throws std::runtime_error naming the file and the reason when it cannot.
+  explicit LineReader(const std::string& path);
+  /// Reads from text that outlives the reader.
+  struct FromText {};
+  LineReader(FromText, std::string_view text);
+  ~LineReader();
+  LineReader(const LineReader&) = delete;
+  LineReader& operator=(const LineReader&) = delete;
+
+  /// Next line; false at end of input. `too_long` is set when the line was cut at kMaxLine.
+  bool next(std::string_view& line, bool& too_long);
+
+  std::uint64_t line_number() const { return line_no_; }  // of the line last returned
+  std::uint64_t bytes_read() const { return consumed_; }
+  std::uint64_t total_bytes() const { return total_; }
+
+ private:
+  bool fill();  // reads more into the buffer; false at end of file
+  int fd_ = -1;
+  std::vector<char> buf_;
+  std::size_t begin_ = 0;  // start of unread data in buf_
+  std::size_t end_ = 0;    // end of valid data in buf_
+  bool eof_ = false;
+  bool skipping_ = false;  // discarding the rest of an over-long line
+  std::string_view text_;
+  bool from_text_ = false;
+  std::uint64_t line_no_ = 0;
+  std::uint64_t consumed_ = 0;
+  std::uint64_t total_ = 0;
+};
+
+}  // namespace pcnc

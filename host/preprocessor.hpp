@@ -1,0 +1,35 @@
+// preprocessor.hpp — fourth stage: one Move to one self-contained ring Block (pure functions).
+//
+// The seed paper's per-move plan: motion class, driving axis and its direction flag, the
+// programmed feed projected so that no axis exceeds its velocity or acceleration limit anywhere
+// on the move, the deceleration-start coordinate, unit tangents at both ends; for arcs also the
+// plane geometry and angular speed/acceleration. Rules (docs/gcode.md, "Preprocessing"):
+//   lines: speed = min(F, min_i vmax_i/|u_i|), accel = min_i amax_i/|u_i| (u = unit direction);
+//   rapids: the same with F = motion.rapid_speed_mm_s (0: unlimited, i.e. the axis maxima);
+//   arcs: a per-axis bound from the largest velocity component over the swept angles, and the
+//   centripetal acceleration v^2 * r / rho^2 kept within kArcCentripetalShare of the smallest
+//   in-plane axis acceleration; the rest of that acceleration is left for the tangential part.
+#pragma once
+
+#include "block.hpp"
+#include "config.hpp"
+#include "move.hpp"
+
+namespace pcnc {
+
+/// Share of the smallest in-plane axis acceleration an arc may use for centripetal acceleration.
+constexpr double kArcCentripetalShare = 0.5;
+
+/// The Block for one move (seq left 0: the ring feeder numbers blocks).
+Block make_block(const Move& move, const MachineConfig& config);
+
+/// Distance needed to stop from `speed` at `accel`, or half of `length` when the move is too
+/// short to reach `speed` and stop again (triangular profile). Returns the distance from the
+/// start at which deceleration must begin.
+double decel_start_distance(double length, double speed, double accel);
+
+/// Largest |sin| and |cos| over the angles from `start` through `start + sweep` (sweep signed).
+double max_abs_sin(double start, double sweep);
+double max_abs_cos(double start, double sweep);
+
+}  // namespace pcnc

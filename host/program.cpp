@@ -1,0 +1,297 @@
+// program.cpp — wires the front-end stages over a streamed file: check pass and block stream.
+#include "program.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "interpreter.hpp"
+#include "lexer.hpp"
+#include "line_reader.hpp"
+#include "parser.hpp"
+#include "preflight.hpp"
+#include "preprocessor.hpp"
+
+namespace pcnc {
+namespace {
+
+// Lines -> Moves: the shared loop of both passes. Handles '%' delimiters, '/' block delete,
+// over-long lines, program end (M2/M30) and a missing end.
+class MoveSource {
+ public:
+  MoveSource(LineReader& reader, const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink)
+      : reader_(reader), sink_(sink), interp_(config, frame, sink) {}
+
+  // Next move; false once the End move has been returned.
+  bool next(Move& m) {
+    while (pos_ >= pending_.count) {
+      if (done_) return false;
+      pending_.clear();
+      pos_ = 0;
+      read_line();
+    }
+    m = pending_.moves[pos_++];
+    if (m.kind == MoveKind::kEnd) {
+      done_ = true;
+      pending_.clear();
+      pos_ = 0;
+    }
+    return true;
+  }
+
+  // After the End move: warns once if the file holds anything but blanks and comments after it.
+  void check_trailing() {
+    if (!ended_by_m2_) return;
+    std::string_view text;
+    bool too_long = false;
+    DiagnosticSink scratch;
+    while (reader_.next(text, too_long)) {
+      const int line_no = static_cast<int>(reader_.line_number());
+      if (!lex_line(text, line_no, lexed_, scratch) || lexed_.count > 0 || lexed_.block_delete) {
+        sink_.warning(line_no, 0, "after-end", "text after the program end (M2/M30) is not executed");
+        return;
+      }
+    }
+  }
+
+  std::uint64_t lines() const { return reader_.line_number(); }
+
+ private:
+  void read_line() {
+    std::string_view text;
+    bool too_long = false;
+    if (!percent_closed_ && reader_.next(text, too_long)) {
+      const int line_no = static_cast<int>(std::min<std::uint64_t>(reader_.line_number(), 0x7fffffff));
+      last_line_ = line_no;
+      if (too_long) {
+        sink_.error(line_no, static_cast<int>(LineReader::kMaxLine), "line too long; expected at most 65536 characters per line");
+        return;
+      }
+      if (!lex_line(text, line_no, lexed_, sink_)) return;
+      if (lexed_.block_delete) {
+        sink_.warning(line_no, 1, "block-delete", "'/' block delete: the line is skipped (the block delete switch is always on)");
+        return;
+      }
+      if (lexed_.percent) {
+        if (seen_content_ || seen_percent_) {
+          percent_closed_ = true;  // the closing '%': the program ends here
+        }
+        seen_percent_ = true;
+        return;
+      }
+      if (lexed_.count == 0) return;
+      seen_content_ = true;
+      if (!parse_line(lexed_, line_no, parsed_, sink_)) return;
+      interp_.execute(parsed_, pending_);
+      if (interp_.ended()) ended_by_m2_ = true;
+      return;
+    }
+    // End of input (or closing '%') without M2/M30.
+    sink_.warning(last_line_, 0, "no-end", "the program has no M2/M30; it ends at the end of the file");
+    pending_.push(interp_.end_move(last_line_));
+  }
+
+  LineReader& reader_;
+  DiagnosticSink& sink_;
+  Interpreter interp_;
+  LexedLine lexed_;
+  ParsedLine parsed_;
+  MoveList pending_;
+  int pos_ = 0;
+  int last_line_ = 0;
+  bool done_ = false;
+  bool ended_by_m2_ = false;
+  bool seen_content_ = false;
+  bool seen_percent_ = false;
+  bool percent_closed_ = false;
+};
+
+Vec3 clamp_to_travel(const Vec3& p, const MachineConfig& c) {
+  Vec3 r = p;
+  for (int i = 0; i < kAxes; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    r[k] = std::clamp(p[k], c.axes[k].travel_min_mm, c.axes[k].travel_max_mm);
+  }
+  return r;
+}
+
+JobFrame make_frame(const MachineConfig& config, const JobOptions& options, const Transform& t) {
+  JobFrame f;
+  f.offset = t.offset;
+  f.scale = t.scale;
+  f.work_offset_index = std::clamp(options.work_offset_index, 0, 5);
+  f.start = options.start_position ? *options.start_position : clamp_to_travel(t.offset, config);
+  f.contouring = options.contouring ? *options.contouring : config.motion.contouring_default;
+  return f;
+}
+
+
+struct Input {
+  const std::string* path = nullptr;
+  std::string_view text;
+  std::unique_ptr<LineReader> open() const {
+    if (path) return std::make_unique<LineReader>(*path);
+    return std::make_unique<LineReader>(LineReader::FromText{}, text);
+  }
+};
+
+struct PassResult {
+  std::uint64_t lines = 0;
+  std::uint64_t moves = 0;
+  Box all;
+  Box fit;
+  Vec3 last{};
+  double feed_time = 0.0;
+};
+
+PassResult run_pass(const Input& in, const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink, bool limits) {
+  std::unique_ptr<LineReader> reader = in.open();
+  MoveSource source(*reader, config, frame, sink);
+  Preflight pre(config, sink, limits);
+  Move m;
+  while (source.next(m)) pre.add(m);
+  source.check_trailing();
+  pre.finish();
+  PassResult r;
+  r.lines = source.lines();
+  r.moves = pre.moves();
+  r.all = pre.extents();
+  r.fit = pre.fit_extents();
+  r.last = pre.moves() > 0 ? pre.last_point() : frame.start;
+  r.feed_time = pre.feed_time_s();
+  return r;
+}
+
+CheckResult check_input(const Input& in, const std::string& name, const MachineConfig& config, const JobOptions& options) {
+  CheckResult result;
+  DiagnosticSink sink(name);
+  try {
+    Transform t;
+    t.offset = options.offset ? *options.offset : config.gcode.work_offsets[0];
+    if (options.fit) {
+      DiagnosticSink scratch(name);
+      const PassResult a = run_pass(in, config, make_frame(config, options, t), scratch, false);
+      const FitResult f = fit_to_travel(a.fit, t.offset, config);
+      t.offset = f.offset;
+      t.scale = f.scale;
+      if (options.offset) sink.warning(0, 0, "fit-offset", "--fit recentres the program: the --offset value is not used");
+    }
+    const PassResult b = run_pass(in, config, make_frame(config, options, t), sink, true);
+    result.transform = t;
+    result.lines = b.lines;
+    result.moves = b.moves;
+    if (b.moves > 0) {
+      result.min_point = b.all.min;
+      result.max_point = b.all.max;
+    } else {
+      result.min_point = result.max_point = b.last;
+    }
+    result.last_point = b.last;
+    result.feed_length_time_s = b.feed_time;
+  } catch (const std::exception& e) {
+    sink.error(0, 0, e.what());
+  }
+  result.ok = !sink.has_errors();
+  result.diagnostics = sink.take();
+  return result;
+}
+
+std::string fmt(double v, int precision) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", precision, v);
+  std::string s(buf);
+  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);  // no "-0.0000"
+  return s;
+}
+std::string point(const Vec3& p) { return "(" + fmt(p[0], 4) + "," + fmt(p[1], 4) + "," + fmt(p[2], 4) + ")"; }
+
+}  // namespace
+
+bool is_null_move(const Move& m) {
+  return (m.kind == MoveKind::kRapid || m.kind == MoveKind::kLine) && norm(m.end - m.start) <= 1e-12;
+}
+
+CheckResult check_program(const std::string& path, const MachineConfig& config, const JobOptions& options) {
+  Input in;
+  in.path = &path;
+  return check_input(in, path, config, options);
+}
+
+CheckResult check_program_text(std::string_view text, const std::string& name, const MachineConfig& config,
+                               const JobOptions& options) {
+  Input in;
+  in.text = text;
+  return check_input(in, name, config, options);
+}
+
+struct BlockStream::Impl {
+  Impl(std::unique_ptr<LineReader> r, const std::string& name, const MachineConfig& c, const JobFrame& frame)
+      : reader(std::move(r)), config(c), sink(name), source(*reader, config, frame, sink) {}
+  std::unique_ptr<LineReader> reader;
+  const MachineConfig& config;
+  DiagnosticSink sink;
+  MoveSource source;
+};
+
+BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options, const Transform& transform)
+    : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(path), path, config, make_frame(config, options, transform))) {}
+
+BlockStream::BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config,
+                         const JobOptions& options, const Transform& transform)
+    : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(LineReader::FromText{}, text), name, config,
+                                   make_frame(config, options, transform))) {}
+
+BlockStream::~BlockStream() = default;
+BlockStream::BlockStream(BlockStream&&) noexcept = default;
+BlockStream& BlockStream::operator=(BlockStream&&) noexcept = default;
+
+bool BlockStream::next(Block& out) {
+  Move m;
+  do {
+    if (!impl_->source.next(m)) return false;
+  } while (is_null_move(m));
+  if (impl_->sink.has_errors()) {
+    const std::vector<Diagnostic> d = impl_->sink.take();
+    throw std::runtime_error(format_diagnostic(d.front()) + " (the program changed since it was checked?)");
+  }
+  out = make_block(m, impl_->config);
+  return true;
+}
+
+std::uint64_t BlockStream::lines_read() const { return impl_->reader->line_number(); }
+std::uint64_t BlockStream::total_bytes() const { return impl_->reader->total_bytes(); }
+std::uint64_t BlockStream::bytes_read() const { return impl_->reader->bytes_read(); }
+
+std::string format_block(const Block& b) {
+  std::string s = "L" + std::to_string(b.line) + " " + to_string(b.kind);
+  switch (b.kind) {
+    case BlockKind::kRapid:
+    case BlockKind::kLine:
+    case BlockKind::kArc:
+    case BlockKind::kNurbs:
+      s += " " + point(b.start) + "->" + point(b.end) + " len=" + fmt(b.length, 4) + " class=" + to_string(b.motion_class) +
+           " v=" + fmt(b.speed, 3) + " a=" + fmt(b.accel, 1) + " drive=" + axis_name(b.driving_axis) +
+           (b.driving_dir < 0 ? "-" : "+") + " vd=" + fmt(b.driving_speed, 3) + " ad=" + fmt(b.driving_accel, 1) +
+           " dec=" + fmt(b.decel_start, 4) + " t0=" + point(b.dir_start) + " t1=" + point(b.dir_end) +
+           " m21=" + std::to_string(b.contouring);
+      if (b.kind == BlockKind::kArc) {
+        s += " center=" + point(b.arc.center) + " r=" + fmt(b.arc.radius, 4) + " normal=" + axis_name(b.arc.normal_axis) +
+             " a0=" + fmt(b.arc.start_angle, 6) + " sweep=" + fmt(b.arc.sweep, 6) + " helix=" + fmt(b.arc.helix, 4) +
+             " w=" + fmt(b.arc.angular_speed, 4) + " aw=" + fmt(b.arc.angular_accel, 2) + " dec_a=" + fmt(b.arc.decel_start_angle, 6);
+      }
+      break;
+    case BlockKind::kDwell:
+      s += " " + fmt(b.dwell_s, 3) + " s at " + point(b.end);
+      break;
+    case BlockKind::kPause:
+      s += std::string(b.optional_stop ? " optional (M1)" : " (M0)") + " at " + point(b.end);
+      break;
+    case BlockKind::kEnd:
+      s += " at " + point(b.end);
+      break;
+  }
+  return s;
+}
+
+}  // namespace pcnc

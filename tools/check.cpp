@@ -1,0 +1,126 @@
+// check.cpp — the `pcnc check` subcommand over check_program / BlockStream.
+#include "check.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <charconv>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "config.hpp"
+#include "program.hpp"
+
+namespace pcnc {
+namespace {
+
+std::string f4(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4f", v);
+  std::string s(buf);
+  if (s == "-0.0000") s = "0.0000";
+  return s;
+}
+
+}  // namespace
+
+std::optional<std::array<double, 3>> parse_xyz(const std::string& text) {
+  std::array<double, 3> v{};
+  const char* p = text.data();
+  const char* e = text.data() + text.size();
+  for (int i = 0; i < 3; ++i) {
+    while (p < e && *p == ' ') ++p;
+    if (p < e && *p == '+') ++p;
+    const auto r = std::from_chars(p, e, v[static_cast<std::size_t>(i)]);
+    if (r.ec != std::errc()) return std::nullopt;
+    p = r.ptr;
+    while (p < e && *p == ' ') ++p;
+    if (i < 2) {
+      if (p == e || *p != ',') return std::nullopt;
+      ++p;
+    }
+  }
+  if (p != e) return std::nullopt;
+  return v;
+}
+
+int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream& err) {
+  MachineConfig config;
+  try {
+    config = load_config(o.config_path.empty() ? default_config_path() : o.config_path);
+  } catch (const std::exception& e) {
+    err << "pcnc check: " << e.what() << "\n";
+    return 2;
+  }
+  JobOptions job;
+  job.fit = o.fit;
+  if (!o.offset.empty()) {
+    const auto v = parse_xyz(o.offset);
+    if (!v) {
+      err << "pcnc check: --offset '" << o.offset << "': expected X,Y,Z in mm, e.g. 12.5,12.5,25\n";
+      return 2;
+    }
+    job.offset = *v;
+  }
+  if (o.contouring == "on") job.contouring = true;
+  else if (o.contouring == "off") job.contouring = false;
+  else if (!o.contouring.empty()) {
+    err << "pcnc check: --contouring '" << o.contouring << "': expected on or off\n";
+    return 2;
+  }
+
+  const CheckResult r = check_program(o.file, config, job);
+  std::size_t errors = 0, warnings = 0;
+  for (const Diagnostic& d : r.diagnostics) {
+    const bool is_error = d.severity == Diagnostic::Severity::kError;
+    (is_error ? errors : warnings)++;
+    if (is_error || !o.quiet) err << format_diagnostic(d) << "\n";
+  }
+  if (!r.ok) {
+    out << o.file << ": FAILED: " << r.lines << " lines, " << errors << " error" << (errors == 1 ? "" : "s")
+        << "; nothing would move\n";
+    return 1;
+  }
+  if (!o.quiet) {
+    const Transform& t = r.transform;
+    out << o.file << ": OK: " << r.lines << " lines, " << r.moves << " moves, " << warnings << " warning"
+        << (warnings == 1 ? "" : "s") << "\n";
+    out << "  transform: machine = " << f4(t.scale) << " * program + (" << f4(t.offset[0]) << ", " << f4(t.offset[1]) << ", "
+        << f4(t.offset[2]) << ") mm" << (o.fit ? "  (--fit)" : "") << "\n";
+    out << "  extents (machine): X " << f4(r.min_point[0]) << " .. " << f4(r.max_point[0]) << ", Y " << f4(r.min_point[1])
+        << " .. " << f4(r.max_point[1]) << ", Z " << f4(r.min_point[2]) << " .. " << f4(r.max_point[2]) << " mm\n";
+    out << "  feed time (length/F, no acceleration): " << f4(r.feed_length_time_s) << " s\n";
+  } else {
+    out << o.file << ": OK\n";
+  }
+  if (o.print_blocks) {
+    try {
+      BlockStream stream(o.file, config, job, r.transform);
+      Block b;
+      std::uint64_t seq = 0;
+      while (stream.next(b)) {
+        ++seq;
+        out << seq << " " << format_block(b) << "\n";
+      }
+    } catch (const std::exception& e) {
+      err << "pcnc check: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  return 0;
+}
+
+void add_check_subcommand(CLI::App& app, int& exit_code) {
+  auto opts = std::make_shared<CheckCommandOptions>();
+  CLI::App* sub = app.add_subcommand("check", "check a G-code program without a machine: syntax, words, arcs, soft limits, feeds");
+  sub->add_option("FILE", opts->file, "G-code program")->required();
+  sub->add_option("--config", opts->config_path, "machine configuration (TOML); default: $PCNC_CONFIG or configs/desktop-mill.toml");
+  sub->add_flag("--fit", opts->fit, "scale the program down uniformly (never up) and centre it so it fits the travel");
+  sub->add_option("--offset", opts->offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
+  sub->add_option("--contouring", opts->contouring, "contouring at program start: on|off (default: the config's)");
+  sub->add_flag("--print-blocks", opts->print_blocks, "print the preprocessed ring blocks, one per line");
+  sub->add_flag("-q,--quiet", opts->quiet, "print only errors and the verdict");
+  sub->callback([opts, &exit_code] { exit_code = run_check_command(*opts, std::cout, std::cerr); });
+}
+
+}  // namespace pcnc

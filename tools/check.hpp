@@ -1,0 +1,39 @@
+// check.hpp — `pcnc check FILE`: the whole G-code front end without a machine.
+//
+// Runs lexer, parser, interpreter and preflight over the program (pass 1), prints errors and
+// warnings ("file:line:col: error: ..."), the transform, extents and feed time, and with
+// --print-blocks streams the preprocessed blocks (pass 2) in their stable text form.
+#pragma once
+
+#include <iosfwd>
+#include <array>
+#include <optional>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace pcnc {
+
+struct CheckCommandOptions {
+  std::string file;
+  std::string config_path;      // empty: default_config_path()
+  bool fit = false;
+  std::string offset;           // "X,Y,Z" mm, empty: the config's G54
+  std::string contouring;       // "on" | "off" | empty (config default)
+  bool print_blocks = false;
+  bool quiet = false;           // only errors and the verdict
+};
+
+/// Runs the check; writes the report and blocks to `out`, diagnostics to `err`.
+/// Exit status: 0 program OK, 1 program has errors, 2 bad options or unreadable config.
+int run_check_command(const CheckCommandOptions& options, std::ostream& out, std::ostream& err);
+
+/// Registers the `check` subcommand on `app`; its callback stores the exit status in `exit_code`.
+void add_check_subcommand(CLI::App& app, int& exit_code);
+
+/// Parses "X,Y,Z" (mm). Returns nothing on a malformed value.
+std::optional<std::array<double, 3>> parse_xyz(const std::string& text);
+
+}  // namespace pcnc
