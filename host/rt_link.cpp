@@ -24,10 +24,16 @@ std::unique_ptr<RtLink> RtLink::attach(const MachineConfig& config, double wait_
   const std::uint64_t deadline = monotonic_ns() + static_cast<std::uint64_t>(wait_s * 1e9);
   for (;;) {
     try {
-      return std::make_unique<RtLink>(config);
+      auto link = std::make_unique<RtLink>(config);
+      // Attached; now wait for the rt's first published status (its first cycle).
+      while (link->status().state == MachineState::kStarting) {
+        if (monotonic_ns() >= deadline) throw SegmentError("pcnc-rt created its segment but never published a status");
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      }
+      return link;
     } catch (const SegmentError& e) {
       const std::string why = e.what();
-      const bool transient = why.find("does not exist") != std::string::npos ||
+      const bool transient = why.find("does not exist") != std::string::npos || why.find("never published") != std::string::npos ||
                              why.find("not initialised") != std::string::npos;
       if (!transient || monotonic_ns() >= deadline) throw;
     }
