@@ -204,7 +204,7 @@ class LineLexer {
   // ---- constant expressions (LinuxCNC syntax, no parameters) ----
   // After '[': expression then ']'.
   bool bracket_rest(double& v, int depth) {
-    if (depth > kMaxExprDepth) return fail(p_, "expression nested too deeply");
+    if (depth > kMaxExprDepth) return fail(p_, "expression nested too deeply; expected at most 64 levels of brackets");
     if (!expr(v, depth + 1)) return false;
     skip_spaces();
     if (p_ == e_ || *p_ != ']') return fail(p_ < e_ ? p_ : e_, "expression not closed; expected ']'");
@@ -228,7 +228,7 @@ class LineLexer {
         if (is_name(name, "MOD")) {  // MOD binds like '*', but a MOD after a sum is rare: apply here
           double r = 0.0;
           if (!term(r, depth)) return false;
-          if (r == 0.0) return fail(at, "MOD by zero in expression");
+          if (r == 0.0) return fail(at, "MOD by zero in expression; expected a nonzero divisor");
           v = std::fmod(v, r);
           if (v < 0) v += std::fabs(r);
           continue;
@@ -251,7 +251,7 @@ class LineLexer {
         const char* at = p_++;
         double r = 0.0;
         if (!power(r, depth)) return false;
-        if (r == 0.0) return fail(at, "division by zero in expression");
+        if (r == 0.0) return fail(at, "division by zero in expression; expected a nonzero divisor");
         v /= r;
       } else {
         return true;
@@ -267,13 +267,13 @@ class LineLexer {
       double r = 0.0;
       if (!unary(r, depth)) return false;
       v = std::pow(v, r);
-      if (!std::isfinite(v)) return fail(at, "'**' gives no finite number");
+      if (!std::isfinite(v)) return fail(at, "'**' gives no finite number; expected a smaller power");
       skip_spaces();
     }
     return true;
   }
   bool unary(double& v, int depth) {
-    if (depth > kMaxExprDepth) return fail(p_, "expression nested too deeply");
+    if (depth > kMaxExprDepth) return fail(p_, "expression nested too deeply; expected at most 64 levels of brackets");
     skip_spaces();
     if (p_ == e_) return fail(e_, "expression ends early; expected a number, '[' or a function");
     const char c = *p_;
@@ -325,7 +325,7 @@ class LineLexer {
       p_ = save;
       return false;
     }
-    if (f == Func::kExists) return fail(at, "EXISTS[] needs parameters, which are not supported");
+    if (f == Func::kExists) return fail(at, "EXISTS[] needs parameters, which are not supported; expected a number");
     skip_spaces();
     if (p_ == e_ || *p_ != '[') return fail(p_ < e_ ? p_ : e_, "function without argument; expected '['");
     ++p_;
@@ -335,11 +335,11 @@ class LineLexer {
     switch (f) {
       case Func::kAbs: v = std::fabs(a); break;
       case Func::kAcos:
-        if (a < -1.0 || a > 1.0) return fail(at, "ACOS argument outside [-1, 1]");
+        if (a < -1.0 || a > 1.0) return fail(at, "ACOS argument outside [-1, 1]; expected a value from -1 to 1");
         v = std::acos(a) / d2r;
         break;
       case Func::kAsin:
-        if (a < -1.0 || a > 1.0) return fail(at, "ASIN argument outside [-1, 1]");
+        if (a < -1.0 || a > 1.0) return fail(at, "ASIN argument outside [-1, 1]; expected a value from -1 to 1");
         v = std::asin(a) / d2r;
         break;
       case Func::kAtan: {
@@ -359,20 +359,20 @@ class LineLexer {
       case Func::kFix: v = std::floor(a); break;
       case Func::kFup: v = std::ceil(a); break;
       case Func::kLn:
-        if (a <= 0.0) return fail(at, "LN of a number <= 0");
+        if (a <= 0.0) return fail(at, "LN of a number <= 0; expected a positive argument");
         v = std::log(a);
         break;
       case Func::kRound: v = std::round(a); break;
       case Func::kSin: v = std::sin(a * d2r); break;
       case Func::kSqrt:
-        if (a < 0.0) return fail(at, "SQRT of a negative number");
+        if (a < 0.0) return fail(at, "SQRT of a negative number; expected an argument >= 0");
         v = std::sqrt(a);
         break;
       case Func::kTan: v = std::tan(a * d2r); break;
       case Func::kNone:
       case Func::kExists: break;
     }
-    if (!std::isfinite(v)) return fail(at, "function result is not a finite number");
+    if (!std::isfinite(v)) return fail(at, "function result is not a finite number; expected a finite value");
     return true;
   }
 
