@@ -59,6 +59,17 @@ class Machine {
   const Status& status() const;
   const TraceSample& trace_sample() const;
 
+  /// Why the machine faulted, in words (static text; "" when not faulted). Status carries
+  /// the code, axis, value and line; this names the defect, e.g. which block check failed.
+  const char* fault_reason() const;
+
+  /// Fault injection for tests and demonstrations: the plant's axis stops moving (a crash or
+  /// a jammed guide). The following-error check then trips.
+  void set_axis_blocked(int axis, bool blocked);
+
+  /// The simulated axes' true positions (not quantised by the encoders), mm.
+  Vec3 true_position() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -119,6 +119,7 @@ void read_axis(Section& parent, const char* key, AxisConfig& a) {
   s.number("derivative_filter_hz", a.derivative_filter_hz, 1.0, 1e6);
   s.number("velocity_ff_a_s_per_mm", a.velocity_ff_a_s_per_mm, 0.0, 1e6);
   s.number("accel_ff_a_s2_per_mm", a.accel_ff_a_s2_per_mm, 0.0, 1e6);
+  s.number("friction_ff_a", a.friction_ff_a, 0.0, 1e4);
   s.number("integrator_limit_a", a.integrator_limit_a, 0.0, 1e4);
   s.finish();
   if (!(a.travel_max_mm > a.travel_min_mm)) parent.fail(key, "travel_max_mm must exceed travel_min_mm");

@@ -37,6 +37,7 @@ struct AxisConfig {
   double derivative_filter_hz = 500.0;
   double velocity_ff_a_s_per_mm = 0.0;
   double accel_ff_a_s2_per_mm = 0.0;
+  double friction_ff_a = 0.0;       // Coulomb friction feed-forward: this current × sign(commanded velocity)
   double integrator_limit_a = 1.0;  // anti-windup clamp of the integral term
 };
 

@@ -1,0 +1,229 @@
+// executor.cpp — the block executor's cycle (scheme and speed law in executor.hpp).
+#include "executor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "junction.hpp"
+#include "safety.hpp"
+
+namespace pcnc {
+
+Executor::Executor(const MachineConfig& config) : cfg_(config), dt_(config.cycle_period_s()) {
+  f_ = std::clamp(config.motion.junction_velocity_step_fraction, 0.0, 1.0);
+  k_ = 1.0 + 2.0 * f_;
+  cos_limit_ = std::cos(config.motion.contouring_angle_deg * std::numbers::pi / 180.0);
+  for (int i = 0; i < kAxes; ++i) axis_accel_[i] = config.axes[i].max_accel_mm_s2;
+  Vec3 home{};
+  for (int i = 0; i < kAxes; ++i) home[i] = config.axes[i].home_mm;
+  set_position(home);
+}
+
+void Executor::set_position(const Vec3& p) {
+  pos_ = p;
+  tail_ = p;
+  hold_still();
+  s_ = 0.0;
+  dwell_ = 0.0;
+  crossed_ = 0;
+  rest_cycle_ = false;
+  ended_at_rest_ = false;
+  after_motion_ = false;
+  fresh_ = true;
+}
+
+void Executor::flush(MotionRing& ring) {
+  ring.pop_all();
+  prepared_ = 0;
+  set_position(pos_);
+}
+
+void Executor::hold_still() {
+  v_ = 0.0;
+  vel_ = {0.0, 0.0, 0.0};
+  acc_ = {0.0, 0.0, 0.0};
+}
+
+bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
+  const std::size_t n = std::min(ring.size(), kRingSlots);
+  while (prepared_ < n) {
+    const Block& b = ring.peek(prepared_);
+    const BlockVerdict verdict = check_block(b, tail_, expected_seq_, cfg_);
+    if (verdict.fault != FaultCode::kNone) {
+      out.fault = verdict.fault;
+      out.reason = verdict.reason;
+      out.fault_axis = verdict.axis;
+      out.fault_line = b.line;
+      out.fault_value = verdict.value;
+      return false;
+    }
+    prep_[prepared_] = prepare_block(b, cfg_);
+    if (prep_[prepared_].motion) tail_ = b.end;
+    ++expected_seq_;
+    ++prepared_;
+  }
+  return true;
+}
+
+void Executor::pop(MotionRing& ring, ExecResult& out) {
+  ring.pop();
+  for (std::size_t i = 1; i < prepared_; ++i) prep_[i - 1] = prep_[i];
+  --prepared_;
+  ++out.blocks_done;
+  s_ = 0.0;
+  dwell_ = 0.0;
+  fresh_ = true;
+}
+
+double Executor::cap_of(const PreparedBlock& b, const ExecInput& in) const {
+  if (in.hold) return 0.0;
+  return std::min(b.speed * in.feed_override, b.v_machine);
+}
+
+bool Executor::flows_after(std::size_t i) const {
+  if (i + 1 >= prepared_ || !prep_[i].motion || !prep_[i + 1].motion) return false;
+  if (!junction_flows(prep_[i].contouring, prep_[i].dir_end, prep_[i + 1].dir_start, cos_limit_)) return false;
+  return junction_speed_cap(prep_[i].dir_end, prep_[i + 1].dir_start, axis_accel_, dt_, f_) > 0.0;
+}
+
+double Executor::junction_cap(std::size_t i, const ExecInput& in) const {
+  if (!flows_after(i)) return 0.0;
+  const double corner = junction_speed_cap(prep_[i].dir_end, prep_[i + 1].dir_start, axis_accel_, dt_, f_);
+  return std::min({corner, cap_of(prep_[i], in), cap_of(prep_[i + 1], in)});
+}
+
+// Backward pass over the chain of flowing blocks known in the ring; the last one ends at rest.
+double Executor::exit_speed_of_current(const ExecInput& in) const {
+  std::size_t e = 0;
+  while (flows_after(e)) ++e;
+  double v_out = 0.0;
+  for (std::size_t j = e; j >= 1; --j) {
+    // the same discrete rule (with its margin) the block will be run with
+    const double v_in = std::min(cap_of(prep_[j], in), stop_speed(prep_[j].length, v_out, prep_[j].accel, dt_, k_));
+    v_out = std::min(v_in, junction_cap(j - 1, in));
+  }
+  return v_out;
+}
+
+void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
+  out = ExecResult{};
+  if (!prepare_visible(ring, out)) {
+    hold_still();
+    return;
+  }
+  if (prepared_ == 0) {
+    hold_still();
+    rest_cycle_ = false;
+    out.starved = true;
+    return;
+  }
+  const Block& blk = ring.peek(0);
+  const PreparedBlock& b = prep_[0];
+  line_ = blk.line;
+  seq_ = blk.seq;
+  if (b.motion) {
+    contouring_ = b.contouring;
+    motion_step(ring, in, out);
+    return;
+  }
+  // Non-motion blocks run at rest.
+  hold_still();
+  rest_cycle_ = false;
+  switch (b.kind) {
+    case BlockKind::kDwell:
+      dwell_ += dt_;
+      after_motion_ = false;
+      if (dwell_ >= blk.dwell_s - 1e-12) pop(ring, out);
+      break;
+    case BlockKind::kPause:
+      after_motion_ = false;
+      out.at_pause = true;
+      if (in.resume_pause) {
+        pop(ring, out);
+        out.at_pause = false;
+      }
+      break;
+    case BlockKind::kEnd:
+      after_motion_ = false;
+      pop(ring, out);
+      out.program_end = true;
+      break;
+    default:  // a zero-length move: nothing to travel
+      pop(ring, out);
+      break;
+  }
+}
+
+void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
+  if (rest_cycle_) {  // one cycle at rest after landing on a stop
+    rest_cycle_ = false;
+    hold_still();
+    return;
+  }
+  if (fresh_) {
+    if (after_motion_ && ended_at_rest_) ++out.junction_stops;
+    ended_at_rest_ = false;
+    fresh_ = false;
+  }
+  const PreparedBlock& b = prep_[0];
+  const double a = b.accel;
+  const double cap = cap_of(b, in);
+  const bool stop_at_end = !flows_after(0);
+  const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
+  const double remaining = b.length - s_;
+
+  const double v_allow = std::min(cap, stop_speed(remaining, v_exit, a, dt_, k_));
+  const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
+  const double a_step = near_junction ? (1.0 - f_) * a : a;
+  double v_new = std::min(v_allow, v_ + a_step * dt_);
+  v_new = std::max({v_new, v_ - a_step * dt_, 0.0});
+  bool land = false;
+  if (stop_at_end && cap > 0.0) {
+    // Final approach: reach the end exactly this cycle when that takes no more than one
+    // cycle's acceleration either way (and the stop after it is within a·dt too).
+    const double v_land = remaining / dt_;
+    if (v_land <= a * dt_ && v_land <= cap && v_land >= v_ - a * dt_) {
+      v_new = v_land;
+      land = true;
+    }
+  }
+  if (crossed_ > 0) --crossed_;
+
+  const double v_old = v_;
+  s_ += v_new * dt_;
+  v_ = v_new;
+  // Finished the block?
+  while (s_ >= prep_[0].length || land) {
+    if (!flows_after(0)) {
+      // stop at the end: land exactly there, rest one cycle, then the next block.
+      pos_ = prep_[0].end;
+      vel_ = v_new * prep_[0].dir_end;
+      acc_ = ((v_new - v_old) / dt_) * prep_[0].dir_end;
+      pop(ring, out);
+      rest_cycle_ = true;
+      ended_at_rest_ = true;
+      after_motion_ = true;
+      return;
+    }
+    // flowing junction: carry the distance left over into the next block
+    const double carry = s_ - prep_[0].length;
+    pop(ring, out);
+    fresh_ = false;
+    ++out.junction_flows;
+    crossed_ = 2;
+    s_ = carry;
+    after_motion_ = true;
+    ended_at_rest_ = false;
+    contouring_ = prep_[0].contouring;
+    line_ = ring.peek(0).line;
+    seq_ = ring.peek(0).seq;
+    land = false;
+  }
+  const PathPoint pp = evaluate(prep_[0], s_);
+  pos_ = pp.p;
+  vel_ = v_new * pp.tangent;
+  acc_ = ((v_new - v_old) / dt_) * pp.tangent + (v_new * v_new) * pp.curvature;
+}
+
+}  // namespace pcnc

@@ -1,0 +1,38 @@
+// junction.hpp — the speed rules of the block executor's look-ahead, as pure functions:
+//
+//  * stop_speed: the fastest speed this cycle may use so that the machine can still slow to
+//    a target speed within the path it knows (the "never commit to a speed from which you
+//    cannot stop within the path already in the ring" rule);
+//  * junction_flows: the seed's contouring test (M21 on and a turn under the contouring angle);
+//  * junction_speed_cap: how fast a flowing corner may be passed so that the velocity step
+//    on every axis stays within `fraction` of that axis's acceleration times one cycle.
+// docs/machine-model.md and docs/servo-tuning.md cite these; the rules are explained in
+// the executor's header.
+#pragma once
+
+#include <array>
+
+#include "vec3.hpp"
+
+namespace pcnc {
+
+/// Largest v >= 0 with  k·v·dt + (v² − v_end²)/(2a) <= distance : moving v·dt this cycle
+/// and then braking at `accel` still reaches `v_end` (or less) before `distance` runs out.
+/// k >= 1 keeps a margin for the discrete braking and for cycles whose acceleration is
+/// restricted at flowing junctions (executor.hpp).
+double stop_speed(double distance_mm, double v_end_mm_s, double accel_mm_s2, double dt_s, double k);
+
+/// The continuous-time entry speed of a block of `length_mm` that must exit at `v_exit`.
+double entry_speed(double length_mm, double v_exit_mm_s, double accel_mm_s2);
+
+/// Contouring test between a block ending with tangent `dir_end` and the next starting with
+/// `dir_start` (unit vectors): flows when contouring is on and the turn is under the angle
+/// whose cosine is `cos_limit`.
+bool junction_flows(bool contouring, const Vec3& dir_end, const Vec3& dir_start, double cos_limit);
+
+/// Junction speed cap: per axis i, v·|dir_start_i − dir_end_i| <= fraction·a_i·dt.
+/// Returns +infinity for a straight (tangent) junction.
+double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
+                          double dt_s, double fraction);
+
+}  // namespace pcnc
