@@ -33,11 +33,15 @@ bool RtLoop::host_alive(std::uint64_t now_ns) const {
   return beat != 0 && now_ns < beat + host_timeout_ns_;
 }
 
-void RtLoop::cycle(std::uint64_t now_ns) {
+void RtLoop::take_commands(std::uint64_t now_ns) {
   shm_.header.rt_heartbeat_ns.store(now_ns, std::memory_order_release);
   Command cmd;
   while (shm_.commands.try_pop(cmd)) machine_->command(cmd);
   machine_->set_host_alive(host_alive(now_ns));
+}
+
+void RtLoop::cycle(std::uint64_t now_ns) {
+  take_commands(now_ns);
 
   const std::uint64_t popped_before = shm_.motion.popped();
   machine_->cycle(shm_.motion);
@@ -46,6 +50,10 @@ void RtLoop::cycle(std::uint64_t now_ns) {
     shm_.slot_freed.notify();
   }
 
+  publish_status();
+}
+
+void RtLoop::publish_status() {
   Status s = machine_->status();
   s.timing = timing_->summary();
   s.clock_virtual = options_.virtual_clock ? 1 : 0;
@@ -63,22 +71,28 @@ std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
     // deterministic. When the machine is at rest with nothing to do, wait too (10 ms steps)
     // instead of burning a core.
     while (!stop.load(std::memory_order_relaxed)) {
-      const bool need = machine_->wants_more_blocks(shm_.motion);
+      if (!shm_.commands.empty()) {
+        take_commands(monotonic_ns());
+        publish_status();  // the host sees its commands taken even before time advances
+      }
       const MachineState st = machine_->status().state;
       const bool at_rest = st != MachineState::kRunning && st != MachineState::kJogging && st != MachineState::kStopping &&
-                           shm_.motion.empty() && shm_.commands.empty();
-      if (need || at_rest) {
+                           shm_.motion.empty();
+      if (machine_->wants_more_blocks(shm_.motion)) {
         shm_.block_published.wait_until(
             [&] {
-              return !shm_.commands.empty() || (need && !machine_->wants_more_blocks(shm_.motion)) ||
-                     (!need && !shm_.motion.empty()) || stop.load(std::memory_order_relaxed);
+              return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) ||
+                     stop.load(std::memory_order_relaxed);
             },
             0.01);
-        const std::uint64_t now = monotonic_ns();
-        // Keep heartbeats and host-loss detection alive while waiting.
-        shm_.header.rt_heartbeat_ns.store(now, std::memory_order_release);
-        if (need && machine_->wants_more_blocks(shm_.motion) && host_alive(now)) continue;
-        // otherwise (idle), run one cycle now and then so status and heartbeat stay fresh
+        // Still waiting for the host (and it is alive): do not advance time.
+        if (machine_->wants_more_blocks(shm_.motion) && host_alive(monotonic_ns())) continue;
+      } else if (at_rest) {
+        // Idle: sleep until something arrives, running a cycle now and then so that the
+        // plant settles and status and heartbeat stay fresh.
+        shm_.block_published.wait_until(
+            [&] { return !shm_.commands.empty() || !shm_.motion.empty() || stop.load(std::memory_order_relaxed); }, 0.01);
+        if (!shm_.commands.empty()) continue;  // take them before stepping time
       }
       const std::uint64_t t0 = monotonic_ns();
       cycle(t0);

@@ -32,7 +32,9 @@ class RtLoop {
   const Machine& machine() const { return *machine_; }
 
  private:
+  void take_commands(std::uint64_t now_ns);
   void cycle(std::uint64_t now_ns);
+  void publish_status();
   bool host_alive(std::uint64_t now_ns) const;
 
   const MachineConfig& config_;
