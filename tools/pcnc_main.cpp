@@ -5,6 +5,7 @@
 
 #include <cstdio>
 
+#include "check.hpp"
 #include "config.hpp"
 #include "launcher.hpp"
 
@@ -46,6 +47,9 @@ int main(int argc, char** argv) {
     if (!report.empty()) lo.host_args.insert(lo.host_args.end(), {"--report", report});
     exit_code = pcnc::launch_pair(lo);
   });
+
+  // ---- check ----
+  pcnc::add_check_subcommand(app, exit_code);
 
   CLI11_PARSE(app, argc, argv);
   return exit_code;
