@@ -204,7 +204,7 @@ class LineLexer {
   // ---- constant expressions (LinuxCNC syntax, no parameters) ----
   // After '[': expression then ']'.
   bool bracket_rest(double& v, int depth) {
-    if (depth > kMaxExprDepth) return fail(p_, "expression nested too deeply; expected at most 64 levels of brackets");
+    if (depth > kMaxExprDepth) return fail(p_, "expression nested too deeply; expected at most 32 levels of brackets");
     if (!expr(v, depth + 1)) return false;
     skip_spaces();
     if (p_ == e_ || *p_ != ']') return fail(p_ < e_ ? p_ : e_, "expression not closed; expected ']'");
@@ -273,7 +273,7 @@ class LineLexer {
     return true;
   }
   bool unary(double& v, int depth) {
-    if (depth > kMaxExprDepth) return fail(p_, "expression nested too deeply; expected at most 64 levels of brackets");
+    if (depth > kMaxExprDepth) return fail(p_, "expression nested too deeply; expected at most 32 levels of brackets");
     skip_spaces();
     if (p_ == e_) return fail(e_, "expression ends early; expected a number, '[' or a function");
     const char c = *p_;
