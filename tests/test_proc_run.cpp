@@ -123,7 +123,7 @@ TEST(PcncRun, SigtermReachesBothProcesses) {
 }
 
 TEST(PcncRun, HelpTellsTheCommands) {
-  for (const std::string exe : {pcnc_exe(), bin_dir() + "/rt/pcnc-rt", bin_dir() + "/host/pcnc-host"}) {
+  for (const std::string& exe : {pcnc_exe(), bin_dir() + "/rt/pcnc-rt", bin_dir() + "/host/pcnc-host"}) {
     const ProcessResult r = run_process({exe, "--help"}, 30);
     EXPECT_EQ(r.exit_code, 0) << exe;
     EXPECT_NE(r.out.find("--config"), std::string::npos) << exe << ": " << r.out;
