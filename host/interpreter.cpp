@@ -108,14 +108,14 @@ Move Interpreter::end_move(int line) const {
 
 // Rejects unsupported G/M codes and words that nothing on the line uses.
 bool Interpreter::check_words(const ParsedLine& l) {
-  for (int g = 0; g < kGGroupCount; ++g) {
+  for (std::uint32_t bits = l.g_groups; bits; bits &= bits - 1) {
+    const int g = __builtin_ctz(bits);
     const int c = l.g[static_cast<std::size_t>(g)];
-    if (c < 0) continue;
     if (const char* why = rejected_g(c)) return fail(l, l.g_col[static_cast<std::size_t>(g)], g_name(c) + ": " + why);
   }
-  for (int g = 0; g < kMGroupCount; ++g) {
+  for (std::uint32_t bits = l.m_groups; bits; bits &= bits - 1) {
+    const int g = __builtin_ctz(bits);
     const int c = l.m[static_cast<std::size_t>(g)];
-    if (c < 0) continue;
     if (const char* why = rejected_m(c)) return fail(l, l.m_col[static_cast<std::size_t>(g)], "M" + std::to_string(c) + ": " + why);
   }
   const int motion_word = l.g[kGMotion];

@@ -66,8 +66,11 @@ std::string g_name(int code10) {
 
 bool parse_line(const LexedLine& lexed, int line_no, ParsedLine& out, DiagnosticSink& sink) {
   out.line = line_no;
-  out.g.fill(-1);
-  out.m.fill(-1);
+  // Reset only the groups the previous line used (the line buffer is reused).
+  for (std::uint32_t b = out.g_groups; b; b &= b - 1) out.g[static_cast<std::size_t>(__builtin_ctz(b))] = -1;
+  for (std::uint32_t b = out.m_groups; b; b &= b - 1) out.m[static_cast<std::size_t>(__builtin_ctz(b))] = -1;
+  out.g_groups = 0;
+  out.m_groups = 0;
   out.present = 0;
   out.g80_col = 0;
   out.empty = lexed.count == 0;
@@ -75,7 +78,7 @@ bool parse_line(const LexedLine& lexed, int line_no, ParsedLine& out, Diagnostic
     const Word& w = lexed.words[i];
     if (w.letter == 'G') {
       const double x10 = w.value * 10.0;
-      const long code = std::lround(x10);
+      const long code = static_cast<long>(x10 + 0.5);  // w.value >= 0 is checked next
       if (w.value < 0.0 || std::fabs(x10 - static_cast<double>(code)) > 1e-6 || code > 9999) {
         sink.error(line_no, w.column, "bad G number; expected a G code such as G1 or G5.2");
         return false;
@@ -97,9 +100,10 @@ bool parse_line(const LexedLine& lexed, int line_no, ParsedLine& out, Diagnostic
         return false;
       }
       out.g[static_cast<std::size_t>(group)] = static_cast<std::int16_t>(c);
+      out.g_groups |= 1u << group;
       out.g_col[static_cast<std::size_t>(group)] = static_cast<std::int16_t>(w.column > 32767 ? 32767 : w.column);
     } else if (w.letter == 'M') {
-      const long code = std::lround(w.value);
+      const long code = static_cast<long>(w.value + 0.5);  // w.value >= 0 is checked next
       if (w.value < 0.0 || std::fabs(w.value - static_cast<double>(code)) > 1e-6 || code > 9999) {
         sink.error(line_no, w.column, "bad M number; expected a whole number such as M3 or M30");
         return false;
@@ -117,6 +121,7 @@ bool parse_line(const LexedLine& lexed, int line_no, ParsedLine& out, Diagnostic
         return false;
       }
       out.m[static_cast<std::size_t>(group)] = static_cast<std::int16_t>(c);
+      out.m_groups |= 1u << group;
       out.m_col[static_cast<std::size_t>(group)] = static_cast<std::int16_t>(w.column > 32767 ? 32767 : w.column);
     } else {
       const auto i26 = static_cast<std::size_t>(w.letter - 'A');

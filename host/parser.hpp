@@ -49,15 +49,24 @@ int g_group(int code10);
 /// Modal group of an M number, or -1 when undefined.
 int m_group(int code);
 
+template <std::size_t N>
+constexpr std::array<std::int16_t, N> all_none() {
+  std::array<std::int16_t, N> a{};
+  for (auto& v : a) v = -1;
+  return a;
+}
+
 struct ParsedLine {
   int line = 0;
-  std::array<std::int16_t, kGGroupCount> g{};      // code x10, -1 = none
+  std::array<std::int16_t, kGGroupCount> g = all_none<kGGroupCount>();  // code x10, -1 = none
   std::array<std::int16_t, kGGroupCount> g_col{};
-  std::array<std::int16_t, kMGroupCount> m{};      // M number, -1 = none
+  std::array<std::int16_t, kMGroupCount> m = all_none<kMGroupCount>();  // M number, -1 = none
   std::array<std::int16_t, kMGroupCount> m_col{};
   std::uint32_t present = 0;                       // bit (letter - 'A') for letters other than G/M
   std::array<double, 26> value{};
   std::array<std::int32_t, 26> col{};
+  std::uint32_t g_groups = 0;  // bit per G group present on the line
+  std::uint32_t m_groups = 0;  // bit per M group present on the line
   bool empty = true;  // no words at all (blank, comment, '%', O number)
   int g80_col = 0;    // G80 written next to another motion code ("G80 G0", as some posts do)
 

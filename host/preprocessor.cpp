@@ -142,6 +142,26 @@ double max_abs_cos(double start, double sweep) {
 
 Block make_block(const Move& m, const MachineConfig& cfg) {
   Block b{};
+  make_block_into(m, cfg, b);
+  return b;
+}
+
+void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
+  // Every field but the NURBS arrays, reset to its default.
+  b.seq = 0;
+  b.kind = BlockKind::kLine;
+  b.motion_class = MotionClass::kNone;
+  b.optional_stop = 0;
+  b.length = b.speed = b.accel = 0.0;
+  b.driving_axis = 0;
+  b.driving_dir = 1;
+  for (auto& p : b.pad0_) p = 0;
+  b.driving_speed = b.driving_accel = b.decel_start = 0.0;
+  b.dir_start = b.dir_end = Vec3{0.0, 0.0, 0.0};
+  b.dwell_s = 0.0;
+  b.arc = ArcGeometry{};
+  b.nurbs.point_count = b.nurbs.knot_count = b.nurbs.schedule_count = 0;
+  b.nurbs.degree = 0;
   b.line = static_cast<std::uint32_t>(m.line > 0 ? m.line : 0);
   b.start = m.start;
   b.end = m.end;
@@ -171,7 +191,6 @@ Block make_block(const Move& m, const MachineConfig& cfg) {
       b.kind = BlockKind::kEnd;
       break;
   }
-  return b;
 }
 
 }  // namespace pcnc

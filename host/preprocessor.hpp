@@ -22,6 +22,10 @@ constexpr double kArcCentripetalShare = 0.5;
 
 /// The Block for one move (seq left 0: the ring feeder numbers blocks).
 Block make_block(const Move& move, const MachineConfig& config);
+/// The same written into `out` without touching its NURBS arrays (a Block is ~2.5 kB, mostly
+/// NURBS storage): every other field is set, and the NURBS counts are zeroed, so the arrays
+/// mean nothing for a non-NURBS block. For streaming without clearing 2.5 kB per move.
+void make_block_into(const Move& move, const MachineConfig& config, Block& out);
 
 /// Distance needed to stop from `speed` at `accel`, or half of `length` when the move is too
 /// short to reach `speed` and stop again (triangular profile). Returns the distance from the

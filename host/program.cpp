@@ -255,7 +255,7 @@ bool BlockStream::next(Block& out) {
     const std::vector<Diagnostic> d = impl_->sink.take();
     throw std::runtime_error(format_diagnostic(d.front()) + " (the program changed since it was checked?)");
   }
-  out = make_block(m, impl_->config);
+  make_block_into(m, impl_->config, out);
   return true;
 }
 

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 
 #include "config.hpp"
 #include "preprocessor.hpp"
@@ -197,6 +199,20 @@ TEST(Preprocessor, DwellPauseEnd) {
   EXPECT_EQ(b.optional_stop, 1);
   p.kind = MoveKind::kEnd;
   EXPECT_EQ(make_block(p, limits()).kind, BlockKind::kEnd);
+}
+
+TEST(Preprocessor, InPlaceVariantSetsEveryFieldButTheNurbsArrays) {
+  const Move moves[] = {line({0, 0, 0}, {3, 4, 0}, 10), arc({10, 0, 0}, {0, 10, 1}, {0, 0, 0}, 10, kPi / 2, 2, 20)};
+  for (const Move& m : moves) {
+    Block dirty;
+    std::memset(static_cast<void*>(&dirty), 0xAB, sizeof dirty);
+    make_block_into(m, limits(), dirty);
+    const Block clean = make_block(m, limits());
+    EXPECT_EQ(std::memcmp(&dirty, &clean, offsetof(Block, nurbs)), 0);
+    EXPECT_EQ(dirty.nurbs.point_count, 0);
+    EXPECT_EQ(dirty.nurbs.knot_count, 0);
+    EXPECT_EQ(dirty.nurbs.schedule_count, 0);
+  }
 }
 
 TEST(Preprocessor, ContouringFlagCarried) {
