@@ -301,32 +301,48 @@ double nurbs_curvature(const NurbsEval& e) {
   return norm(cross(e.d1, e.d2)) / (s * s * s);
 }
 
+namespace {
+
+// 8-point Gauss–Legendre on [a, b] of the parametric speed |C'(u)|.
+double gauss8_speed(const NurbsView& c, double a, double b) {
+  static constexpr double kX[4] = {0.18343464249564981, 0.52553240991632899, 0.79666647741362674,
+                                   0.96028985649753623};
+  static constexpr double kW[4] = {0.36268378337836198, 0.31370664587788729, 0.22238103445337447,
+                                   0.10122853629037626};
+  const double mid = 0.5 * (a + b);
+  const double half = 0.5 * (b - a);
+  double sum = 0.0;
+  for (int g = 0; g < 4; ++g) {
+    sum += kW[g] * (norm(nurbs_eval(c, mid - half * kX[g]).d1) + norm(nurbs_eval(c, mid + half * kX[g]).d1));
+  }
+  return half * sum;
+}
+
+// Adaptive: halves the interval until the two halves agree with the whole. The speed is a
+// smooth function inside a span except near (almost) vanishing C', where it has a kink.
+double adaptive_length(const NurbsView& c, double a, double b, double whole, int depth) {
+  const double mid = 0.5 * (a + b);
+  const double left = gauss8_speed(c, a, mid);
+  const double right = gauss8_speed(c, mid, b);
+  const double both = left + right;
+  if (depth <= 0 || std::fabs(both - whole) <= 1e-13 * std::fabs(both) + 1e-13) return both;
+  return adaptive_length(c, a, mid, left, depth - 1) + adaptive_length(c, mid, b, right, depth - 1);
+}
+
+}  // namespace
+
 double nurbs_arc_length(const NurbsView& c, double u0, double u1) {
-  // 8-point Gauss–Legendre on each piece of each knot span, 4 pieces per span.
-  static constexpr double kX[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
-                                   0.9602898564975363};
-  static constexpr double kW[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
-                                   0.1012285362903763};
   u0 = std::clamp(u0, c.u_min(), c.u_max());
   u1 = std::clamp(u1, c.u_min(), c.u_max());
   if (!(u1 > u0)) return 0.0;
   double total = 0.0;
   double a = u0;
   while (a < u1) {
+    // One knot span at a time: the speed is smooth inside a span.
     const int span = find_span(c, a);
     double b = std::min(u1, c.knots[span + 1]);
     if (!(b > a)) b = u1;
-    constexpr int kPieces = 4;
-    for (int k = 0; k < kPieces; ++k) {
-      const double lo = a + (b - a) * k / kPieces;
-      const double hi = a + (b - a) * (k + 1) / kPieces;
-      const double mid = 0.5 * (lo + hi);
-      const double half = 0.5 * (hi - lo);
-      for (int g = 0; g < 4; ++g) {
-        total += kW[g] * half * norm(nurbs_eval(c, mid - half * kX[g]).d1);
-        total += kW[g] * half * norm(nurbs_eval(c, mid + half * kX[g]).d1);
-      }
-    }
+    total += adaptive_length(c, a, b, gauss8_speed(c, a, b), 40);
     a = b;
   }
   return total;

@@ -1,0 +1,250 @@
+// test_nurbs_schedule.cpp — the NURBS feed schedule: each limit (feed, chord error,
+// centripetal, axis velocity) where it should bind and with its formula's value, the
+// acceleration passes, the cut into block schedules (never above the dense schedule) and
+// whole moves turned into chained ring blocks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "config.hpp"
+#include "nurbs.hpp"
+#include "nurbs_schedule.hpp"
+#include "test_paths.hpp"
+
+namespace pcnc {
+namespace {
+
+const double kS = 1.0 / std::sqrt(2.0);
+
+NurbsCurve full_circle(double r) {
+  NurbsCurve c;
+  c.degree = 2;
+  const double xy[9][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}};
+  for (int i = 0; i < 9; ++i) {
+    c.points.push_back({r * xy[i][0], r * xy[i][1], 0.0});
+    c.weights.push_back(i % 2 == 1 ? kS : 1.0);
+  }
+  c.knots = {0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4};
+  return c;
+}
+
+NurbsCurve line(Vec3 a, Vec3 b) {
+  std::vector<Vec3> pts;
+  for (double s : {0.0, 0.2, 0.5, 0.8, 1.0}) pts.push_back(a + s * (b - a));
+  return make_nurbs(pts, {1, 1, 1, 1, 1}, 4);
+}
+
+NurbsCurve random_curve(int count, int degree, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> coord(0.0, 20.0);
+  std::uniform_real_distribution<double> weight(0.5, 2.0);
+  std::vector<Vec3> pts;
+  std::vector<double> w;
+  for (int i = 0; i < count; ++i) {
+    pts.push_back({coord(rng), coord(rng), 0.1 * coord(rng)});
+    w.push_back(weight(rng));
+  }
+  return make_nurbs(pts, w, degree + 1, KnotRule::kChordLength);
+}
+
+NurbsLimits desktop_limits(double feed) {
+  return nurbs_limits(load_config(test::default_config()), feed);
+}
+
+// The passes' invariant: between neighbours, v^2 changes by at most 2 a ds.
+void expect_accel_consistent(const FeedSchedule& fs) {
+  for (std::size_t j = 1; j < fs.samples.size(); ++j) {
+    const FeedSample& a = fs.samples[j - 1];
+    const FeedSample& b = fs.samples[j];
+    const double dv2 = std::fabs(b.speed * b.speed - a.speed * a.speed);
+    EXPECT_LE(dv2, 2.0 * fs.ramp_accel_mm_s2 * (b.s - a.s) * (1 + 1e-9) + 1e-9) << "sample " << j;
+    EXPECT_LE(b.speed, b.limit + 1e-12);
+  }
+}
+
+TEST(NurbsSchedule, LimitsComeFromTheConfig) {
+  const MachineConfig cfg = load_config(test::default_config());
+  const NurbsLimits lim = nurbs_limits(cfg, 25.0);
+  EXPECT_EQ(lim.feed_mm_s, 25.0);
+  EXPECT_DOUBLE_EQ(lim.period_s, 1.0 / cfg.motion.cycle_hz);
+  EXPECT_EQ(lim.chord_tolerance_mm, cfg.gcode.nurbs_chord_tolerance_mm);
+  EXPECT_EQ(lim.axis_velocity_mm_s[2], cfg.axes[2].max_velocity_mm_s);
+  EXPECT_EQ(lim.axis_accel_mm_s2[0], cfg.axes[0].max_accel_mm_s2);
+}
+
+TEST(NurbsSchedule, StraightLineAcceleratesOnceAndDeceleratesOnce) {
+  const NurbsLimits lim = desktop_limits(40.0);
+  const NurbsCurve c = line({1, 1, 0}, {21, 1, 0});  // along X: tangential budget 0.5 * 2000
+  const FeedSchedule fs = plan_nurbs_feed(c, lim);
+  EXPECT_NEAR(fs.length_mm, 20.0, 1e-9);
+  EXPECT_DOUBLE_EQ(fs.accel_mm_s2, 1000.0);
+  EXPECT_DOUBLE_EQ(fs.ramp_accel_mm_s2, 900.0);
+  EXPECT_EQ(fs.samples.front().speed, 0.0);
+  EXPECT_EQ(fs.samples.back().speed, 0.0);
+  expect_accel_consistent(fs);
+  bool falling = false;
+  for (std::size_t j = 1; j < fs.samples.size(); ++j) {
+    const FeedSample& f = fs.samples[j];
+    EXPECT_EQ(f.binding, FeedLimit::kFeed);
+    // v = min(F, sqrt(2 a s), sqrt(2 a (L - s))) exactly, a the ramp acceleration.
+    const double want = std::min({40.0, std::sqrt(1800.0 * f.s), std::sqrt(1800.0 * (fs.length_mm - f.s))});
+    EXPECT_NEAR(f.speed, want, 1e-9 * 40.0) << "s=" << f.s;
+    if (f.speed < fs.samples[j - 1].speed) falling = true;
+    if (falling) {
+      EXPECT_LE(f.speed, fs.samples[j - 1].speed);  // one rise, one fall
+    }
+  }
+  // Given start and end speeds are kept.
+  const FeedSchedule joined = plan_nurbs_feed(c, lim, 40.0, 15.0);
+  EXPECT_EQ(joined.samples.front().speed, 40.0);
+  EXPECT_EQ(joined.samples.back().speed, 15.0);
+  expect_accel_consistent(joined);
+}
+
+TEST(NurbsSchedule, AxisVelocityProjectedOnTheTangent) {
+  NurbsLimits lim = desktop_limits(500.0);
+  const FeedSchedule along_x = plan_nurbs_feed(line({0, 0, 0}, {20, 0, 0}), lim, 500.0, 500.0);
+  const FeedSchedule diagonal = plan_nurbs_feed(line({0, 0, 0}, {20, 20, 0}), lim, 500.0, 500.0);
+  const FeedSchedule steep = plan_nurbs_feed(line({0, 0, 0}, {10, 0, 10}), lim, 500.0, 500.0);
+  const std::size_t mid = along_x.samples.size() / 2;
+  EXPECT_NEAR(along_x.samples[mid].speed, 100.0, 1e-9);
+  EXPECT_NEAR(diagonal.samples[mid].speed, 100.0 * std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(steep.samples[mid].speed, 50.0 * std::sqrt(2.0), 1e-9);  // Z: 50 mm/s
+  EXPECT_EQ(steep.samples[mid].binding, FeedLimit::kAxisVelocity);
+}
+
+TEST(NurbsSchedule, CentripetalLimitOnASmallCircle) {
+  const NurbsLimits lim = desktop_limits(100.0);
+  const double r = 1.0;
+  const FeedSchedule fs = plan_nurbs_feed(full_circle(r), lim);
+  expect_accel_consistent(fs);
+  // Per axis: v^2 kappa |n_i| <= 0.5 A_i; the worst point has |n_i| = 1: v = sqrt(0.5 * 2000 * r).
+  const double worst = std::sqrt(0.5 * 2000.0 * r);
+  double lowest_mid = 1e9;
+  for (const FeedSample& f : fs.samples) {
+    if (f.s > 0.3 * fs.length_mm && f.s < 0.7 * fs.length_mm) lowest_mid = std::min(lowest_mid, f.limit);
+    if (f.binding == FeedLimit::kCentripetal) {
+      // At an axis-aligned normal the limit is exactly the worst one.
+      const double angle = f.s / r;
+      const double n_max = std::max(std::fabs(std::cos(angle)), std::fabs(std::sin(angle)));
+      EXPECT_NEAR(f.limit, std::sqrt(0.5 * 2000.0 * r / n_max), 1e-6);
+    }
+  }
+  EXPECT_NEAR(lowest_mid, worst, 1e-6);
+}
+
+TEST(NurbsSchedule, ChordErrorLimitMatchesItsFormula) {
+  NurbsLimits lim = desktop_limits(100.0);
+  lim.chord_tolerance_mm = 1e-6;  // 1 nm: the chord error binds before anything else
+  const double r = 5.0;
+  const FeedSchedule fs = plan_nurbs_feed(full_circle(r), lim);
+  const double d = lim.chord_tolerance_mm;
+  const double want = 2.0 / lim.period_s * std::sqrt(2.0 * r * d - d * d);
+  int binding = 0;
+  for (const FeedSample& f : fs.samples) {
+    if (f.binding == FeedLimit::kChord) {
+      ++binding;
+      EXPECT_NEAR(f.limit, want, 1e-9 * want);
+    }
+  }
+  EXPECT_EQ(binding, static_cast<int>(fs.samples.size()));
+}
+
+TEST(NurbsSchedule, BlockScheduleNeverExceedsTheDenseOne) {
+  const NurbsLimits lim = desktop_limits(80.0);
+  const NurbsCurve c = random_curve(30, 3, 3);
+  const FeedSchedule fs = plan_nurbs_feed(c, lim);
+  ASSERT_GT(fs.samples.size(), static_cast<std::size_t>(kMaxFeedSchedule));
+  Block b;
+  fill_block_schedule(fs, c.u_min(), c.u_max(), b.nurbs);
+  const NurbsGeometry& g = b.nurbs;
+  ASSERT_EQ(g.schedule_count, kMaxFeedSchedule);
+  EXPECT_EQ(g.schedule_u[0], c.u_min());
+  EXPECT_EQ(g.schedule_u[kMaxFeedSchedule - 1], c.u_max());
+  for (int k = 1; k < g.schedule_count; ++k) EXPECT_LT(g.schedule_u[k - 1], g.schedule_u[k]);
+  // Linear interpolation of the block schedule is below the dense schedule at every sample.
+  int i = 0;
+  for (const FeedSample& f : fs.samples) {
+    while (i + 2 < g.schedule_count && f.u > g.schedule_u[i + 1]) ++i;
+    const double t = (f.u - g.schedule_u[i]) / (g.schedule_u[i + 1] - g.schedule_u[i]);
+    const double v = g.schedule_speed[i] + t * (g.schedule_speed[i + 1] - g.schedule_speed[i]);
+    EXPECT_LE(v, f.speed + 1e-9) << "u=" << f.u;
+  }
+  // And it is not needlessly low (this wiggly 30-point curve has far more speed features than
+  // 64 points can follow; 0.867 measured when written).
+  double dense = 0.0, coarse = 0.0;
+  for (int k = 0; k < g.schedule_count; ++k) {
+    dense += schedule_speed_at(fs, g.schedule_u[k]);
+    coarse += g.schedule_speed[k];
+  }
+  std::printf("block schedule / dense schedule at the kept points: %.3f\n", coarse / dense);
+  EXPECT_GT(coarse, 0.85 * dense);
+  // A short part fits as it is.
+  Block small;
+  fill_block_schedule(fs, c.knots[3], c.knots[4], small.nurbs);
+  EXPECT_EQ(small.nurbs.schedule_count, lim.samples_per_span + 1);
+  EXPECT_EQ(small.nurbs.schedule_u[0], c.knots[3]);
+}
+
+TEST(NurbsSchedule, MoveBecomesChainedBlocks) {
+  const NurbsLimits lim = desktop_limits(60.0);
+  const NurbsCurve c = random_curve(100, 3, 9);
+  const NurbsBlocks nb = plan_nurbs_blocks(c, lim);
+  ASSERT_EQ(nb.error, "");
+  ASSERT_GE(nb.blocks.size(), 4u);
+  double total = 0.0;
+  for (std::size_t i = 0; i < nb.blocks.size(); ++i) {
+    const Block& b = nb.blocks[i];
+    EXPECT_EQ(b.kind, BlockKind::kNurbs);
+    EXPECT_LE(b.nurbs.point_count, kMaxNurbsPoints);
+    EXPECT_GE(b.nurbs.schedule_count, 2);
+    EXPECT_LE(b.nurbs.schedule_count, kMaxFeedSchedule);
+    EXPECT_EQ(b.motion_class, MotionClass::kSpace);
+    EXPECT_GT(b.speed, 0.0);
+    EXPECT_LE(b.speed, 60.0);
+    EXPECT_EQ(b.accel, nb.schedule.accel_mm_s2);
+    EXPECT_NEAR(norm(b.start - nurbs_point(view_of(b.nurbs), b.nurbs.knots[0])), 0.0, 1e-12);
+    total += b.length;
+    if (i + 1 < nb.blocks.size()) {
+      const Block& next = nb.blocks[i + 1];
+      EXPECT_NEAR(norm(b.end - next.start), 0.0, 1e-9);
+      EXPECT_NEAR(dot(b.dir_end, next.dir_start), 1.0, 1e-9);  // tangent continuous join
+      EXPECT_FALSE(nb.corner_after[i]);
+      // The joint speed is the same on both sides (both taken from the dense schedule).
+      EXPECT_GT(b.nurbs.schedule_speed[b.nurbs.schedule_count - 1], 0.0);
+    }
+  }
+  EXPECT_NEAR(total, nb.schedule.length_mm, 1e-6);
+  EXPECT_EQ(nb.blocks.front().start, c.points.front());
+  EXPECT_EQ(nb.blocks.back().end, c.points.back());
+  // No start ramp in the block schedules (the rt ramps), only geometric limits.
+  EXPECT_GT(nb.blocks.front().nurbs.schedule_speed[0], 0.0);
+
+  NurbsCurve bad = c;
+  bad.weights[7] = -1.0;
+  const NurbsBlocks rejected = plan_nurbs_blocks(bad, lim);
+  EXPECT_NE(rejected.error.find("weight of control point 8"), std::string::npos);
+  EXPECT_TRUE(rejected.blocks.empty());
+}
+
+TEST(NurbsSchedule, CornerStopsTheSchedule) {
+  NurbsCurve kink;
+  kink.degree = 2;
+  kink.points = {{0, 0, 0}, {5, 0, 0}, {10, 0, 0}, {10, 5, 0}, {10, 10, 0}};
+  kink.weights = {1, 1, 1, 1, 1};
+  kink.knots = {0, 0, 0, 1, 1, 2, 2, 2};
+  const NurbsBlocks nb = plan_nurbs_blocks(kink, desktop_limits(50.0));
+  ASSERT_EQ(nb.error, "");
+  ASSERT_EQ(nb.blocks.size(), 2u);
+  EXPECT_TRUE(nb.corner_after[0]);
+  EXPECT_EQ(nb.blocks[0].nurbs.schedule_speed[nb.blocks[0].nurbs.schedule_count - 1], 0.0);
+  EXPECT_EQ(nb.blocks[1].nurbs.schedule_speed[0], 0.0);
+  EXPECT_EQ(nb.blocks[0].motion_class, MotionClass::kSingleAxis);
+  EXPECT_NEAR(dot(nb.blocks[0].dir_end, nb.blocks[1].dir_start), 0.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace pcnc
