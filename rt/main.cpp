@@ -2,6 +2,7 @@
 // scheduling and locked memory, and runs the 2 kHz loop until SIGINT/SIGTERM.
 #include <sched.h>
 #include <signal.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -59,6 +60,7 @@ int main(int argc, char** argv) {
   app.add_option("--ready-fd", ready_fd, "write 'ready' to this file descriptor once the segment exists (for launchers)");
   CLI11_PARSE(app, argc, argv);
 
+  spdlog::set_default_logger(spdlog::stderr_color_mt("pcnc-rt"));  // stdout stays for reports
   spdlog::set_pattern("[%H:%M:%S.%e] [pcnc-rt] [%^%l%$] %v");
   spdlog::set_level(spdlog::level::from_str(log_level));
 

@@ -123,11 +123,15 @@ TEST(PcncRun, SigtermReachesBothProcesses) {
 }
 
 TEST(PcncRun, HelpTellsTheCommands) {
-  for (const std::string& exe : {pcnc_exe(), bin_dir() + "/rt/pcnc-rt", bin_dir() + "/host/pcnc-host"}) {
+  for (const std::string& exe : {bin_dir() + "/rt/pcnc-rt", bin_dir() + "/host/pcnc-host"}) {
     const ProcessResult r = run_process({exe, "--help"}, 30);
     EXPECT_EQ(r.exit_code, 0) << exe;
     EXPECT_NE(r.out.find("--config"), std::string::npos) << exe << ": " << r.out;
+    EXPECT_NE(r.out.find(exe.find("pcnc-rt") != std::string::npos ? "--clock" : "--run"), std::string::npos) << r.out;
   }
+  const ProcessResult top = run_process({pcnc_exe(), "--help"}, 30);
+  EXPECT_EQ(top.exit_code, 0);
+  for (const char* sub : {"run", "check"}) EXPECT_NE(top.out.find(sub), std::string::npos) << sub << ": " << top.out;
   const ProcessResult r = run_process({pcnc_exe(), "run", "--help"}, 30);
   for (const char* opt : {"--clock", "--contouring", "--offset", "--fit", "--trace", "--report"}) {
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
