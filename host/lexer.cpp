@@ -393,46 +393,27 @@ std::size_t parse_decimal(const char* first, const char* last, double& out) {
     neg = *p == '-';
     ++p;
   }
+  // All digits go into one integer; up to 15 of them (leading zeros included) it is exact, and
+  // one correctly rounded division by an exact power of ten gives the same double as strtod.
   std::uint64_t m = 0;
-  int sig = 0;   // significant digits accumulated in m
-  int frac = 0;  // digits after the point accumulated
-  bool any = false;
-  bool exact = true;
-  while (p < last && is_digit(*p)) {
-    const unsigned d = static_cast<unsigned>(*p - '0');
-    if (m != 0 || d != 0) {
-      if (sig < 19) {
-        m = m * 10 + d;
-        ++sig;
-      } else {
-        exact = false;
-      }
-    }
-    any = true;
-    ++p;
-  }
+  const char* digits = p;
+  while (p < last && is_digit(*p)) m = m * 10 + static_cast<unsigned>(*p++ - '0');
+  std::ptrdiff_t count = p - digits;
+  std::ptrdiff_t frac = 0;
   if (p < last && *p == '.') {
     ++p;
-    while (p < last && is_digit(*p)) {
-      const unsigned d = static_cast<unsigned>(*p - '0');
-      if (sig < 19) {
-        m = m * 10 + d;
-        if (m != 0) ++sig;
-        ++frac;
-      } else {
-        exact = false;
-      }
-      any = true;
-      ++p;
-    }
+    const char* f = p;
+    while (p < last && is_digit(*p)) m = m * 10 + static_cast<unsigned>(*p++ - '0');
+    frac = p - f;
+    count += frac;
   }
-  if (!any) return 0;
-  if (exact && sig <= 15 && frac <= 22) {
+  if (count == 0) return 0;
+  if (count <= 15) {
     const double v = frac > 0 ? static_cast<double>(m) / kPow10[frac] : static_cast<double>(m);
     out = neg ? -v : v;
     return static_cast<std::size_t>(p - first);
   }
-  // Long numbers: the standard library's correctly rounded conversion.
+  // Long numbers (m may have overflowed): the standard library's correctly rounded conversion.
   const char* s = first;
   if (*s == '+') ++s;
   double v = 0.0;

@@ -58,9 +58,10 @@ void Preflight::add(const Move& m) {
     last_ = m.end;
     return;
   }
-  if (norm(m.end - m.start) > 1e-12 || m.kind == MoveKind::kArc) ++moves_;
+  const double length = move_length(m);
+  if (length > 1e-12 || m.kind == MoveKind::kArc) ++moves_;
   for_each_extreme(m, [&](const Vec3& p) { check_point(m, p); });
-  if (m.kind != MoveKind::kRapid && m.feed_mm_s > 0.0) feed_time_s_ += move_length(m) / m.feed_mm_s;
+  if (m.kind != MoveKind::kRapid && m.feed_mm_s > 0.0) feed_time_s_ += length / m.feed_mm_s;
   last_ = m.end;
 }
 
