@@ -91,9 +91,21 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     // the end point's actual angle (checked to be within tolerance by check_block).
     const double theta_end = std::atan2(e2, e1);
     pb.sweep = b.arc.sweep + wrap_pi(theta_end - (pb.theta0 + b.arc.sweep));
+    // The length of the curve actually run (a spiral when r1 != r0 within the tolerance), so
+    // that the path speed is the true speed along it.
+    pb.length = std::hypot(0.5 * (pb.r0 + pb.r1) * std::abs(pb.sweep), b.end[pb.an] - b.start[pb.an]);
     pb.dir_start = evaluate(pb, 0.0).tangent;
     pb.dir_end = evaluate(pb, pb.length).tangent;
     arc_caps(pb, cfg);
+    // s runs uniformly in angle, so on a spiral the true speed is up to r_max/r_mean times the
+    // parameter speed: scale the caps so the true speed never exceeds them.
+    const double r_mean = 0.5 * (pb.r0 + pb.r1), r_max = std::max(pb.r0, pb.r1);
+    if (r_max > r_mean) {
+      const double f = r_mean / r_max;
+      pb.speed *= f;
+      pb.v_machine *= f;
+      pb.accel *= f;
+    }
   } else {
     pb.dir_start = normalized(b.end - b.start);
     pb.dir_end = pb.dir_start;

@@ -19,7 +19,9 @@ AxisPlant::AxisPlant(const AxisConfig& c, double cycle_s, int substeps, double p
       res_(c.encoder_resolution_mm),
       h_(cycle_s / std::max(1, substeps)),
       substeps_(std::max(1, substeps)),
-      x_(position_mm) {}
+      x_(position_mm) {
+  e_h_ = std::exp(-(b_ / mass_kg_) * h_);
+}
 
 double AxisPlant::encoder() const {
   if (res_ <= 0.0) return x_;
@@ -36,7 +38,7 @@ void AxisPlant::advance(double force_n, double h) {
     return;
   }
   const double v_inf = a_force / lambda;
-  const double e = std::exp(-lambda * h);
+  const double e = h == h_ ? e_h_ : std::exp(-lambda * h);
   x_ += v_inf * h + (v_ - v_inf) * (1.0 - e) / lambda;
   v_ = v_inf + (v_ - v_inf) * e;
 }

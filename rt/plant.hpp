@@ -36,6 +36,7 @@ class AxisPlant {
 
   double mass_kg_, kf_, imax_, b_, fc_, fg_, res_;
   double h_;       // sub-step, s
+  double e_h_;     // exp(-b/m·h), precomputed for whole sub-steps
   int substeps_;
   double x_ = 0.0, v_ = 0.0, i_ = 0.0;
   bool blocked_ = false;

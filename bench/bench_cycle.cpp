@@ -1,0 +1,201 @@
+// bench_cycle.cpp — cost of one rt cycle (Machine::cycle: executor + 3 PID + plant + safety)
+// and how fast --clock virtual can replay a long program.
+//
+// Builds a long program in memory (M21 polygon circles, full arcs, helices, a zig-zag pocket
+// of lines, rapids; blocks projected on the axis limits like the host does), feeds it through
+// the 4-slot ring the way the virtual-clock loop does (refill before each cycle), and times
+// every cycle. Prints p50/p99/max compute time per cycle and simulated seconds per wall second.
+//   bench_cycle [--config F] [--circles N]
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "config.hpp"
+#include "machine.hpp"
+
+using namespace pcnc;
+
+namespace {
+
+// Minimal block builder with the host's projection rule (speed/accel so no axis exceeds its limits).
+struct Builder {
+  const MachineConfig& c;
+  Vec3 pos;
+  std::vector<Block> out;
+  std::uint64_t seq = 0;
+
+  Block base(BlockKind k) {
+    Block b{};
+    b.seq = ++seq;
+    b.line = static_cast<std::uint32_t>(seq);
+    b.kind = k;
+    b.contouring = 1;
+    b.start = pos;
+    b.end = pos;
+    return b;
+  }
+  void line(const Vec3& e, double feed, BlockKind k = BlockKind::kLine) {
+    Block b = base(k);
+    b.end = e;
+    b.length = norm(e - pos);
+    if (b.length <= 0.0) return;
+    const Vec3 u = normalized(e - pos);
+    double v = feed, a = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < kAxes; ++i) {
+      if (std::abs(u[i]) < 1e-12) continue;
+      v = std::min(v, c.axes[i].max_velocity_mm_s / std::abs(u[i]));
+      a = std::min(a, c.axes[i].max_accel_mm_s2 / std::abs(u[i]));
+    }
+    b.speed = v;
+    b.accel = a;
+    b.dir_start = b.dir_end = u;
+    out.push_back(b);
+    pos = e;
+  }
+  // Full XY circle (G03) about `center` from the current point, with helix dz.
+  void circle(const Vec3& center, double feed, double dz) {
+    Block b = base(BlockKind::kArc);
+    const double r = std::hypot(pos[0] - center[0], pos[1] - center[1]);
+    const double th = std::atan2(pos[1] - center[1], pos[0] - center[0]);
+    const double sweep = 2.0 * std::numbers::pi;
+    b.end = {pos[0], pos[1], pos[2] + dz};
+    b.length = std::hypot(r * sweep, dz);
+    const double q = r * sweep / b.length, h = std::abs(dz) / b.length;
+    const double ap = std::min(c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2);
+    const double vp = std::min(c.axes[0].max_velocity_mm_s, c.axes[1].max_velocity_mm_s);
+    double v = std::min({feed, vp / q, std::sqrt(0.5 * ap * r) / q}), a = 0.5 * ap / q;
+    if (h > 1e-12) {
+      v = std::min(v, c.axes[2].max_velocity_mm_s / h);
+      a = std::min(a, c.axes[2].max_accel_mm_s2 / h);
+    }
+    b.speed = v;
+    b.accel = a;
+    b.arc.center = {center[0], center[1], pos[2]};
+    b.arc.radius = r;
+    b.arc.start_angle = th;
+    b.arc.sweep = sweep;
+    b.arc.helix = dz;
+    b.arc.normal_axis = 2;
+    const Vec3 t = normalized(Vec3{-std::sin(th) * r * sweep, std::cos(th) * r * sweep, dz});
+    b.dir_start = b.dir_end = t;
+    out.push_back(b);
+    pos = b.end;
+  }
+  void end() { out.push_back(base(BlockKind::kEnd)); }
+};
+
+std::vector<Block> long_program(const MachineConfig& c, int repeats) {
+  Builder b{c, {c.axes[0].home_mm, c.axes[1].home_mm, c.axes[2].home_mm}, {}};
+  for (int r = 0; r < repeats; ++r) {
+    // polygon circle, 180 segments, r 5 mm, F1500
+    b.line({17.5, 12.5, 20.0}, 1e9, BlockKind::kRapid);
+    for (int k = 1; k <= 180; ++k) {
+      const double th = 2.0 * std::numbers::pi * k / 180.0;
+      b.line({12.5 + 5.0 * std::cos(th), 12.5 + 5.0 * std::sin(th), 20.0}, 25.0);
+    }
+    // a true circle and a helix down 2 mm
+    b.circle({12.5, 12.5, 20.0}, 500.0 / 60.0, 0.0);
+    b.circle({12.5, 12.5, 20.0}, 20.0, -2.0);
+    // zig-zag pocket
+    b.line({3.0, 3.0, 18.0}, 1e9, BlockKind::kRapid);
+    for (int k = 0; k < 20; ++k) {
+      b.line({22.0, 3.0 + k, 18.0}, 40.0);
+      b.line({22.0, 3.5 + k, 18.0}, 40.0);
+      b.line({3.0, 3.5 + k, 18.0}, 40.0);
+      b.line({3.0, 4.0 + k, 18.0}, 40.0);
+    }
+  }
+  b.line({12.5, 12.5, 25.0}, 1e9, BlockKind::kRapid);
+  b.end();
+  return b.out;
+}
+
+double clock_s(clockid_t id) {
+  timespec t{};
+  clock_gettime(id, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+double now_s() { return clock_s(CLOCK_MONOTONIC); }
+double cpu_s() { return clock_s(CLOCK_THREAD_CPUTIME_ID); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"rt cycle compute time and virtual-clock speed"};
+  std::string config_path = default_config_path();
+  int repeats = 20;
+  app.add_option("--config", config_path, "machine config");
+  app.add_option("--repeats", repeats, "how many times the test pattern repeats")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  const MachineConfig cfg = load_config(config_path);
+  const std::vector<Block> program = long_program(cfg, repeats);
+  const std::size_t max_cycles = 50'000'000;
+
+  // Pass 1: virtual-clock replay speed (no per-cycle timing overhead).
+  double sim_s = 0.0, wall_s = 0.0;
+  std::uint64_t cycles = 0;
+  {
+    Machine m(cfg);
+    MotionRing ring;
+    Command start;
+    start.id = 1;
+    start.kind = CommandKind::kProgramStart;
+    m.command(start);
+    std::size_t next = 0;
+    const double t0 = now_s(), c0 = cpu_s();
+    while (!m.status().program_done && cycles < max_cycles && m.status().state != MachineState::kFault) {
+      while (next < program.size() && ring.try_push(program[next])) ++next;
+      m.set_host_alive(true);
+      m.cycle(ring);
+      ++cycles;
+    }
+    wall_s = now_s() - t0;
+    const double cpu = cpu_s() - c0;
+    sim_s = static_cast<double>(cycles) * cfg.cycle_period_s();
+    if (!m.status().program_done) {
+      std::fprintf(stderr, "program did not finish: state %s, %s\n", to_string(m.status().state), m.fault_reason());
+      return 1;
+    }
+    std::printf("program: %zu blocks, %.1f s of machine time (%llu cycles), max ferr X %.2f Y %.2f Z %.2f um\n",
+                program.size(), sim_s, static_cast<unsigned long long>(cycles), m.status().max_following_error[0] * 1e3,
+                m.status().max_following_error[1] * 1e3, m.status().max_following_error[2] * 1e3);
+    std::printf("virtual clock: %.1f simulated s in %.3f wall s = %.0fx real time (thread CPU %.3f s = %.0fx; the\n"
+                "               difference is time this thread was not scheduled on the shared cores)\n",
+                sim_s, wall_s, sim_s / wall_s, cpu, sim_s / cpu);
+  }
+
+  // Pass 2: compute time of each cycle.
+  {
+    Machine m(cfg);
+    MotionRing ring;
+    Command start;
+    start.id = 1;
+    start.kind = CommandKind::kProgramStart;
+    m.command(start);
+    std::vector<double> us;
+    us.reserve(cycles + 16);
+    std::size_t next = 0;
+    while (!m.status().program_done && us.size() < max_cycles) {
+      while (next < program.size() && ring.try_push(program[next])) ++next;
+      const double t0 = now_s();
+      m.cycle(ring);
+      us.push_back((now_s() - t0) * 1e6);
+    }
+    std::sort(us.begin(), us.end());
+    auto pct = [&](double p) { return us[std::min(us.size() - 1, static_cast<std::size_t>(p * static_cast<double>(us.size())))]; };
+    double sum = 0.0;
+    for (double x : us) sum += x;
+    std::printf("cycle compute time over %zu cycles: mean %.3f us, p50 %.3f us, p99 %.3f us, p99.9 %.3f us, max %.3f us\n",
+                us.size(), sum / static_cast<double>(us.size()), pct(0.5), pct(0.99), pct(0.999), us.back());
+  }
+  return 0;
+}

@@ -1,0 +1,248 @@
+// test_executor.cpp — the block executor on its own (no servo, no plant): path geometry,
+// speed law, junction rules, and the stop-within-the-ring guarantee.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "executor.hpp"
+#include "junction.hpp"
+#include "machine_runner.hpp"
+#include "make_blocks.hpp"
+
+namespace pcnc {
+namespace {
+
+using test::ProgramBuilder;
+
+MachineConfig cfg() { return test::default_machine_config(); }
+
+struct Sample {
+  Vec3 p;
+  double v;
+  std::uint32_t line;
+};
+
+// Runs blocks through an executor, keeping the ring full; returns one sample per cycle.
+std::vector<Sample> execute(const MachineConfig& c, const std::vector<Block>& blocks, ExecResult* total = nullptr,
+                            std::size_t feed_limit = kRingSlots) {
+  Executor ex(c);
+  ex.set_position(blocks.front().start);
+  MotionRing ring;
+  std::size_t next = 0;
+  std::vector<Sample> out;
+  ExecResult sum;
+  for (int i = 0; i < 1000000; ++i) {
+    while (next < blocks.size() && ring.size() < feed_limit && ring.try_push(blocks[next])) ++next;
+    ExecResult r;
+    ex.step(ring, ExecInput{}, r);
+    EXPECT_EQ(r.fault, FaultCode::kNone) << r.reason;
+    if (r.fault != FaultCode::kNone) break;
+    sum.blocks_done += r.blocks_done;
+    sum.junction_flows += r.junction_flows;
+    sum.junction_stops += r.junction_stops;
+    out.push_back({ex.position(), ex.speed(), ex.line()});
+    if (r.program_end) break;
+  }
+  if (total) *total = sum;
+  return out;
+}
+
+TEST(Junction, StopSpeedBrakesWithinTheDistance) {
+  // Braking from stop_speed(d) by a·dt per cycle after moving one cycle at it covers <= d.
+  const double a = 2000.0, dt = 0.0005;
+  for (double d : {1e-6, 1e-4, 0.01, 0.3, 5.0}) {
+    for (double k : {1.0, 2.0}) {
+      const double v0 = stop_speed(d, 0.0, a, dt, k);
+      double v = v0, x = v0 * dt;
+      while (v > 0.0) {
+        v = std::max(0.0, v - a * dt);
+        x += v * dt;
+      }
+      EXPECT_LE(x, d * (1.0 + 1e-12)) << d;
+      EXPECT_GT(v0, 0.0);
+    }
+  }
+  // at zero distance: one cycle at v, then braking to v_end must fit: v²/2a + v·dt = v_end²/2a
+  const double v = stop_speed(0.0, 10.0, a, dt, 1.0);
+  EXPECT_NEAR(v * v / (2 * a) + v * dt, 100.0 / (2 * a), 1e-12);
+  EXPECT_LT(v, 10.0);
+  EXPECT_GT(stop_speed(1.0, 10.0, a, dt, 1.0), stop_speed(1.0, 0.0, a, dt, 1.0));
+}
+
+TEST(Junction, ContouringAngleAndSpeedCap) {
+  const double lim = std::cos(10.0 * std::numbers::pi / 180.0);
+  auto dir = [](double deg) {
+    const double r = deg * std::numbers::pi / 180.0;
+    return Vec3{std::cos(r), std::sin(r), 0.0};
+  };
+  EXPECT_TRUE(junction_flows(true, dir(0), dir(9.9), lim));
+  EXPECT_FALSE(junction_flows(true, dir(0), dir(10.1), lim));
+  EXPECT_FALSE(junction_flows(false, dir(0), dir(1.0), lim));
+  EXPECT_FALSE(junction_flows(true, dir(0), dir(90.0), lim));
+  const std::array<double, 3> acc{2000.0, 1000.0, 1000.0};
+  EXPECT_TRUE(std::isinf(junction_speed_cap(dir(5), dir(5), acc, 0.0005, 0.5)));
+  // X changes by 1 - cos 1°, Y by sin 1°: Y (lower accel, bigger change) binds
+  const double cap = junction_speed_cap(dir(0), dir(1), acc, 0.0005, 0.5);
+  EXPECT_NEAR(cap, 0.5 * 1000.0 * 0.0005 / std::sin(std::numbers::pi / 180.0), 1e-9);
+}
+
+TEST(Executor, LineIsTrapezoidalAndEndsExactly) {
+  MachineConfig c = cfg();
+  ProgramBuilder p(c, test::home(c));
+  p.line({22.5, 12.5, 25.0}, 50.0).end();
+  const auto s = execute(c, p.blocks());
+  const double dt = c.cycle_period_s();
+  double vmax = 0.0;
+  for (const auto& x : s) {
+    EXPECT_NEAR(x.p[1], 12.5, 0.0);
+    vmax = std::max(vmax, x.v);
+  }
+  EXPECT_NEAR(vmax, 50.0, 1e-9);
+  EXPECT_EQ(s.back().p, (Vec3{22.5, 12.5, 25.0}));
+  // time ≈ L/v + v/a for a trapezoid (plus a few cycles of final approach)
+  const double t_ideal = 10.0 / 50.0 + 50.0 / 2000.0;
+  EXPECT_NEAR(static_cast<double>(s.size()) * dt, t_ideal, 0.01);
+}
+
+TEST(Executor, ArcsInEveryPlaneStayOnTheCircle) {
+  MachineConfig c = cfg();
+  for (int normal = 0; normal < 3; ++normal) {
+    for (bool cw : {true, false}) {
+      Vec3 center{12.5, 12.5, 12.5};
+      int a1 = 0, a2 = 1;
+      arc_plane_axes(normal, a1, a2);
+      Vec3 start = center;
+      start[a1] += 4.0;
+      Vec3 end = center;
+      end[a2] += cw ? -4.0 : 4.0;  // a quarter circle either way
+      ProgramBuilder p(c, start);
+      p.arc(end, center, normal, cw, 30.0).end();
+      const auto s = execute(c, p.blocks());
+      double worst = 0.0;
+      for (const auto& x : s) {
+        worst = std::max(worst, std::abs(std::hypot(x.p[a1] - center[a1], x.p[a2] - center[a2]) - 4.0));
+        EXPECT_NEAR(x.p[normal], center[normal], 1e-12);
+        // stays in the quadrant between start and end
+        EXPECT_GE(x.p[a1] - center[a1], -1e-9);
+        EXPECT_GE((cw ? -1.0 : 1.0) * (x.p[a2] - center[a2]), -1e-9);
+      }
+      EXPECT_LT(worst, 1e-9) << "normal " << normal << " cw " << cw;
+      EXPECT_EQ(s.back().p, end);
+    }
+  }
+}
+
+TEST(Executor, HelixAdvancesTheNormalAxisWithTheAngle) {
+  MachineConfig c = cfg();
+  const Vec3 center{12.5, 12.5, 20.0};
+  ProgramBuilder p(c, {15.5, 12.5, 20.0});
+  p.arc({15.5, 12.5, 14.0}, center, 2, false, 20.0, 1).end();  // two full turns, down 6 mm
+  const auto s = execute(c, p.blocks());
+  double prev_angle = 0.0, unwrapped = 0.0;
+  for (const auto& x : s) {
+    const double ang = std::atan2(x.p[1] - center[1], x.p[0] - center[0]);
+    double d = ang - prev_angle;
+    if (d < -std::numbers::pi) d += 2 * std::numbers::pi;
+    if (d > std::numbers::pi) d -= 2 * std::numbers::pi;
+    unwrapped += d;
+    prev_angle = ang;
+    // z = 20 - 6 * angle / (4π)
+    EXPECT_NEAR(x.p[2], 20.0 - 6.0 * unwrapped / (4.0 * std::numbers::pi), 1e-9);
+  }
+  EXPECT_NEAR(unwrapped, 4.0 * std::numbers::pi, 1e-9);
+  EXPECT_EQ(s.back().p, (Vec3{15.5, 12.5, 14.0}));
+}
+
+TEST(Executor, RadiusMismatchWithinToleranceStillJoinsStartAndEnd) {
+  MachineConfig c = cfg();
+  ProgramBuilder p(c, {17.5, 12.5, 20.0});
+  p.arc({12.5, 17.501, 20.0}, {12.5, 12.5, 20.0}, 2, false, 20.0).end();  // end radius 5.001
+  const auto s = execute(c, p.blocks());
+  EXPECT_EQ(s.back().p, (Vec3{12.5, 17.501, 20.0}));
+  for (std::size_t k = 1; k < s.size(); ++k) EXPECT_LT(norm(s[k].p - s[k - 1].p), 20.0 * c.cycle_period_s() + 1e-9);
+}
+
+TEST(Executor, ShortRingCostsSpeedNeverSafety) {
+  // Host handing one block at a time: contouring cannot look ahead, so every block ends at
+  // rest; with the full ring the same program flows through its vertices.
+  MachineConfig c = cfg();
+  const auto prog = test::polygon_circle_program(c, {12.5, 12.5, 20.0}, 5.0, 72, 25.0, true);
+  ExecResult one, full;
+  const auto s1 = execute(c, prog, &one, 1);
+  const auto s4 = execute(c, prog, &full, kRingSlots);
+  EXPECT_EQ(one.junction_flows, 0);
+  EXPECT_EQ(full.junction_flows, 71);
+  EXPECT_GT(s1.size(), s4.size());
+}
+
+TEST(Executor, AlwaysAbleToStopWithinTheRing) {
+  // At sampled cycles of an M21 polygon circle at high feed, clone the executor and the ring
+  // as they are and let the host vanish: the clone must come to rest within the blocks it
+  // already has, never braking harder than the blocks' accelerations allow.
+  MachineConfig c = cfg();
+  const auto prog = test::polygon_circle_program(c, {12.5, 12.5, 12.5}, 5.0, 120, 60.0, true);
+  Executor ex(c);
+  ex.set_position(prog.front().start);
+  MotionRing ring;
+  std::size_t next = 0;
+  const double dt = c.cycle_period_s();
+  int clones = 0;
+  for (int i = 0; i < 100000; ++i) {
+    while (next < prog.size() && ring.try_push(prog[next])) ++next;
+    ExecResult r;
+    ex.step(ring, ExecInput{}, r);
+    ASSERT_EQ(r.fault, FaultCode::kNone);
+    if (r.program_end) break;
+    if (i % 5 != 0 || ex.speed() == 0.0) continue;
+    Executor cl = ex;
+    MotionRing cring;
+    for (std::size_t k = 0; k < ring.size(); ++k) cring.try_push(ring.peek(k));
+    double v = cl.speed();
+    Vec3 p = cl.position();
+    for (int j = 0; j < 100000; ++j) {
+      ExecResult rr;
+      cl.step(cring, ExecInput{}, rr);
+      ASSERT_LE(v - cl.speed(), c.axes[0].max_accel_mm_s2 * std::sqrt(2.0) * dt * (1 + 1e-9)) << "cycle " << i;
+      v = cl.speed();
+      if (rr.starved) break;
+      p = cl.position();
+    }
+    EXPECT_EQ(cl.speed(), 0.0);
+    ++clones;
+  }
+  EXPECT_GT(clones, 50);
+}
+
+TEST(Executor, FeedHoldRampsDownAndResumes) {
+  MachineConfig c = cfg();
+  ProgramBuilder p(c, {2.0, 12.5, 20.0});
+  p.line({23.0, 12.5, 20.0}, 80.0).end();
+  Executor ex(c);
+  ex.set_position({2.0, 12.5, 20.0});
+  MotionRing ring;
+  for (const Block& b : p.blocks()) ring.try_push(b);
+  ExecInput in;
+  ExecResult r;
+  for (int i = 0; i < 200; ++i) ex.step(ring, in, r);
+  EXPECT_NEAR(ex.speed(), 80.0, 1e-9);
+  in.hold = true;
+  int n = 0;
+  double prev = ex.speed();
+  while (ex.speed() > 0.0) {
+    ex.step(ring, in, r);
+    EXPECT_NEAR(prev - ex.speed(), 2000.0 * c.cycle_period_s(), 1e-9);
+    prev = ex.speed();
+    ++n;
+  }
+  EXPECT_EQ(n, 80);  // 80 mm/s at 2000 mm/s² = 40 ms = 80 cycles
+  const Vec3 held = ex.position();
+  for (int i = 0; i < 10; ++i) ex.step(ring, in, r);
+  EXPECT_EQ(ex.position(), held);
+  in.hold = false;
+  for (int i = 0; i < 100000 && !r.program_end; ++i) ex.step(ring, in, r);
+  EXPECT_EQ(ex.position(), (Vec3{23.0, 12.5, 20.0}));
+}
+
+}  // namespace
+}  // namespace pcnc
