@@ -7,10 +7,15 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "nurbs.hpp"
+#include "nurbs_reader.hpp"
+#include "nurbs_rough.hpp"
+#include "nurbs_tool.hpp"
+#include "test_paths.hpp"
 
 namespace pcnc {
 namespace {
@@ -342,6 +347,88 @@ TEST(NurbsValidate, NamesEachError) {
   c = good;
   c.points[1][0] = NAN;
   expect_error(c, "control point 2 is not a finite number");
+}
+
+// ---- the seed's rough interpolation and the offline tool --------------------------------
+
+TEST(NurbsRough, QuarterCircleWithinToleranceWithFewSegments) {
+  const double r = 10.0, tol = 0.001;
+  const NurbsCurve c = quarter_circle(r);
+  // Feed steps of 0.5 mm: every chord error is within the tolerance, measured densely.
+  const RoughPolyline rough = rough_interpolate(c, 0.5, tol);
+  EXPECT_LE(rough.max_deviation_mm, tol);
+  EXPECT_EQ(rough.segments + 1, rough.points.size());
+  for (std::size_t i = 0; i < rough.points.size(); ++i) EXPECT_NEAR(norm(rough.points[i]), r, 1e-11);
+  EXPECT_EQ(rough.params.back(), 1.0);
+  // Bisection alone: between the fewest possible chords and twice that many.
+  const double max_angle = 2.0 * std::acos(1.0 - tol / r);
+  const auto fewest = static_cast<std::size_t>(std::ceil((M_PI / 2) / max_angle));
+  const RoughPolyline cam = rough_interpolate(c, 100.0, tol);
+  EXPECT_LE(cam.max_deviation_mm, tol);
+  EXPECT_GE(cam.segments, fewest);
+  EXPECT_LE(cam.segments, 2 * fewest);
+  // The measured deviation is real: a coarse polyline is reported above the tolerance.
+  EXPECT_GT(polyline_deviation(c, {0.0, 1.0}, {c.points.front(), c.points.back()}), r * (1 - kS) - 1e-9);
+}
+
+TEST(NurbsReader, ReadsLinuxCncG52Programs) {
+  const std::string dir = test::shared_dir() + "/gcode/nurbs/g5.2/";
+  const NurbsProgram xy = read_nurbs_program(dir + "nurbs-xy.ngc");
+  ASSERT_EQ(xy.error, "");
+  ASSERT_EQ(xy.curves.size(), 1u);
+  const NurbsCurve& c = xy.curves[0].curve;
+  EXPECT_EQ(c.degree, 2);
+  EXPECT_EQ(c.points, (std::vector<Vec3>{{0, 0, 0}, {0, 1, 0}, {2, 2, 0}, {2, 0, 0}, {0, 0, 0}}));
+  EXPECT_EQ(c.weights, (std::vector<double>{1, 1, 1, 1, 2}));
+  EXPECT_EQ(c.knots, open_uniform_knots(5, 2));
+  EXPECT_NEAR(xy.curves[0].feed_mm_s, 100.0 / 60.0, 1e-12);
+
+  // Three planes: XY (G17), YZ (G19) and ZX (G18, first axis Z), order 4, doubled start.
+  const NurbsProgram tri = read_nurbs_program(dir + "trident-xy-yz-zx.ngc");
+  ASSERT_EQ(tri.error, "");
+  ASSERT_EQ(tri.curves.size(), 3u);
+  for (const ProgramCurve& pc : tri.curves) {
+    EXPECT_EQ(pc.curve.degree, 3);
+    EXPECT_EQ(pc.curve.points.size(), 8u);
+    EXPECT_EQ(pc.curve.points[0], pc.curve.points[1]);
+  }
+  EXPECT_EQ(tri.curves[0].curve.points[2], (Vec3{20, 20, 0}));
+  EXPECT_EQ(tri.curves[1].curve.points[2], (Vec3{0, 20, 20}));  // Y20 Z20 at X0
+  EXPECT_EQ(tri.curves[2].curve.points[2], (Vec3{20, 0, 20}));  // Z20 X20 at Y0
+  EXPECT_EQ(tri.curves[2].curve.points[3], (Vec3{8, 0, 12}));   // Z12 X8
+
+  EXPECT_NE(parse_nurbs_program("G0 X0 Y0\nF60\nG5.2 L3\nX1 Y1\nG5.3\n").error.find("line 4: control point without its weight P"),
+            std::string::npos);
+  EXPECT_NE(parse_nurbs_program("G5.3\n").error.find("G5.3 without an open G5.2"), std::string::npos);
+  EXPECT_NE(parse_nurbs_program("G5.2 L7\nX1 Y0 P1\nX2 Y0 P1\nG5.3\n").error.find("order 7 out of range"),
+            std::string::npos);
+  EXPECT_NE(parse_nurbs_program("G5.2 L4\nX1 Y0 P1\nX2 Y0 P1\nG5.3\n").error.find("at least 4 control points"),
+            std::string::npos);
+  EXPECT_NE(parse_nurbs_program("G5.2\nX1 Y0 P-1\nX2 Y0 P1\nG5.3\n").error.find("weights must be > 0"),
+            std::string::npos);
+  EXPECT_NE(parse_nurbs_program("G5.2\nX1 Y0 Z3 P1\nG5.3\n").error.find("not in the NURBS plane"), std::string::npos);
+}
+
+TEST(NurbsTool, PrintsTheRoughInterpolationOfEachCurve) {
+  NurbsToolOptions o;
+  o.file = test::shared_dir() + "/gcode/nurbs/g5.2/leto-xy.ngc";
+  o.config_path = test::default_config();
+  o.tolerance_mm = 0.001;
+  std::ostringstream out, err;
+  ASSERT_EQ(run_nurbs_rough(o, out, err), 0) << err.str();
+  const std::string text = out.str();
+  EXPECT_NE(text.find("curve 1 (line 14): order 3, 12 control points"), std::string::npos) << text;
+  EXPECT_NE(text.find("rough interpolation: "), std::string::npos);
+  EXPECT_NE(text.find("direct NURBS: 1 G5.2 block (1 ring block)"), std::string::npos);
+  // The max deviation printed is within the tolerance.
+  const std::size_t at = text.find("max deviation ");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_LE(std::stod(text.substr(at + 14)), 0.001);
+
+  o.file = test::shared_dir() + "/gcode/nurbs/g5.2/does-not-exist.ngc";
+  std::ostringstream out2, err2;
+  EXPECT_EQ(run_nurbs_rough(o, out2, err2), 1);
+  EXPECT_NE(err2.str().find("cannot read"), std::string::npos);
 }
 
 }  // namespace
