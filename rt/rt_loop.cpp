@@ -5,6 +5,8 @@
 
 #include <cerrno>
 
+#include "trace_writer.hpp"
+
 namespace pcnc {
 
 namespace {
@@ -24,7 +26,9 @@ RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOpti
       options_(options),
       machine_(std::make_unique<Machine>(config)),
       timing_(std::make_unique<CycleTiming>()),
-      host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)) {}
+      host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)) {
+  if (!options_.trace_path.empty()) trace_ = std::make_unique<TraceWriter>(options_.trace_path);
+}
 
 RtLoop::~RtLoop() = default;
 
@@ -48,6 +52,13 @@ void RtLoop::cycle(std::uint64_t now_ns) {
   if (shm_.motion.popped() != popped_before) {
     shm_.header.slot_freed_ns.store(now_ns, std::memory_order_release);
     shm_.slot_freed.notify();
+  }
+  if (trace_) {
+    if (options_.virtual_clock) {
+      trace_->push_wait(machine_->trace_sample());
+    } else {
+      trace_->push(machine_->trace_sample());
+    }
   }
 
   publish_status();

@@ -15,6 +15,8 @@
 
 namespace pcnc {
 
+class TraceWriter;
+
 struct RtLoopOptions {
   bool virtual_clock = false;
   std::string trace_path;  // empty: no trace
@@ -42,6 +44,7 @@ class RtLoop {
   RtLoopOptions options_;
   std::unique_ptr<Machine> machine_;
   std::unique_ptr<CycleTiming> timing_;
+  std::unique_ptr<TraceWriter> trace_;  // set when options.trace_path is given
   std::uint64_t host_timeout_ns_;
 };
 

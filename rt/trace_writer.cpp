@@ -43,6 +43,10 @@ bool TraceWriter::push(const TraceSample& sample) {
   return true;
 }
 
+void TraceWriter::push_wait(const TraceSample& sample) {
+  while (!queue_->try_push(sample)) std::this_thread::sleep_for(std::chrono::microseconds(50));
+}
+
 void TraceWriter::drain() {
   TraceSample s;
   char buf[512];

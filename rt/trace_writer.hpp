@@ -2,7 +2,8 @@
 //
 // The rt loop owns a TraceWriter and calls push() once per cycle: it copies the sample into
 // a lock-free single-producer/single-consumer queue and never blocks, allocates or does I/O;
-// when the queue is full the sample is dropped and counted. A background thread drains the
+// when the queue is full the sample is dropped and counted (under --clock virtual the loop
+// uses push_wait, which waits for room instead: the trace of a replay is complete). A background thread drains the
 // queue into a CSV file with the header
 //   t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed
 // (mm, s, mm/s; state by name). close() (or the destructor) drains what is left and joins.
@@ -33,6 +34,9 @@ class TraceWriter {
 
   /// rt thread: non-blocking. Returns false (and counts a drop) when the queue is full.
   bool push(const TraceSample& sample);
+  /// Virtual clock only (not real time): waits for room instead of dropping, so a replayed
+  /// program's trace is complete and deterministic.
+  void push_wait(const TraceSample& sample);
 
   /// Drains the queue, flushes and closes the file, joins the thread. Idempotent.
   void close();
