@@ -46,6 +46,15 @@ bool JobRunner::wait_until_state(const std::function<bool(const Status&)>& done,
 
 JobResult JobRunner::run(const std::string& path, const JobOptions& options, const CheckResult& check,
                          const std::atomic<bool>& interrupt, const std::function<void(const JobProgress&)>& progress) {
+  BlockStream stream(path, config_, options, check.transform);
+  BlockSource source;
+  source.next = [&](Block& b) { return stream.next(b); };
+  source.progress = [&] { return JobProgress{stream.lines_read(), stream.bytes_read(), stream.total_bytes(), Status{}}; };
+  return run_source(source, options.contouring.value_or(config_.motion.contouring_default), interrupt, progress);
+}
+
+JobResult JobRunner::run_source(const BlockSource& source, bool contouring, const std::atomic<bool>& interrupt,
+                                const std::function<void(const JobProgress&)>& progress) {
   JobResult result;
   const auto t0 = std::chrono::steady_clock::now();
   auto finish = [&](JobEnd end, std::string message) {
@@ -61,17 +70,21 @@ JobResult JobRunner::run(const std::string& path, const JobOptions& options, con
     return finish(JobEnd::kFault, std::string("machine is ") + to_string(st.state) + ", not IDLE: cannot start a program");
   }
 
-  BlockStream stream(path, config_, options, check.transform);
   RingFeeder feeder(link_);
   Command start;
   start.kind = CommandKind::kProgramStart;
-  start.value = options.contouring.value_or(config_.motion.contouring_default) ? 1.0 : 0.0;
+  start.value = contouring ? 1.0 : 0.0;
   const std::uint64_t start_id = link_.send(start);
   if (start_id == 0) return finish(JobEnd::kFault, "the rt's mailbox is full");
-  // The program starts only once the rt has taken the start command (sequence reset).
-  if (!wait_until_state([&](const Status& s) { return s.last_command_id >= start_id; }, interrupt, 5.0, st)) {
-    return finish(interrupt.load() ? JobEnd::kInterrupted : JobEnd::kRtLost, "the rt did not take the program start");
-  }
+  // Blocks follow the start command at once: the rt takes the command before it looks at the
+  // ring in the same cycle, so the program's first cycles never find the ring empty (waiting
+  // for the command to be taken first cost a few underruns under the real clock).
+  bool started = false;
+  auto note_started = [&] {
+    if (started || link_.status().last_command_id < start_id) return;
+    started = true;
+    if (on_started_) on_started_();
+  };
 
   auto last_progress = std::chrono::steady_clock::now();
   auto report_progress = [&] {
@@ -79,26 +92,33 @@ JobResult JobRunner::run(const std::string& path, const JobOptions& options, con
     const auto now = std::chrono::steady_clock::now();
     if (now - last_progress < std::chrono::milliseconds(100)) return;
     last_progress = now;
-    progress(JobProgress{stream.lines_read(), stream.bytes_read(), stream.total_bytes(), link_.status()});
+    JobProgress p = source.progress ? source.progress() : JobProgress{};
+    p.status = link_.status();
+    progress(p);
   };
 
   for (;;) {
-    const FeedResult r = feeder.push([&](Block& b) { return stream.next(b); }, &interrupt);
+    const FeedResult r = feeder.push([&](Block& b) { return source.next(b); }, &interrupt);
     if (r == FeedResult::kEndOfInput) break;
     if (r == FeedResult::kRtLost) return finish(JobEnd::kRtLost, "pcnc-rt stopped responding");
-    if (r == FeedResult::kAborted) break;
+    if (r == FeedResult::kAborted || interrupt.load()) break;
+    note_started();
     report_progress();
     // A fault flushes the ring on the rt side; stop feeding at once.
     if ((feeder.pushed() & 63) == 0 && faulted(link_.status())) break;
   }
   result.blocks_sent = feeder.pushed();
-  result.lines_read = stream.lines_read();
+  result.lines_read = source.progress ? source.progress().lines_read : 0;
   result.refill_latency = feeder.refill_latency();
 
   for (;;) {
     const bool ended = wait_until_state(
-        [&](const Status& s) { return s.program_done || faulted(s) || (!s.program_active && s.state == MachineState::kIdle); },
+        [&](const Status& s) {
+          return s.last_command_id >= start_id &&  // not the previous program's end
+                 (s.program_done || faulted(s) || (!s.program_active && s.state == MachineState::kIdle));
+        },
         interrupt, 0.1, st);
+    note_started();
     if (ended) break;
     if (interrupt.load()) {
       Command stop;

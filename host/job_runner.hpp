@@ -33,6 +33,13 @@ struct JobProgress {
   Status status{};
 };
 
+/// Where a job's blocks come from: normally a BlockStream over the checked file; the
+/// service also resumes a program from the middle of a block (service.cpp).
+struct BlockSource {
+  std::function<bool(Block&)> next;  // false after the last block (the End block included)
+  std::function<JobProgress()> progress;  // lines/bytes so far (status is filled in by the runner)
+};
+
 class JobRunner {
  public:
   JobRunner(RtLink& link, const MachineConfig& config);
@@ -40,12 +47,18 @@ class JobRunner {
   /// with a controlled stop. `progress` is called now and then from this thread.
   JobResult run(const std::string& path, const JobOptions& options, const CheckResult& check,
                 const std::atomic<bool>& interrupt, const std::function<void(const JobProgress&)>& progress = {});
+  /// The same over any block source; `contouring` is the mode at program start.
+  JobResult run_source(const BlockSource& source, bool contouring, const std::atomic<bool>& interrupt,
+                       const std::function<void(const JobProgress&)>& progress = {});
+  /// Called once the rt has taken the program start (the program is under way).
+  void set_on_started(std::function<void()> fn) { on_started_ = std::move(fn); }
 
  private:
   bool wait_until_state(const std::function<bool(const Status&)>& done, const std::atomic<bool>& interrupt,
                         double timeout_s, Status& last);
   RtLink& link_;
   const MachineConfig& config_;
+  std::function<void()> on_started_;
 };
 
 }  // namespace pcnc

@@ -1,5 +1,6 @@
 // main.cpp — pcnc-host, the operator's process: checks a G-code program completely, then
-// feeds its preprocessed blocks to pcnc-rt through the ring and reports the run.
+// feeds its preprocessed blocks to pcnc-rt through the ring and reports the run (--run), or
+// serves the control socket as a long-running service (--serve, see service.hpp).
 #include <signal.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -14,6 +15,7 @@
 #include "program.hpp"
 #include "run_report.hpp"
 #include "rt_link.hpp"
+#include "service.hpp"
 
 namespace {
 std::atomic<bool> g_interrupt{false};
@@ -41,10 +43,13 @@ int main(int argc, char** argv) {
                "4-slot shared-memory ring. pcnc-rt must be running with the same config."};
   std::string config_path = pcnc::default_config_path();
   std::string run_file, contouring, offset, report_path, log_level = "warn";
-  bool fit = false;
+  bool fit = false, serve = false;
   double wait_rt_s = 5.0;
   app.add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
   app.add_option("--run", run_file, "check and run this G-code program, then exit")->check(CLI::ExistingFile);
+  app.add_flag("--serve", serve,
+               "serve the control socket (process.socket_path) until SIGINT/SIGTERM: run programs, jog, pause... "
+               "for `pcnc ctl` and scripts (docs/protocol.md); attaches to pcnc-rt when it appears");
   app.add_option("--contouring", contouring, "contouring at program start: on|off (default: the config's)")
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
@@ -57,8 +62,8 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(spdlog::stderr_color_mt("pcnc-host"));  // stdout stays for reports
   spdlog::set_pattern("[%H:%M:%S.%e] [pcnc-host] [%^%l%$] %v");
   spdlog::set_level(spdlog::level::from_str(log_level));
-  if (run_file.empty()) {
-    std::fprintf(stderr, "pcnc-host: nothing to do: give --run FILE (see --help)\n");
+  if (run_file.empty() == !serve) {
+    std::fprintf(stderr, "pcnc-host: give either --run FILE or --serve (see --help)\n");
     return 2;
   }
 
@@ -74,6 +79,18 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pcnc-host: %s\n", e.what());
     return 2;
+  }
+
+  if (serve) {
+    if (app.count("--log-level") == 0) spdlog::set_level(spdlog::level::info);  // a service logs what it does
+    try {
+      pcnc::Service service(config);
+      service.run(g_interrupt);
+      return 0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pcnc-host: %s\n", e.what());
+      return 2;
+    }
   }
 
   pcnc::JobOptions options;

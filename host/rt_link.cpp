@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <fstream>
+#include <string>
 
 namespace pcnc {
 
@@ -50,7 +52,21 @@ void RtLink::beat() {
   }
 }
 
+namespace {
+// A process that exists and is not a zombie (a killed rt not yet reaped by its parent still
+// answers kill(pid, 0); /proc tells the difference at once).
+bool pid_running(int pid) {
+  if (pid <= 0 || !process_alive(pid)) return false;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  if (!std::getline(stat, text)) return true;  // no /proc: trust kill(pid, 0)
+  const auto paren = text.rfind(')');
+  return paren == std::string::npos || paren + 2 >= text.size() || (text[paren + 2] != 'Z' && text[paren + 2] != 'X');
+}
+}  // namespace
+
 std::uint64_t RtLink::send(Command cmd) {
+  std::lock_guard<std::mutex> lock(send_mutex_);
   cmd.id = next_id_.fetch_add(1);
   if (!shm().commands.try_push(cmd)) return 0;
   shm().block_published.notify();
@@ -71,7 +87,18 @@ double RtLink::rt_heartbeat_age_s() const {
 
 bool RtLink::rt_alive() const {
   const int pid = shm().header.rt_pid.load();
-  return pid > 0 && process_alive(pid) && rt_heartbeat_age_s() < config_.process.rt_timeout_s;
+  return pid_running(pid) && rt_heartbeat_age_s() < config_.process.rt_timeout_s;
+}
+
+std::string RtLink::rt_loss_reason() const {
+  const int pid = shm().header.rt_pid.load();
+  if (!pid_running(pid)) return "pcnc-rt (pid " + std::to_string(pid) + ") is gone";
+  const double age = rt_heartbeat_age_s();
+  if (age >= config_.process.rt_timeout_s) {
+    return "pcnc-rt (pid " + std::to_string(pid) + ") stopped beating: last cycle " + std::to_string(static_cast<int>(age * 1000)) +
+           " ms ago (limit " + std::to_string(static_cast<int>(config_.process.rt_timeout_s * 1000)) + " ms)";
+  }
+  return "";
 }
 
 }  // namespace pcnc

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -31,7 +32,8 @@ class RtLink {
   const SharedSegment& shm() const { return segment_.shm(); }
 
   /// Queues a command for the rt and wakes it if it waits (virtual clock). Returns its id,
-  /// or 0 if the mailbox is full.
+  /// or 0 if the mailbox is full. Safe to call from several threads (the mailbox ring has a
+  /// single producer; a mutex serialises the host's senders).
   std::uint64_t send(Command cmd);
   /// The rt's latest status snapshot.
   Status status() const;
@@ -39,6 +41,9 @@ class RtLink {
   bool rt_alive() const;
   /// Seconds since the rt's last cycle.
   double rt_heartbeat_age_s() const;
+  /// Why rt_alive() is false, in words ("" while alive).
+  std::string rt_loss_reason() const;
+  int rt_pid() const { return shm().header.rt_pid.load(); }
 
  private:
   void beat();
@@ -47,6 +52,7 @@ class RtLink {
   std::atomic<bool> stop_{false};
   std::thread heartbeat_;
   std::atomic<std::uint64_t> next_id_{1};
+  std::mutex send_mutex_;
 };
 
 }  // namespace pcnc

@@ -6,8 +6,10 @@
 #include <cstdio>
 
 #include "check.hpp"
+#include "ctl.hpp"
 #include "config.hpp"
 #include "launcher.hpp"
+#include "serve.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"pcnc: an open PC-based NC controller for a 3-axis desktop mill.\n"
@@ -50,6 +52,10 @@ int main(int argc, char** argv) {
 
   // ---- check ----
   pcnc::add_check_subcommand(app, exit_code);
+
+  // ---- ctl, serve: the control socket of pcnc-host --serve ----
+  pcnc::add_ctl_subcommand(app, exit_code);
+  pcnc::add_serve_subcommand(app, exit_code);
 
   CLI11_PARSE(app, argc, argv);
   return exit_code;

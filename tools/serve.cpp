@@ -1,0 +1,37 @@
+// serve.cpp — the `pcnc serve` subcommand (see serve.hpp).
+#include "serve.hpp"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "config.hpp"
+#include "launcher.hpp"
+
+namespace pcnc {
+
+void add_serve_subcommand(CLI::App& app, int& exit_code) {
+  auto* serve = app.add_subcommand("serve", "start pcnc-rt and pcnc-host --serve, then serve the control socket until Ctrl-C "
+                                            "(use `pcnc ctl ...` from another terminal)");
+  static std::string config_path = default_config_path(), clock = "real", trace;
+  serve->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
+  serve->add_option("--clock", clock, "real: 2 kHz in real time; virtual: as fast as possible, same cycles")
+      ->check(CLI::IsMember({"real", "virtual"}))
+      ->capture_default_str();
+  serve->add_option("--trace", trace, "pcnc-rt writes the per-cycle trace (CSV) to this file");
+  serve->callback([&exit_code] {
+    LaunchOptions lo;
+    const std::string dir = executable_dir();
+    lo.rt_path = dir + "/../rt/pcnc-rt";
+    lo.host_path = dir + "/../host/pcnc-host";
+    if (access((dir + "/pcnc-rt").c_str(), X_OK) == 0) lo.rt_path = dir + "/pcnc-rt";
+    if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
+    lo.rt_args = {"--config", config_path, "--clock", clock};
+    if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
+    lo.host_args = {"--config", config_path, "--serve"};
+    exit_code = launch_pair(lo);
+  });
+}
+
+}  // namespace pcnc
