@@ -165,7 +165,10 @@ void Machine::Impl::command(const Command& c) {
     case CommandKind::kReset:
       if (s == MachineState::kFault || s == MachineState::kEstop || s == MachineState::kHostLost) {
         if (!amps_on) {
-          exec.set_position(encoder());  // take up where the axes are
+          // take up where the axes are (put onto the travel if they coasted a hair past it)
+          Vec3 at = encoder();
+          for (int i = 0; i < kAxes; ++i) at[i] = std::clamp(at[i], cfg.axes[i].travel_min_mm, cfg.axes[i].travel_max_mm);
+          exec.set_position(at);
           reset_servo();
           amps_on = true;
         }
@@ -300,7 +303,15 @@ void Machine::Impl::cycle(MotionRing& ring) {
   // Servo, plant, safety.
   const Vec3 meas = encoder();
   if (amps_on) {
-    const int ax = outside_travel(cmd, cfg, 1e-9);
+    // Blocks may touch the travel's ends within block_tolerance_mm (rounding, accepted by
+    // check_block): such setpoints are put onto the limit. Anything further out trips.
+    const double tol = cfg.motion.block_tolerance_mm;
+    for (int i = 0; i < kAxes; ++i) {
+      const AxisConfig& a = cfg.axes[i];
+      if (cmd[i] < a.travel_min_mm && cmd[i] >= a.travel_min_mm - tol) cmd[i] = a.travel_min_mm;
+      if (cmd[i] > a.travel_max_mm && cmd[i] <= a.travel_max_mm + tol) cmd[i] = a.travel_max_mm;
+    }
+    const int ax = outside_travel(cmd, cfg, 0.0);
     if (ax >= 0) {
       trip(FaultCode::kSoftLimit, ax, cmd[ax], exec.line(), "setpoint outside the travel", &ring);
       cmd = st.commanded;  // never command it

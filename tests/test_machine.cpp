@@ -426,6 +426,28 @@ TEST(Machine, CorruptBlocksAreRefusedWithAReasonAndNeverMovedOn) {
   }
 }
 
+TEST(Machine, PointsWithinToleranceOfTheTravelEndAreHeldOnIt) {
+  MachineConfig c = cfg();
+  {
+    MachineRunner run(c);
+    ProgramBuilder p(c, test::home(c));
+    p.line({-0.0005, 12.5, 25.0}, 50.0).line({3.0, 12.5, 25.0}, 50.0).end();  // 0.5 µm past X min
+    run.start(p.blocks());
+    run.run_until_done();
+    EXPECT_EQ(run.status().program_done, 1) << run.machine().fault_reason();
+    for (const auto& r : run.records()) ASSERT_GE(r.cmd[0], c.axes[0].travel_min_mm);
+  }
+  {
+    MachineRunner run(c);
+    ProgramBuilder p(c, test::home(c));
+    p.line({-0.005, 12.5, 25.0}, 50.0).end();  // 5 µm past: refused
+    run.start(p.blocks());
+    run.run_until_done();
+    EXPECT_EQ(run.status().fault, FaultCode::kBadBlock);
+    EXPECT_STREQ(run.machine().fault_reason(), "end point outside the travel");
+  }
+}
+
 TEST(Machine, ArcRadiusMismatchIsRefused) {
   MachineConfig c = cfg();
   MachineRunner run(c);
