@@ -40,9 +40,15 @@ TEST(Servo, OutputSaturatesAndTheIntegratorDoesNotWindUp) {
   EXPECT_NEAR(p2.integral(), a.integrator_limit_a, 1e-12);
 }
 
+AxisConfig without_coulomb(AxisConfig a, bool remove) {
+  if (remove) a.coulomb_friction_n = 0.0;
+  return a;
+}
+
 // Closed loop of one axis on its plant model, setpoint given per cycle.
 struct Loop {
-  explicit Loop(int axis) : c(cfg()), a(c.axes[axis]), pid(a, c.cycle_period_s()), plant(a, c.cycle_period_s(), 8, 10.0) {
+  explicit Loop(int axis, bool coulomb = true)
+      : c(cfg()), a(without_coulomb(c.axes[axis], !coulomb)), pid(a, c.cycle_period_s()), plant(a, c.cycle_period_s(), 8, 10.0) {
     pid.reset(a.gravity_load_n / a.force_constant_n_per_a);
   }
   double step(double sp, double v = 0.0, double acc = 0.0) {
@@ -77,11 +83,12 @@ TEST(Servo, ZHoldsItsWeightAfterADisturbance) {
 }
 
 TEST(Servo, TracksSlowSinesAndRollsOffFastOnes) {
-  // Closed-loop magnitude without feed-forward: ~1 at 5 Hz, well below 1 above the
-  // loop's crossover (about 150 Hz for poles at 300 rad/s, docs/servo-tuning.md).
+  // Closed-loop magnitude without feed-forward (5 µm sine, small enough not to saturate the
+  // amplifier): ~1 at 5 Hz, the +3 dB peak near 100 Hz the pole placement predicts, and
+  // rolling off above (model: 1.41 at 100 Hz, 0.76 at 300 Hz; docs/servo-tuning.md).
   auto gain_at = [](double hz) {
-    Loop L(1);
-    const double amp = 0.05, w = 2.0 * std::numbers::pi * hz, dt = L.c.cycle_period_s();
+    Loop L(1, /*coulomb=*/false);  // the linear part the pole placement designs for
+    const double amp = 0.005, w = 2.0 * std::numbers::pi * hz, dt = L.c.cycle_period_s();
     double peak = 0.0;
     const int n = static_cast<int>(6.0 / hz / dt);
     for (int k = 0; k < n; ++k) {
@@ -91,7 +98,8 @@ TEST(Servo, TracksSlowSinesAndRollsOffFastOnes) {
     return peak / amp;
   };
   EXPECT_NEAR(gain_at(5.0), 1.0, 0.05);
-  EXPECT_LT(gain_at(300.0), 0.5);
+  EXPECT_GT(gain_at(100.0), 1.2);
+  EXPECT_LT(gain_at(300.0), 0.9);
   std::printf("Y closed-loop |gain|: 5 Hz %.3f, 20 Hz %.3f, 50 Hz %.3f, 100 Hz %.3f, 150 Hz %.3f, 200 Hz %.3f, 300 Hz %.3f\n",
               gain_at(5.0), gain_at(20.0), gain_at(50.0), gain_at(100.0), gain_at(150.0), gain_at(200.0), gain_at(300.0));
 }
