@@ -197,15 +197,6 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
   return result;
 }
 
-std::string fmt(double v, int precision) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", precision, v);
-  std::string s(buf);
-  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);  // no "-0.0000"
-  return s;
-}
-std::string point(const Vec3& p) { return "(" + fmt(p[0], 4) + "," + fmt(p[1], 4) + "," + fmt(p[2], 4) + ")"; }
-
 }  // namespace
 
 bool is_null_move(const Move& m) {
@@ -264,34 +255,54 @@ std::uint64_t BlockStream::total_bytes() const { return impl_->reader->total_byt
 std::uint64_t BlockStream::bytes_read() const { return impl_->reader->bytes_read(); }
 
 std::string format_block(const Block& b) {
-  std::string s = "L" + std::to_string(b.line) + " " + to_string(b.kind);
+  // One snprintf per part into a fixed buffer: --print-blocks prints millions of these.
+  char buf[1024];
+  int n = std::snprintf(buf, sizeof buf, "L%u %s", b.line, to_string(b.kind));
+  auto add = [&](const char* fmt, auto... args) {
+    if (n >= 0 && n < static_cast<int>(sizeof buf)) n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n), fmt, args...);
+  };
+  auto c = [](double v, double scale) {  // what prints as zero prints as "0.0000", never "-0.0000"
+    return std::fabs(v) * scale < 0.5 ? 0.0 : v;
+  };
+  auto pt = [&](const Vec3& p) { add("(%.4f,%.4f,%.4f)", c(p[0], 1e4), c(p[1], 1e4), c(p[2], 1e4)); };
   switch (b.kind) {
     case BlockKind::kRapid:
     case BlockKind::kLine:
     case BlockKind::kArc:
     case BlockKind::kNurbs:
-      s += " " + point(b.start) + "->" + point(b.end) + " len=" + fmt(b.length, 4) + " class=" + to_string(b.motion_class) +
-           " v=" + fmt(b.speed, 3) + " a=" + fmt(b.accel, 1) + " drive=" + axis_name(b.driving_axis) +
-           (b.driving_dir < 0 ? "-" : "+") + " vd=" + fmt(b.driving_speed, 3) + " ad=" + fmt(b.driving_accel, 1) +
-           " dec=" + fmt(b.decel_start, 4) + " t0=" + point(b.dir_start) + " t1=" + point(b.dir_end) +
-           " m21=" + std::to_string(b.contouring);
+      add(" ");
+      pt(b.start);
+      add("->");
+      pt(b.end);
+      add(" len=%.4f class=%s v=%.3f a=%.1f drive=%c%c vd=%.3f ad=%.1f dec=%.4f t0=", c(b.length, 1e4), to_string(b.motion_class),
+          c(b.speed, 1e3), c(b.accel, 1e1), axis_name(b.driving_axis), b.driving_dir < 0 ? '-' : '+', c(b.driving_speed, 1e3),
+          c(b.driving_accel, 1e1), c(b.decel_start, 1e4));
+      pt(b.dir_start);
+      add(" t1=");
+      pt(b.dir_end);
+      add(" m21=%d", static_cast<int>(b.contouring));
       if (b.kind == BlockKind::kArc) {
-        s += " center=" + point(b.arc.center) + " r=" + fmt(b.arc.radius, 4) + " normal=" + axis_name(b.arc.normal_axis) +
-             " a0=" + fmt(b.arc.start_angle, 6) + " sweep=" + fmt(b.arc.sweep, 6) + " helix=" + fmt(b.arc.helix, 4) +
-             " w=" + fmt(b.arc.angular_speed, 4) + " aw=" + fmt(b.arc.angular_accel, 2) + " dec_a=" + fmt(b.arc.decel_start_angle, 6);
+        add(" center=");
+        pt(b.arc.center);
+        add(" r=%.4f normal=%c a0=%.6f sweep=%.6f helix=%.4f w=%.4f aw=%.2f dec_a=%.6f", c(b.arc.radius, 1e4),
+            axis_name(b.arc.normal_axis), c(b.arc.start_angle, 1e6), c(b.arc.sweep, 1e6), c(b.arc.helix, 1e4),
+            c(b.arc.angular_speed, 1e4), c(b.arc.angular_accel, 1e2), c(b.arc.decel_start_angle, 1e6));
       }
       break;
     case BlockKind::kDwell:
-      s += " " + fmt(b.dwell_s, 3) + " s at " + point(b.end);
+      add(" %.3f s at ", c(b.dwell_s, 1e3));
+      pt(b.end);
       break;
     case BlockKind::kPause:
-      s += std::string(b.optional_stop ? " optional (M1)" : " (M0)") + " at " + point(b.end);
+      add(b.optional_stop ? " optional (M1) at " : " (M0) at ");
+      pt(b.end);
       break;
     case BlockKind::kEnd:
-      s += " at " + point(b.end);
+      add(" at ");
+      pt(b.end);
       break;
   }
-  return s;
+  return std::string(buf, n > 0 ? std::min<std::size_t>(static_cast<std::size_t>(n), sizeof buf - 1) : 0);
 }
 
 }  // namespace pcnc
