@@ -9,6 +9,7 @@
 #include "ctl.hpp"
 #include "config.hpp"
 #include "launcher.hpp"
+#include "nurbs_tool.hpp"
 #include "serve.hpp"
 
 int main(int argc, char** argv) {
