@@ -64,6 +64,11 @@ struct Status {
   Vec3 velocity{};        // commanded axis velocity, mm/s
   Vec3 following_error{}; // commanded - actual, mm
   Vec3 max_following_error{};  // max |ferr| per axis since program start, mm
+  Vec3 following_error_sq_sum{};  // sum of ferr² per axis over the program's cycles, mm² (RMS = sqrt(sum/n))
+  std::uint64_t program_cycles = 0;  // cycles summed in following_error_sq_sum / contour_error_sq_sum
+  double contour_error = 0.0;       // distance of the measured position from the programmed path, mm
+  double max_contour_error = 0.0;   // its maximum since program start (feed moves only), mm
+  double contour_error_sq_sum = 0.0;
   double path_speed = 0.0;     // commanded path speed, mm/s
   double feed_override = 1.0;  // 0.0 .. 2.0
 
