@@ -42,6 +42,18 @@ void DiagnosticSink::warning(int line, int column, std::string_view key, std::st
                    std::string(key), 0});
 }
 
+bool DiagnosticSink::repeat(std::string_view key) {
+  if (key.empty()) return false;
+  for (Kept& k : kept_) {
+    if (k.d.severity == Diagnostic::Severity::kWarning && k.key == key) {
+      ++k.repeats;
+      ++warning_count_;
+      return true;
+    }
+  }
+  return false;
+}
+
 std::vector<Diagnostic> DiagnosticSink::take() {
   std::vector<Diagnostic> out;
   out.reserve(kept_.size() + 2);

@@ -34,6 +34,10 @@ class DiagnosticSink {
   /// A warning; `key` groups repeats (empty key: never grouped, but still capped).
   void warning(int line, int column, std::string_view key, std::string message);
 
+  /// Counts one more occurrence of the warning kept under `key`; false if there is none yet
+  /// (then the caller reports it with warning()).
+  bool repeat(std::string_view key);
+
   std::uint64_t error_count() const { return error_count_; }
   std::uint64_t warning_count() const { return warning_count_; }
   bool has_errors() const { return error_count_ > 0; }

@@ -133,8 +133,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
     const char off = center_letter(normal);
     if (l.has(off) && l.get(off) == 0.0) {
       allowed |= bit(off);
-      warn(l, l.column(off), "normal-offset",
-           std::string(1, off) + "0 on an arc ignored: it is an offset along the arc's normal axis");
+      warn(l, l.column(off), "normal-offset", [&] { return std::string(std::string(1, off) + "0 on an arc ignored: it is an offset along the arc's normal axis"); });
     }
   }
   if (nonmodal == 40 || l.g[kGPathControl] == 640) allowed |= bit('P');
@@ -191,16 +190,16 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     if (f < 0.0) return fail(l, l.column('F'), "negative F; expected a feed rate >= 0 (units per minute)");
     feed_ = f;
   }
-  if (l.has('S')) warn(l, l.column('S'), "S", "S" + num(l.get('S')) + " ignored: the machine has no spindle");
-  if (l.has('T')) warn(l, l.column('T'), "T", "T" + num(l.get('T')) + " ignored: single-tool machine (no tool changer)");
+  if (l.has('S')) warn(l, l.column('S'), "S", [&] { return std::string("S" + num(l.get('S')) + " ignored: the machine has no spindle"); });
+  if (l.has('T')) warn(l, l.column('T'), "T", [&] { return std::string("T" + num(l.get('T')) + " ignored: single-tool machine (no tool changer)"); });
   if (l.m[kMToolChange] >= 0) {
-    warn(l, l.m_col[kMToolChange], "M6", "M" + std::to_string(l.m[kMToolChange]) + " (tool change) ignored: single-tool machine");
+    warn(l, l.m_col[kMToolChange], "M6", [&] { return std::string("M" + std::to_string(l.m[kMToolChange]) + " (tool change) ignored: single-tool machine"); });
   }
   if (l.m[kMSpindle] >= 0) {
-    warn(l, l.m_col[kMSpindle], "spindle", "M" + std::to_string(l.m[kMSpindle]) + " ignored: the machine has no spindle");
+    warn(l, l.m_col[kMSpindle], "spindle", [&] { return std::string("M" + std::to_string(l.m[kMSpindle]) + " ignored: the machine has no spindle"); });
   }
   if (l.m[kMCoolant] >= 0) {
-    warn(l, l.m_col[kMCoolant], "coolant", "M" + std::to_string(l.m[kMCoolant]) + " ignored: the machine has no coolant");
+    warn(l, l.m_col[kMCoolant], "coolant", [&] { return std::string("M" + std::to_string(l.m[kMCoolant]) + " ignored: the machine has no coolant"); });
   }
   if (l.m[kMContouring] == 21) contouring_ = true;
   if (l.m[kMContouring] == 22) contouring_ = false;
@@ -217,32 +216,30 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if (l.g[kGPlane] >= 0) normal_axis_ = l.g[kGPlane] == 170 ? 2 : l.g[kGPlane] == 180 ? 1 : 0;
   if (l.g[kGUnits] >= 0) inches_ = l.g[kGUnits] == 200;
   if (l.g[kGCutterComp] == 400) {
-    warn(l, l.g_col[kGCutterComp], "G40", "G40 ignored: cutter compensation is never active on this machine");
+    warn(l, l.g_col[kGCutterComp], "G40", [&] { return std::string("G40 ignored: cutter compensation is never active on this machine"); });
   }
   if (l.g[kGToolLength] == 490) {
-    warn(l, l.g_col[kGToolLength], "G49", "G49 ignored: no tool length offset is ever active on this machine");
+    warn(l, l.g_col[kGToolLength], "G49", [&] { return std::string("G49 ignored: no tool length offset is ever active on this machine"); });
   } else if (l.g[kGToolLength] == 430) {
-    warn(l, l.g_col[kGToolLength], "G43",
-         "G43" + (l.has('H') ? " H" + num(l.get('H')) : std::string()) +
-             " ignored: the machine has no tool length table, the tool length offset stays 0");
+    warn(l, l.g_col[kGToolLength], "G43", [&] { return std::string("G43" + (l.has('H') ? " H" + num(l.get('H')) : std::string()) +
+             " ignored: the machine has no tool length table, the tool length offset stays 0"); });
   }
   if (l.g[kGCoordSystem] >= 0) work_index_ = (l.g[kGCoordSystem] - 540) / 10;
   if (l.g[kGPathControl] >= 0) {
     const int c = l.g[kGPathControl];
     const bool on = c == 640;
     contouring_ = on;
-    warn(l, l.g_col[kGPathControl], on ? "G64" : "G61",
-         on ? std::string("G64 maps to M21: contouring on") +
+    warn(l, l.g_col[kGPathControl], on ? "G64" : "G61", [&] { return std::string(on ? std::string("G64 maps to M21: contouring on") +
                   (l.has('P') || l.has('Q') ? " (its P/Q tolerances are not used: the contouring angle in the config decides)" : "")
-            : g_name(c) + " maps to M22: contouring off (stop at every junction)");
+            : g_name(c) + " maps to M22: contouring off (stop at every junction)"); });
   }
   if (l.g[kGDistance] >= 0) incremental_ = l.g[kGDistance] == 910;
-  if (l.g[kGSpindleMode] == 970) warn(l, l.g_col[kGSpindleMode], "G97", "G97 ignored: the machine has no spindle");
+  if (l.g[kGSpindleMode] == 970) warn(l, l.g_col[kGSpindleMode], "G97", [&] { return std::string("G97 ignored: the machine has no spindle"); });
 
-  if (l.g80_col > 0) warn(l, l.g80_col, "G80", "G80 ignored: no canned cycle is ever active on this machine");
+  if (l.g80_col > 0) warn(l, l.g80_col, "G80", [&] { return std::string("G80 ignored: no canned cycle is ever active on this machine"); });
   if (motion_word >= 0) {
     if (motion_word == 800) {
-      warn(l, l.g_col[kGMotion], "G80", "G80 ignored: no canned cycle is ever active on this machine");
+      warn(l, l.g_col[kGMotion], "G80", [&] { return std::string("G80 ignored: no canned cycle is ever active on this machine"); });
       motion_ = -1;
     } else {
       motion_ = motion_word;
@@ -293,9 +290,8 @@ bool Interpreter::feed_for_move(const ParsedLine& l, int column, double& feed_mm
       return fail(l, column, "F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " + num(max_feed_mm_s_) +
                                  " mm/s; expected F <= " + num(max_feed_mm_s_ * 60.0 / (inches_ ? kInch : 1.0)));
     }
-    warn(l, column, "feed-clamp",
-         "F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " + num(max_feed_mm_s_) +
-             " mm/s; clamped to the maximum");
+    warn(l, column, "feed-clamp", [&] { return std::string("F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " + num(max_feed_mm_s_) +
+             " mm/s; clamped to the maximum"); });
     f = max_feed_mm_s_;
   }
   feed_mm_s = f;
@@ -490,7 +486,7 @@ bool Interpreter::home(const ParsedLine& l, MoveList& out) {
   known_ = static_cast<std::uint8_t>(known_ | axes);
   m.known = known_;
   m.machine_frame = true;
-  warn(l, col, "G28", "G28: rapid to the home position " + what + " (machine coordinates; Z home is the top of its travel)");
+  warn(l, col, "G28", [&] { return std::string("G28: rapid to the home position " + what + " (machine coordinates; Z home is the top of its travel)"); });
   out.push(m);
   return true;
 }

@@ -69,8 +69,11 @@ class Interpreter {
   Vec3 to_job(const Vec3& m) const { return (1.0 / frame_.scale) * (m - frame_.offset); }
   Move base_move(MoveKind kind, const ParsedLine& l, int column) const;
   bool axis_words(const ParsedLine& l) const { return (l.present & kAxisBits) != 0; }
-  void warn(const ParsedLine& l, int column, const char* key, std::string message) {
-    sink_.warning(l.line, column, key, std::move(message));
+  // The message is built only for the first occurrence of its key (repeats are just counted).
+  template <class MakeMessage>
+  void warn(const ParsedLine& l, int column, const char* key, MakeMessage&& make) {
+    if (sink_.repeat(key)) return;
+    sink_.warning(l.line, column, key, make());
   }
   bool fail(const ParsedLine& l, int column, std::string message) {
     sink_.error(l.line, column, std::move(message));
