@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "junction.hpp"
+#include "nurbs_interpolator.hpp"
 #include "safety.hpp"
 
 namespace pcnc {
@@ -90,7 +91,7 @@ bool Executor::flows_after(std::size_t i) const {
 double Executor::junction_cap(std::size_t i, const ExecInput& in) const {
   if (!flows_after(i)) return 0.0;
   const double corner = junction_speed_cap(prep_[i].dir_end, prep_[i + 1].dir_start, axis_accel_, dt_, f_);
-  return std::min({corner, cap_of(prep_[i], in), cap_of(prep_[i + 1], in)});
+  return std::min({corner, cap_of(prep_[i], in), cap_of(prep_[i + 1], in), prep_[i].v_last, prep_[i + 1].v_first});
 }
 
 // Backward pass over the chain of flowing blocks known in the ring; the last one ends at rest.
@@ -100,10 +101,61 @@ double Executor::exit_speed_of_current(const ExecInput& in) const {
   double v_out = 0.0;
   for (std::size_t j = e; j >= 1; --j) {
     // the same discrete rule (with its margin) the block will be run with
-    const double v_in = std::min(cap_of(prep_[j], in), stop_speed(prep_[j].length, v_out, prep_[j].accel, dt_, k_));
+    const double v_in = std::min({cap_of(prep_[j], in), prep_[j].v_first,
+                                  stop_speed(prep_[j].length, v_out, prep_[j].accel, dt_, k_)});
     v_out = std::min(v_in, junction_cap(j - 1, in));
   }
   return v_out;
+}
+
+void Executor::begin_block(const Block& blk) {
+  s_ = 0.0;
+  if (blk.kind == BlockKind::kNurbs) {
+    const NurbsView view = view_of(blk.nurbs);
+    nurbs_u_ = view.u_min();
+    nurbs_at_ = nurbs_eval(view, nurbs_u_);
+    nurbs_hint_ = 0;
+  }
+}
+
+bool Executor::advance(const Block& blk, double ds, double& leftover) {
+  const PreparedBlock& b = prep_[0];
+  leftover = 0.0;
+  bool at_end = false;
+  if (blk.kind == BlockKind::kNurbs) {
+    if (ds > 0.0) {
+      const NurbsStep st = nurbs_parameter_step(view_of(blk.nurbs), nurbs_u_, nurbs_at_, ds);
+      nurbs_u_ = st.u;
+      nurbs_at_ = st.eval;
+      s_ = std::min(s_ + st.chord, b.length);
+      if (st.at_end) {
+        at_end = true;
+        leftover = std::max(0.0, ds - st.chord);
+        s_ = b.length;
+      }
+    }
+    pos_ = at_end ? blk.end : nurbs_at_.p;
+    const double d1 = norm(nurbs_at_.d1);
+    if (d1 > 0.0) {
+      tangent_ = (1.0 / d1) * nurbs_at_.d1;
+      curvature_ = (1.0 / (d1 * d1)) * (nurbs_at_.d2 - dot(nurbs_at_.d2, tangent_) * tangent_);
+    } else {  // C' vanishes (a repeated end point): use the block's stated tangent
+      tangent_ = s_ > 0.5 * b.length ? b.dir_end : b.dir_start;
+      curvature_ = {0.0, 0.0, 0.0};
+    }
+    return at_end;
+  }
+  s_ += ds;
+  if (s_ >= b.length) {
+    at_end = true;
+    leftover = s_ - b.length;
+    s_ = b.length;
+  }
+  const PathPoint pp = evaluate(b, s_);
+  pos_ = pp.p;
+  tangent_ = pp.tangent;
+  curvature_ = pp.curvature;
+  return at_end;
 }
 
 void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
@@ -165,10 +217,21 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     if (after_motion_ && ended_at_rest_) ++out.junction_stops;
     ended_at_rest_ = false;
     fresh_ = false;
+    begin_block(ring.peek(0));
   }
+  const Block& blk = ring.peek(0);
   const PreparedBlock& b = prep_[0];
   const double a = b.accel;
-  const double cap = cap_of(b, in);
+  double cap = cap_of(b, in);
+  if (b.kind == BlockKind::kNurbs && cap > 0.0) {
+    // the feed schedule where the machine is and where this cycle will land (floored at
+    // one cycle's acceleration, so that a 0 at a corner of the schedule cannot freeze it)
+    const NurbsGeometry& g = blk.nurbs;
+    const double d1 = norm(nurbs_at_.d1);
+    const double u_next = d1 > 0.0 ? std::min(nurbs_u_ + v_ * dt_ / d1, g.knots[g.point_count]) : nurbs_u_;
+    const double sched = std::min(block_schedule_speed(g, nurbs_u_, nurbs_hint_), block_schedule_speed(g, u_next, nurbs_hint_));
+    cap = std::min(cap, std::max(sched, a * dt_));
+  }
   const bool stop_at_end = !flows_after(0);
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
   const double remaining = b.length - s_;
@@ -178,23 +241,19 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const double a_step = near_junction ? (1.0 - f_) * a : a;
   double v_new = std::min(v_allow, v_ + a_step * dt_);
   v_new = std::max({v_new, v_ - a_step * dt_, 0.0});
-  bool land = false;
   if (stop_at_end && cap > 0.0) {
     // Final approach: reach the end exactly this cycle when that takes no more than one
     // cycle's acceleration either way (and the stop after it is within a·dt too).
     const double v_land = remaining / dt_;
-    if (v_land <= a * dt_ && v_land <= cap && v_land >= v_ - a * dt_) {
-      v_new = v_land;
-      land = true;
-    }
+    if (v_land <= a * dt_ && v_land <= cap && v_land >= v_ - a * dt_) v_new = v_land;
   }
   if (crossed_ > 0) --crossed_;
 
   const double v_old = v_;
-  s_ += v_new * dt_;
   v_ = v_new;
-  // Finished the block?
-  while (s_ >= prep_[0].length || land) {
+  double leftover = 0.0;
+  bool at_end = advance(blk, v_new * dt_, leftover) || (stop_at_end && v_new > 0.0 && v_new * dt_ >= remaining);
+  while (at_end) {
     if (!flows_after(0)) {
       // stop at the end: land exactly there, rest one cycle, then the next block.
       pos_ = prep_[0].end;
@@ -207,23 +266,22 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
       return;
     }
     // flowing junction: carry the distance left over into the next block
-    const double carry = s_ - prep_[0].length;
     pop(ring, out);
     fresh_ = false;
     ++out.junction_flows;
     crossed_ = 2;
-    s_ = carry;
     after_motion_ = true;
     ended_at_rest_ = false;
+    const Block& next = ring.peek(0);
     contouring_ = prep_[0].contouring;
-    line_ = ring.peek(0).line;
-    seq_ = ring.peek(0).seq;
-    land = false;
+    line_ = next.line;
+    seq_ = next.seq;
+    begin_block(next);
+    const double carry = leftover;
+    at_end = advance(next, carry, leftover);
   }
-  const PathPoint pp = evaluate(prep_[0], s_);
-  pos_ = pp.p;
-  vel_ = v_new * pp.tangent;
-  acc_ = ((v_new - v_old) / dt_) * pp.tangent + (v_new * v_new) * pp.curvature;
+  vel_ = v_new * tangent_;
+  acc_ = ((v_new - v_old) / dt_) * tangent_ + (v_new * v_new) * curvature_;
 }
 
 }  // namespace pcnc

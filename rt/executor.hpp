@@ -24,6 +24,9 @@
 //      the junction flows; otherwise the block lands exactly at its end (the last cycles
 //      approach it at <= a·dt per cycle), the machine holds one cycle at rest, and the next
 //      block starts from rest.
+// NURBS blocks (G5.2/G06.2) run in the same scheme: s is the chord length along the exact
+// curve, advanced with the NURBS engineer's Taylor + Newton parameter step; the block's feed
+// schedule (shared/nurbs_schedule) at the current and the predicted parameter caps the speed.
 // Feed hold / stop: all caps become 0, so the speed ramps down at the block's acceleration
 // along the path; resuming ramps up again from where it stood.
 #pragma once
@@ -34,6 +37,7 @@
 #include "block.hpp"
 #include "config.hpp"
 #include "machine.hpp"
+#include "nurbs.hpp"
 #include "path.hpp"
 #include "status.hpp"
 
@@ -93,6 +97,11 @@ class Executor {
   bool flows_after(std::size_t i) const;                      // geometric: junction i|i+1 flows
   double junction_cap(std::size_t i, const ExecInput& in) const;  // speed cap there (0: stop)
   void hold_still();
+  /// Moves along the current block's path by ds (NURBS: chord length); sets pos_ and the
+  /// tangent and curvature there. Returns true when the block's end was reached, with the
+  /// distance left over past it in `leftover`.
+  bool advance(const Block& blk, double ds, double& leftover);
+  void begin_block(const Block& blk);  // s_ = 0 (NURBS: parameter at its start)
 
   MachineConfig cfg_;
   double dt_;
@@ -114,6 +123,12 @@ class Executor {
   bool ended_at_rest_ = false;  // the last motion block ended stopped (junction counting)
   bool after_motion_ = false;   // the last finished block was a motion
   bool fresh_ = true;           // the current block has not moved yet
+
+  // NURBS block in execution: curve parameter, curve there, schedule search hint
+  double nurbs_u_ = 0.0;
+  NurbsEval nurbs_at_{};
+  int nurbs_hint_ = 0;
+  Vec3 tangent_{}, curvature_{};
 
   Vec3 pos_{}, vel_{}, acc_{};
   std::uint32_t line_ = 0;

@@ -74,9 +74,23 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
   pb.length = b.length;
   pb.speed = b.speed;
   pb.accel = b.accel;
-  const bool moving = (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc);
+  const bool moving = (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc ||
+                       b.kind == BlockKind::kNurbs);
   pb.motion = moving && b.length > 0.0;
+  pb.v_first = pb.v_last = std::numeric_limits<double>::infinity();
   if (!pb.motion) return pb;
+  if (b.kind == BlockKind::kNurbs) {
+    // The host's feed schedule already holds every axis and curvature limit: it is the cap.
+    const NurbsGeometry& g = b.nurbs;
+    double vmax = 0.0;
+    for (int i = 0; i < g.schedule_count; ++i) vmax = std::max(vmax, g.schedule_speed[i]);
+    pb.v_machine = vmax;
+    pb.v_first = g.schedule_speed[0];
+    pb.v_last = g.schedule_speed[g.schedule_count - 1];
+    pb.dir_start = normalized(b.dir_start);
+    pb.dir_end = normalized(b.dir_end);
+    return pb;
+  }
   if (b.kind == BlockKind::kArc) {
     pb.an = b.arc.normal_axis;
     arc_plane_axes(pb.an, pb.a1, pb.a2);

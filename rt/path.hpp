@@ -2,6 +2,9 @@
 // path length s in [0, length], evaluated to a point, unit tangent and curvature vector,
 // plus the machine's own speed and acceleration caps for that curve.
 //
+// NURBS blocks are stepped by the executor along their exact curve (chord length s, see
+// executor.cpp); here they get their caps and end tangents only.
+//
 // Lines: p(s) = start + (end − start)·s/L. Arcs and helices: the angle and the in-plane
 // radius advance linearly with s (u = s/L: θ = θ0 + sweep·u, r = r0 + (r1 − r0)·u) and the
 // normal axis moves linearly, so the path joins start and end exactly even when the end
@@ -31,6 +34,9 @@ struct PreparedBlock {
   double accel = 0.0;       // path acceleration used, mm/s²
   Vec3 start{}, end{};
   Vec3 dir_start{}, dir_end{};  // unit tangents from the geometry
+  // speed caps where the block starts and ends (NURBS: its feed schedule's first and last
+  // values; +infinity for lines and arcs, whose caps are uniform)
+  double v_first = 0.0, v_last = 0.0;
   // arc only
   int a1 = 0, a2 = 1, an = 2;   // in-plane first, second axis; normal axis
   double c1 = 0.0, c2 = 0.0;    // centre in the plane

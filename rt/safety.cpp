@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "nurbs.hpp"
 #include "path.hpp"
 
 namespace pcnc {
@@ -70,6 +71,46 @@ BlockVerdict check_arc(const Block& b, const MachineConfig& cfg, double tol) {
   return {};
 }
 
+// NURBS-only checks (allocation-free): array sizes, knots, weights, the curve's ends, the
+// feed schedule, and the control polygon inside the travel (a NURBS curve with positive
+// weights lies in the convex hull of its control points, so the curve is then inside too).
+BlockVerdict check_nurbs(const Block& b, const MachineConfig& cfg, double tol) {
+  const NurbsGeometry& g = b.nurbs;
+  const int p = g.degree, n = g.point_count;
+  if (p < 1 || p > kMaxNurbsDegree) return bad("nurbs: degree out of range", 0, p);
+  if (n < p + 1 || n > kMaxNurbsPoints) return bad("nurbs: control point count out of range", 0, n);
+  if (g.knot_count != n + p + 1) return bad("nurbs: knot count is not points + degree + 1", 0, g.knot_count);
+  for (int i = 0; i < g.knot_count; ++i) {
+    if (!std::isfinite(g.knots[i])) return bad("nurbs: non-finite knot");
+    if (i > 0 && g.knots[i] < g.knots[i - 1]) return bad("nurbs: knots decrease", 0, g.knots[i]);
+  }
+  if (!(g.knots[p] < g.knots[n])) return bad("nurbs: empty parameter domain");
+  for (int i = 0; i < n; ++i) {
+    if (!finite(g.points[i])) return bad("nurbs: non-finite control point");
+    if (!(std::isfinite(g.weights[i]) && g.weights[i] > 0.0)) return bad("nurbs: weight not positive", 0, g.weights[i]);
+    if (int ax = outside_travel(g.points[i], cfg, tol); ax >= 0) {
+      return bad("nurbs: control polygon leaves the travel", ax, g.points[i][ax]);
+    }
+  }
+  const int m = g.schedule_count;
+  if (m < 1 || m > kMaxFeedSchedule) return bad("nurbs: feed schedule size out of range", 0, m);
+  for (int i = 0; i < m; ++i) {
+    if (!std::isfinite(g.schedule_u[i]) || !std::isfinite(g.schedule_speed[i]) || g.schedule_speed[i] < 0.0) {
+      return bad("nurbs: bad feed schedule entry", 0, g.schedule_speed[i]);
+    }
+    if (i > 0 && !(g.schedule_u[i] > g.schedule_u[i - 1])) return bad("nurbs: feed schedule not increasing in u");
+  }
+  const NurbsView view = view_of(g);
+  const Vec3 c0 = nurbs_point(view, view.u_min()), c1 = nurbs_point(view, view.u_max());
+  for (int i = 0; i < kAxes; ++i) {
+    if (std::abs(c0[i] - b.start[i]) > tol) return bad("nurbs: curve does not begin at the block start", i, c0[i]);
+    if (std::abs(c1[i] - b.end[i]) > tol) return bad("nurbs: curve does not end at the block end", i, c1[i]);
+  }
+  if (b.length + tol < norm(b.end - b.start)) return bad("nurbs: length shorter than the chord", 0, b.length);
+  if (!unit(b.dir_start) || !unit(b.dir_end)) return bad("nurbs: direction cosines are not unit vectors");
+  return {};
+}
+
 }  // namespace
 
 int outside_travel(const Vec3& p, const MachineConfig& cfg, double tol) {
@@ -102,7 +143,6 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
     case BlockKind::kEnd:
       return {};
     case BlockKind::kNurbs:
-      return bad("NURBS blocks are not executed by this rt yet");
     case BlockKind::kRapid:
     case BlockKind::kLine:
     case BlockKind::kArc:
@@ -125,6 +165,7 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
   if (!(b.speed > 0.0)) return bad("speed <= 0 on a motion block", 0, b.speed);
   if (!(b.accel > 0.0)) return bad("acceleration <= 0 on a motion block", 0, b.accel);
   if (b.kind == BlockKind::kArc) return check_arc(b, cfg, tol);
+  if (b.kind == BlockKind::kNurbs) return check_nurbs(b, cfg, tol);
   const double chord = norm(b.end - b.start);
   if (std::abs(chord - b.length) > tol) return bad("length inconsistent with start and end", 0, b.length - chord);
   if (b.length > 0.0) {

@@ -13,6 +13,8 @@
 
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
+#include "nurbs.hpp"
+#include "nurbs_schedule.hpp"
 
 // ---- allocation counter: replaces global operator new for this test executable -----------
 namespace {
@@ -529,6 +531,77 @@ TEST(Machine, EstopCutsAmplifiersAndZHoldsOnItsBrake) {
   EXPECT_LT(std::abs(run.status().following_error[2]), 0.005);
 }
 
+// A rational quadratic NURBS quarter circle (an exact circle) of radius 5 about (12.5, 12.5),
+// planned by the shared NURBS planner into ring blocks, after a line from home to its start.
+std::vector<Block> nurbs_quarter_program(const MachineConfig& c, double feed, bool contouring) {
+  const double r = 5.0, w = std::sqrt(0.5);
+  NurbsCurve curve = make_nurbs({{17.5, 12.5, 20.0}, {17.5, 17.5, 20.0}, {12.5, 17.5, 20.0}}, {1.0, w, 1.0}, 3);
+  EXPECT_EQ(validate(curve), "");
+  NurbsBlocks nb = plan_nurbs_blocks(curve, nurbs_limits(c, feed));
+  EXPECT_EQ(nb.error, "");
+  ProgramBuilder p(c, test::home(c));
+  p.contouring(contouring);
+  p.rapid({17.5, 12.5, 20.0});
+  std::vector<Block> out = p.blocks();
+  std::uint64_t seq = out.size();
+  for (Block b : nb.blocks) {
+    b.seq = ++seq;
+    b.line = static_cast<std::uint32_t>(seq);
+    b.contouring = 1;  // pieces of one curve join tangentially
+    out.push_back(b);
+  }
+  out.back().contouring = contouring ? 1 : 0;
+  ProgramBuilder tail(c, {12.5, 17.5, 20.0});
+  tail.contouring(contouring).line({5.0, 17.5, 20.0}, feed).end();  // tangent continuation
+  for (Block b : tail.blocks()) {
+    b.seq = ++seq;
+    b.line = static_cast<std::uint32_t>(seq);
+    out.push_back(b);
+  }
+  (void)r;
+  return out;
+}
+
+TEST(Machine, NurbsBlocksRunOnTheExactCurve) {
+  MachineConfig c = cfg();
+  MachineRunner run(c);
+  const auto prog = nurbs_quarter_program(c, 20.0, true);
+  ASSERT_GE(prog.size(), 4u);
+  run.start(prog);
+  run.run_until_done();
+  ASSERT_EQ(run.status().program_done, 1) << run.machine().fault_reason();
+  EXPECT_EQ(run.check_setpoint_limits(), "");
+  const std::uint32_t first = 2, last = static_cast<std::uint32_t>(prog.size() - 2);
+  double worst_cmd = 0.0, worst_act = 0.0;
+  int n = 0;
+  for (const auto& r : run.records()) {
+    if (r.line < first || r.line > last) continue;
+    worst_cmd = std::max(worst_cmd, std::abs(std::hypot(r.cmd[0] - 12.5, r.cmd[1] - 12.5) - 5.0));
+    worst_act = std::max(worst_act, std::abs(std::hypot(r.act[0] - 12.5, r.act[1] - 12.5) - 5.0));
+    ++n;
+  }
+  EXPECT_GT(n, 300);  // 7.85 mm at 20 mm/s ≈ 0.39 s
+  EXPECT_LT(worst_cmd, 1e-9);
+  EXPECT_LT(worst_act, 5e-3);
+  // the curve's end joins the tangent line without stopping; the line ends exactly
+  EXPECT_EQ(run.status().junction_stops, 1u);  // only rapid -> curve
+  EXPECT_NEAR(run.status().commanded[0], 5.0, 1e-12);
+  std::printf("NURBS quarter circle r 5 mm at 20 mm/s: setpoint radius error %.2e mm, contour error %.3f um\n",
+              worst_cmd, worst_act * 1e3);
+}
+
+TEST(Machine, CorruptNurbsBlockIsRefused) {
+  MachineConfig c = cfg();
+  auto prog = nurbs_quarter_program(c, 20.0, false);
+  prog[1].nurbs.knots[3] = -1.0;  // decreasing knots
+  MachineRunner run(c);
+  run.start(prog);
+  run.run_until_done(100000);
+  EXPECT_EQ(run.status().fault, FaultCode::kBadBlock);
+  EXPECT_STREQ(run.machine().fault_reason(), "nurbs: knots decrease");
+  EXPECT_EQ(run.status().fault_line, 2u);
+}
+
 TEST(Machine, CycleNeverAllocates) {
   MachineConfig c = cfg();
   Machine m(c);
@@ -576,6 +649,29 @@ TEST(Machine, CycleNeverAllocates) {
   EXPECT_TRUE(done) << to_string(m.status().state) << " " << m.fault_reason();
   EXPECT_TRUE(faulted);
   EXPECT_GT(cycles, 5000);
+  EXPECT_EQ(g_allocations.load(), 0);
+}
+
+TEST(Machine, NurbsCycleNeverAllocates) {
+  MachineConfig c = cfg();
+  const std::vector<Block> blocks = nurbs_quarter_program(c, 30.0, true);
+  Machine m(c);
+  MotionRing ring;
+  Command cmd;
+  cmd.id = 1;
+  cmd.kind = CommandKind::kProgramStart;
+  std::size_t next = 0;
+  g_allocations = 0;
+  g_counting = true;
+  m.command(cmd);
+  long cycles = 0;
+  while (!m.status().program_done && cycles < 100000 && m.status().state != MachineState::kFault) {
+    while (next < blocks.size() && ring.try_push(blocks[next])) ++next;
+    m.cycle(ring);
+    ++cycles;
+  }
+  g_counting = false;
+  EXPECT_TRUE(m.status().program_done) << m.fault_reason();
   EXPECT_EQ(g_allocations.load(), 0);
 }
 
