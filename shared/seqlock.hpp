@@ -3,6 +3,8 @@
 // progress or when the sequence changed under it.
 #pragma once
 
+#include <sched.h>
+
 #include <atomic>
 #include <cstdint>
 #include <cstring>
@@ -26,11 +28,14 @@ class Seqlock {
     seq_.store(s + 2, std::memory_order_release);
   }
 
-  /// Copies a consistent snapshot. Never blocks the writer; spins only while a write is
-  /// in flight (well under a microsecond). Returns false after `max_tries` torn reads.
-  bool load(T& out, int max_tries = 1 << 20) const {
+  /// Copies a consistent snapshot. Never blocks the writer; retries while a write is in
+  /// flight (well under a microsecond), yielding the CPU every 64 tries so that a reader on
+  /// a busy machine lets the writer finish. Returns false after `max_tries` torn reads.
+  /// Readers are never the rt: only the rt writes.
+  bool load(T& out, int max_tries = 1 << 24) const {
     std::uint64_t w[kWords];
     for (int attempt = 0; attempt < max_tries; ++attempt) {
+      if ((attempt & 63) == 63) sched_yield();
       const std::uint64_t s1 = seq_.load(std::memory_order_acquire);
       if (s1 & 1) continue;
       for (std::size_t i = 0; i < kWords; ++i) w[i] = __atomic_load_n(&words_[i], __ATOMIC_RELAXED);
