@@ -1,0 +1,128 @@
+// service_procs.cpp — real pcnc-rt + pcnc-host --serve pairs for the socket tests.
+#include "service_procs.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "segment.hpp"
+#include "test_paths.hpp"
+
+namespace pcnc::test {
+
+std::string rt_exe() { return bin_dir() + "/rt/pcnc-rt"; }
+std::string host_exe() { return bin_dir() + "/host/pcnc-host"; }
+std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
+
+ServicePair::ServicePair(const std::string& tag, const std::vector<std::pair<std::string, std::string>>& replacements)
+    : tag_(tag), dir_(make_temp_dir(tag)) {
+  config_ = write_test_config(dir_, tag, replacements);
+  socket_ = dir_ + "/pcnc.sock";
+}
+
+namespace {
+void stop_process(BackgroundProcess& p) {
+  if (p.pid <= 0) return;
+  kill(p.pid, SIGTERM);
+  if (p.wait(10.0) < 0) {
+    kill(p.pid, SIGKILL);
+    p.wait(5.0);
+  }
+  p.pid = -1;
+}
+}  // namespace
+
+ServicePair::~ServicePair() {
+  stop_process(host_);
+  stop_process(rt_);
+  remove_segment(test_shm_name(tag_));
+}
+
+void ServicePair::start_rt(const std::string& clock, const std::vector<std::string>& extra) {
+  std::vector<std::string> argv = {rt_exe(), "--config", config_, "--clock", clock};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  rt_ = start_process(argv, dir_ + "/rt" + std::to_string(++rt_starts_));
+}
+
+bool ServicePair::start_host(double timeout_s) {
+  host_ = start_process({host_exe(), "--config", config_, "--serve"}, dir_ + "/host" + std::to_string(++host_starts_));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (std::chrono::steady_clock::now() < deadline) {
+    try {
+      CtlClient c(socket_);
+      return true;
+    } catch (const std::exception&) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+bool ServicePair::start(const std::string& clock, const std::vector<std::string>& rt_extra) {
+  start_rt(clock, rt_extra);
+  if (!start_host()) return false;
+  const json s = wait_status([](const json& s) { return s["rt"]["state"] == "attached" && s["state"] == "IDLE"; }, 20.0);
+  return s["rt"]["state"] == "attached" && s["state"] == "IDLE";
+}
+
+json ServicePair::call(const std::string& method, const json& params, double timeout_s) {
+  CtlClient c(socket_);
+  return c.call(method, params, timeout_s);
+}
+
+json ServicePair::status() {
+  const json r = call("status");
+  if (!r.contains("result")) throw std::runtime_error("status failed: " + r.dump());
+  return r["result"];
+}
+
+json ServicePair::wait_status(const std::function<bool(const json&)>& pred, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  json s;
+  for (;;) {
+    try {
+      s = status();
+      if (pred(s)) return s;
+    } catch (const std::exception&) {
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return s;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+void ServicePair::kill_rt(int sig) {
+  kill(rt_.pid, sig);
+  rt_.wait(10.0);
+  rt_.pid = -1;
+}
+
+void ServicePair::kill_host(int sig) {
+  kill(host_.pid, sig);
+  host_.wait(10.0);
+  host_.pid = -1;
+}
+
+std::string write_program(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string zigzag_program(const std::string& dir, int rows, double width, double feed) {
+  std::ostringstream p;
+  p << "G21 G90 G17 G54\nG00 Z-1\nG00 X" << -width / 2 << " Y-8\n";
+  const double step = rows > 1 ? 16.0 / (rows - 1) : 0.0;
+  for (int i = 0; i < rows; ++i) {
+    p << "G01 X" << (i % 2 == 0 ? width / 2 : -width / 2) << " F" << feed << "\n";
+    if (i + 1 < rows) p << "G01 Y" << -8.0 + step * (i + 1) << "\n";
+  }
+  p << "G01 X0 Y0\nM30\n";
+  return write_program(dir, "zigzag.ngc", p.str());
+}
+
+}  // namespace pcnc::test

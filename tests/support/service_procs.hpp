@@ -1,0 +1,68 @@
+// service_procs.hpp — tests of `pcnc-host --serve`: start pcnc-rt and the service as real
+// processes on a per-test config (own shm name and socket), talk to the socket with
+// CtlClient, wait for conditions on the status, kill either process, clean up.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ctl.hpp"
+#include "subprocess.hpp"
+
+namespace pcnc::test {
+
+using json = nlohmann::json;
+
+class ServicePair {
+ public:
+  /// Writes the test config (write_test_config with `replacements`) in a fresh temp dir.
+  explicit ServicePair(const std::string& tag, const std::vector<std::pair<std::string, std::string>>& replacements = {});
+  ~ServicePair();  // SIGTERM both (SIGKILL if they hang), remove the segment
+
+  /// Starts pcnc-rt ("real" or "virtual"), optionally with more arguments (e.g. --trace).
+  void start_rt(const std::string& clock, const std::vector<std::string>& extra = {});
+  /// Starts pcnc-host --serve and waits until its socket answers.
+  bool start_host(double timeout_s = 10.0);
+  /// Both, and waits until the service reports the rt attached and the machine IDLE.
+  bool start(const std::string& clock, const std::vector<std::string>& rt_extra = {});
+
+  /// One request on a fresh connection: the whole reply ({"id","result"} or {"id","error"}).
+  json call(const std::string& method, const json& params = json::object(), double timeout_s = 30.0);
+  /// The "result" of status (throws if status itself failed).
+  json status();
+  /// Polls status until `pred` holds; returns the last status (check `pred` again).
+  json wait_status(const std::function<bool(const json&)>& pred, double timeout_s);
+
+  void kill_rt(int sig);    // signal + reap
+  void kill_host(int sig);  // signal + reap
+
+  const std::string& dir() const { return dir_; }
+  const std::string& config() const { return config_; }
+  const std::string& socket() const { return socket_; }
+  const std::string& tag() const { return tag_; }
+  std::string host_log() const { return host_.err() + host_.out(); }
+  std::string rt_log() const { return rt_.err() + rt_.out(); }
+  int rt_pid() const { return rt_.pid; }
+  int host_pid() const { return host_.pid; }
+
+ private:
+  std::string tag_, dir_, config_, socket_;
+  BackgroundProcess rt_, host_;
+  int rt_starts_ = 0, host_starts_ = 0;
+};
+
+std::string rt_exe();
+std::string host_exe();
+std::string pcnc_exe();
+
+/// Writes `text` to dir/name; returns the path.
+std::string write_program(const std::string& dir, const std::string& name, const std::string& text);
+/// A zig-zag of `rows` X strokes of `width` mm at F`feed` mm/min around program zero, ending at
+/// program X0 Y0 Z-1 (machine 12.5, 12.5, 24 with the default G54).
+std::string zigzag_program(const std::string& dir, int rows, double width, double feed);
+
+}  // namespace pcnc::test
