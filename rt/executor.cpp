@@ -32,6 +32,7 @@ void Executor::set_position(const Vec3& p) {
   ended_at_rest_ = false;
   after_motion_ = false;
   fresh_ = true;
+  has_prev_ = false;
 }
 
 void Executor::flush(MotionRing& ring) {
@@ -68,6 +69,8 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
 }
 
 void Executor::pop(MotionRing& ring, ExecResult& out) {
+  has_prev_ = prep_[0].motion;
+  if (has_prev_) prev_ = prep_[0];
   ring.pop();
   for (std::size_t i = 1; i < prepared_; ++i) prep_[i - 1] = prep_[i];
   --prepared_;

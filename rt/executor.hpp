@@ -87,6 +87,11 @@ class Executor {
   bool contouring() const { return contouring_; }
   /// Has a block in execution (possibly between blocks within a cycle).
   bool busy() const { return prepared_ > 0; }
+  /// The motion block in execution and the path length reached on it (for the contour
+  /// error), or nullptr; the motion block finished last (nullptr after a non-motion block).
+  const PreparedBlock* current_motion() const { return prepared_ > 0 && prep_[0].motion ? &prep_[0] : nullptr; }
+  double progress() const { return s_; }
+  const PreparedBlock* previous_motion() const { return has_prev_ ? &prev_ : nullptr; }
 
  private:
   bool prepare_visible(const MotionRing& ring, ExecResult& out);
@@ -111,6 +116,8 @@ class Executor {
   std::array<double, kAxes> axis_accel_{};
 
   std::array<PreparedBlock, kRingSlots> prep_{};  // prep_[i] describes ring.peek(i)
+  PreparedBlock prev_{};  // the motion block finished last
+  bool has_prev_ = false;
   std::size_t prepared_ = 0;
   std::uint64_t expected_seq_ = 1;
   Vec3 tail_{};  // where the last validated block ends

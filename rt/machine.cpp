@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "contour_error.hpp"
 #include "executor.hpp"
 #include "feed_override.hpp"
 #include "jog.hpp"
@@ -63,6 +64,7 @@ struct Machine::Impl {
   void trip(FaultCode code, int axis, double value, std::uint32_t line, const char* reason, MotionRing* ring);
   void begin_stop(MachineState after);
   void program_start();
+  double contour_error(const Vec3& measured) const;
 
   MachineConfig cfg;
   double dt;
@@ -94,10 +96,33 @@ void Machine::Impl::program_start() {
   st.junction_stops = 0;
   st.junction_flows = 0;
   st.max_following_error = {0.0, 0.0, 0.0};
+  st.following_error_sq_sum = {0.0, 0.0, 0.0};
+  st.program_cycles = 0;
+  st.contour_error = 0.0;
+  st.max_contour_error = 0.0;
+  st.contour_error_sq_sum = 0.0;
   exec.start_program();
   discard = false;
   hold = false;
   st.state = MachineState::kRunning;
+}
+
+// Distance from the measured position to the programmed path of the feed move in execution
+// (lines and arcs; rapids and NURBS are not measured): the nearest point of the current
+// block, or of the previous one while the axes, lagging the setpoint, may still be on it.
+// −1 when there is no feed move to measure against.
+double Machine::Impl::contour_error(const Vec3& measured) const {
+  auto feed = [](const PreparedBlock* b) { return b && (b->kind == BlockKind::kLine || b->kind == BlockKind::kArc); };
+  double e = -1.0;
+  const PreparedBlock* cur = exec.current_motion();
+  if (feed(cur)) e = distance_to_path(*cur, measured, exec.progress()).distance;
+  const PreparedBlock* prev = exec.previous_motion();
+  const double lag = cfg.axes[0].following_error_limit_mm;
+  if (feed(prev) && (!cur || exec.progress() < lag)) {
+    const double d = distance_to_path(*prev, measured, prev->length).distance;
+    e = e < 0.0 ? d : std::min(e, d);
+  }
+  return e;
 }
 
 void Machine::Impl::begin_stop(MachineState after) {
@@ -334,6 +359,17 @@ void Machine::Impl::cycle(MotionRing& ring) {
   st.following_error = ferr;
   for (int i = 0; i < kAxes; ++i) {
     st.max_following_error[i] = std::max(st.max_following_error[i], std::abs(ferr[i]));
+  }
+  st.contour_error = 0.0;
+  if (st.program_active && amps_on) {
+    ++st.program_cycles;
+    for (int i = 0; i < kAxes; ++i) st.following_error_sq_sum[i] += ferr[i] * ferr[i];
+    const double ce = contour_error(meas);
+    if (ce >= 0.0) {
+      st.contour_error = ce;
+      st.max_contour_error = std::max(st.max_contour_error, ce);
+      st.contour_error_sq_sum += ce * ce;
+    }
   }
   st.line = exec.line();
   st.block_seq = exec.seq();

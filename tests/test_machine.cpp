@@ -164,6 +164,16 @@ TEST(Machine, ArcCircleAtF500ContourErrorUnder5Micrometres) {
   EXPECT_GT(n, 7000);  // 2π·5 mm at 8.33 mm/s ≈ 3.8 s ≈ 7540 cycles
   EXPECT_LT(worst_cmd, 1e-9);
   EXPECT_LT(worst, 5e-3);
+  // the status's contour error (nearest point of the programmed arc) finds the same maximum;
+  // the rapid before it is not measured
+  const Status& st = run.status();
+  EXPECT_NEAR(st.max_contour_error, worst, 1e-7);
+  EXPECT_GT(st.program_cycles, static_cast<std::uint64_t>(n));
+  for (int i = 0; i < 2; ++i) {
+    const double rms = std::sqrt(st.following_error_sq_sum[i] / static_cast<double>(st.program_cycles));
+    EXPECT_GT(rms, 0.0);
+    EXPECT_LT(rms, st.max_following_error[i]);
+  }
   std::printf("circle r 5 mm G02 F500: max radial contour error %.3f um over %d cycles\n", worst * 1e3, n);
 }
 
