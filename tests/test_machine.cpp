@@ -289,7 +289,7 @@ TEST(Machine, M00PausesAtTheBlockEndUntilResume) {
   run.send(CommandKind::kResume);
   run.run_until_done();
   EXPECT_EQ(run.status().program_done, 1);
-  EXPECT_NEAR(run.status().commanded[1], 15.0, 1e-12);
+  EXPECT_NEAR(run.status().commanded[1], 15.0, 1e-12);  EXPECT_EQ(run.check_setpoint_limits(), "");
 }
 
 TEST(Machine, DwellWaitsItsTime) {
@@ -350,6 +350,7 @@ TEST(Machine, UnderrunsAreCountedWhenTheHostIsSlow) {
   EXPECT_EQ(run.status().program_done, 1);
   EXPECT_EQ(run.status().underruns, 50u);
   EXPECT_FALSE(run.machine().wants_more_blocks(run.ring()));
+  EXPECT_EQ(run.check_setpoint_limits(), "");
 }
 
 TEST(Machine, FollowingErrorFaultOnABlockedAxis) {
