@@ -1,19 +1,26 @@
 // main.cpp — pcnc-host, the operator's process: checks a G-code program completely, then
 // feeds its preprocessed blocks to pcnc-rt through the ring and reports the run (--run), or
 // serves the control socket as a long-running service (--serve, see service.hpp).
+#include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
+#include <unistd.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
+#include <functional>
 #include <sstream>
 
 #include "config.hpp"
 #include "job_runner.hpp"
 #include "program.hpp"
+#include "progress_update.hpp"
 #include "run_report.hpp"
+#include "run_summary.hpp"
 #include "rt_link.hpp"
 #include "service.hpp"
 
@@ -42,7 +49,8 @@ int main(int argc, char** argv) {
                "feeds) before anything moves, preprocesses each move into a block and feeds pcnc-rt through the "
                "4-slot shared-memory ring. pcnc-rt must be running with the same config."};
   std::string config_path = pcnc::default_config_path();
-  std::string run_file, contouring, offset, report_path, log_level = "warn";
+  std::string run_file, contouring, offset, summary_path, log_level = "warn";
+  int progress_fd = -1;
   bool fit = false, serve = false;
   double wait_rt_s = 5.0;
   app.add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
@@ -54,7 +62,12 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   app.add_flag("--fit", fit, "scale the program down uniformly so it fits the travel");
-  app.add_option("--report", report_path, "write the run report as HTML to this file");
+  app.add_option("--summary", summary_path,
+                 "after the run, write its machine-readable summary (JSON: check, transform, job, final status) to this "
+                 "file; `pcnc run --report` builds the HTML page from it and the trace");
+  app.add_option("--progress-fd", progress_fd,
+                 "write progress lines (\"progress LINE TOTAL_LINES MACHINE_TIME_S\") to this file descriptor while "
+                 "running (for launchers: pcnc run shows them as a progress bar)");
   app.add_option("--wait-rt", wait_rt_s, "seconds to wait for pcnc-rt's segment")->capture_default_str();
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -119,9 +132,36 @@ int main(int argc, char** argv) {
     pcnc::JobRunner runner(*link, config);
     pcnc::RunReport report;
     report.program = run_file;
-    report.job = runner.run(run_file, options, check, g_interrupt);
+    std::function<void(const pcnc::JobProgress&)> on_progress;
+    if (progress_fd >= 0) {
+      signal(SIGPIPE, SIG_IGN);  // the progress reader may go away before we do
+      fcntl(progress_fd, F_SETFL, fcntl(progress_fd, F_GETFL) | O_NONBLOCK);  // never wait for the reader
+      const std::uint64_t total_lines = check.lines;
+      on_progress = [&, total_lines](const pcnc::JobProgress& p) {
+        const std::string line =
+            pcnc::format_progress_update({p.status.line, total_lines, p.status.program_time_s});
+        // best effort: a full pipe skips an update, a reader that went away ends them
+        if (write(progress_fd, line.data(), line.size()) < 0 && errno != EAGAIN && errno != EINTR) progress_fd = -1;
+      };
+    }
+    report.job = runner.run(run_file, options, check, g_interrupt, on_progress);
+    if (progress_fd >= 0 && write(progress_fd, "done\n", 5) == 5) {
+      pollfd pfd{progress_fd, POLLIN, 0};  // the launcher clears its display, then answers
+      char ok[8];
+      if (poll(&pfd, 1, 500) > 0 && read(progress_fd, ok, sizeof ok) < 0) spdlog::debug("progress channel closed");
+    }
     report.check = std::move(check);
     std::fputs(pcnc::format_run_report(report).c_str(), stdout);
+    if (!summary_path.empty()) {
+      try {
+        pcnc::write_run_summary(
+            pcnc::make_run_summary(report, config, config_path, options.contouring.value_or(config.motion.contouring_default)),
+            summary_path);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "pcnc-host: %s\n", e.what());
+        if (report.job.end == pcnc::JobEnd::kCompleted) return 1;
+      }
+    }
     switch (report.job.end) {
       case pcnc::JobEnd::kCompleted: return 0;
       case pcnc::JobEnd::kInterrupted: return 130;

@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -123,8 +124,39 @@ int launch_pair(const LaunchOptions& options) {
     return g_signal ? 128 + g_signal : 3;
   }
 
-  const pid_t host = spawn(options.host_path, options.host_args, -1);
+  // progress channel (a socket pair): the host writes lines, a thread here hands them on
+  // until the host exits, and answers "done" so the display is cleared before the report
+  std::vector<std::string> host_args = options.host_args;
+  int progress[2] = {-1, -1};
+  if (options.on_progress_line && socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, progress) == 0) {
+    host_args.push_back("--progress-fd");
+    host_args.push_back(std::to_string(progress[1]));
+  }
+  const pid_t host = spawn(options.host_path, host_args, progress[1]);
   g_children[1] = host;
+  std::thread progress_reader;
+  if (progress[0] >= 0) {
+    close(progress[1]);
+    progress_reader = std::thread([fd = progress[0], &options] {
+      std::string pending;
+      char chunk[4096];
+      for (;;) {
+        const ssize_t got = read(fd, chunk, sizeof chunk);
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0) break;
+        pending.append(chunk, static_cast<std::size_t>(got));
+        std::size_t nl;
+        while ((nl = pending.find('\n')) != std::string::npos) {
+          const std::string line = pending.substr(0, nl);
+          pending.erase(0, nl + 1);
+          options.on_progress_line(line);
+          // "done": the host waits for this answer before it prints its report
+          if (line == "done" && write(fd, "ok\n", 3) < 0) break;
+        }
+      }
+      close(fd);
+    });
+  }
 
   int exit_code = 0;
   for (;;) {
@@ -162,6 +194,7 @@ int launch_pair(const LaunchOptions& options) {
       break;
     }
   }
+  if (progress_reader.joinable()) progress_reader.join();  // EOF: the host has exited
   if (g_signal) exit_code = 128 + g_signal;
   return exit_code;
 }

@@ -4,12 +4,16 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 
 #include "check.hpp"
 #include "ctl.hpp"
 #include "config.hpp"
 #include "launcher.hpp"
 #include "nurbs_tool.hpp"
+#include "progress.hpp"
+#include "report_html.hpp"
 #include "serve.hpp"
 
 int main(int argc, char** argv) {
@@ -20,7 +24,7 @@ int main(int argc, char** argv) {
 
   // ---- run ----
   auto* run = app.add_subcommand("run", "start pcnc-rt and pcnc-host, run FILE to the end, print a run report");
-  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report;
+  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary;
   bool fit = false;
   run->add_option("FILE", file, "G-code program")->required()->check(CLI::ExistingFile);
   run->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
@@ -32,7 +36,10 @@ int main(int argc, char** argv) {
   run->add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   run->add_flag("--fit", fit, "scale the program down uniformly (never up) so it fits the travel; the report states the scale");
   run->add_option("--trace", trace, "write the per-cycle trace (CSV) to this file");
-  run->add_option("--report", report, "also write the run report as a self-contained HTML page");
+  run->add_option("--report", report,
+                  "also write the run report as a self-contained HTML page (figures, isometric tool path, speed and "
+                  "following error over time; built from the trace after both processes have ended)");
+  run->add_option("--summary", summary, "also write the run's figures as JSON (check, transform, job, final status)");
   run->callback([&] {
     pcnc::LaunchOptions lo;
     const std::string dir = pcnc::executable_dir();
@@ -42,13 +49,59 @@ int main(int argc, char** argv) {
     if (access((dir + "/pcnc-rt").c_str(), X_OK) == 0) lo.rt_path = dir + "/pcnc-rt";
     if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
     lo.rt_args = {"--config", config_path, "--clock", clock};
-    if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
+    // --report: the HTML page needs the trace and the host's summary; when the user did not
+    // ask for them, they go to a temporary directory that is removed afterwards.
+    std::string scratch, trace_file = trace, summary_file = summary;
+    if (!report.empty() && (trace.empty() || summary.empty())) {
+      std::string tmpl = (std::getenv("TMPDIR") ? std::string(std::getenv("TMPDIR")) : std::string("/tmp")) + "/pcnc-run-XXXXXX";
+      if (mkdtemp(tmpl.data()) == nullptr) {
+        std::fprintf(stderr, "pcnc: cannot create a temporary directory for the report's trace: %s\n", tmpl.c_str());
+        exit_code = 2;
+        return;
+      }
+      scratch = tmpl;
+      if (trace_file.empty()) trace_file = scratch + "/trace.csv";
+      if (summary_file.empty()) summary_file = scratch + "/summary.json";
+    }
+    if (!trace_file.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace_file});
     lo.host_args = {"--config", config_path, "--run", file};
     if (!contouring.empty()) lo.host_args.insert(lo.host_args.end(), {"--contouring", contouring});
     if (!offset.empty()) lo.host_args.insert(lo.host_args.end(), {"--offset", offset});
     if (fit) lo.host_args.push_back("--fit");
-    if (!report.empty()) lo.host_args.insert(lo.host_args.end(), {"--report", report});
+    if (!summary_file.empty()) {
+      std::filesystem::remove(summary_file);  // a stale summary must not make a report of an earlier run
+      lo.host_args.insert(lo.host_args.end(), {"--summary", summary_file});
+    }
+    // progress: a bar when our stderr is a terminal, plain lines every few seconds otherwise
+    pcnc::ProgressDisplay display(stderr, pcnc::ProgressDisplay::is_terminal(stderr));
+    lo.on_progress_line = [&display](std::string_view line) {
+      if (line == "done") {
+        display.finish();
+      } else if (const auto u = pcnc::parse_progress_update(line)) {
+        display.update(*u);
+      }
+    };
     exit_code = pcnc::launch_pair(lo);
+    display.finish();
+    // both processes have ended: the trace is complete and flushed
+    if (!report.empty()) {
+      std::error_code ec;
+      if (!std::filesystem::exists(summary_file, ec)) {
+        std::fprintf(stderr, "pcnc: no HTML report: the program did not run (see above)\n");
+      } else {
+        try {
+          pcnc::build_report_file(summary_file, trace_file, pcnc::load_config(config_path), report);
+          std::printf("  html report       %s\n", report.c_str());
+        } catch (const std::exception& e) {
+          std::fprintf(stderr, "pcnc: the HTML report was not written: %s\n", e.what());
+          if (exit_code == 0) exit_code = 1;
+        }
+      }
+    }
+    if (!scratch.empty()) {
+      std::error_code ec;
+      std::filesystem::remove_all(scratch, ec);
+    }
   });
 
   // ---- check ----

@@ -1,0 +1,43 @@
+// progress_update.hpp — the line pcnc-host writes on its progress pipe (--progress-fd) while
+// it runs a program, for the launcher's progress display (tools/progress.hpp):
+//   "progress LINE TOTAL_LINES MACHINE_TIME_S\n"
+// LINE is the source line the machine is executing, TOTAL_LINES the program's line count
+// from the check pass, MACHINE_TIME_S the program time on the machine so far. When the job
+// has ended the host writes "done\n" and waits (briefly) for "ok\n" from the launcher, which
+// has then cleared its progress display: the run report that follows starts on a clean line.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+namespace pcnc {
+
+struct ProgressUpdate {
+  std::uint32_t line = 0;
+  std::uint64_t total_lines = 0;
+  double machine_time_s = 0.0;
+};
+
+inline std::string format_progress_update(const ProgressUpdate& u) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "progress %u %llu %.4f\n", u.line, static_cast<unsigned long long>(u.total_lines),
+                u.machine_time_s);
+  return buf;
+}
+
+/// The update in one line (without or with its newline); nothing when it is not one.
+inline std::optional<ProgressUpdate> parse_progress_update(std::string_view line) {
+  std::istringstream in{std::string(line)};
+  std::string word;
+  ProgressUpdate u;
+  if (!(in >> word) || word != "progress") return std::nullopt;
+  if (!(in >> u.line >> u.total_lines >> u.machine_time_s)) return std::nullopt;
+  if (!(in >> std::ws).eof()) return std::nullopt;
+  return u;
+}
+
+}  // namespace pcnc

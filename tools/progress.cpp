@@ -1,0 +1,101 @@
+// progress.cpp — progress lines from pcnc-host and their display (see progress.hpp).
+#include "progress.hpp"
+
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace pcnc {
+
+ProgressView make_progress_view(const ProgressUpdate& u, double elapsed_s) {
+  ProgressView v;
+  v.elapsed_s = elapsed_s;
+  if (u.total_lines > 0) {
+    v.fraction = std::clamp(static_cast<double>(u.line) / static_cast<double>(u.total_lines), 0.0, 1.0);
+  }
+  // a straight extrapolation of the wall time per line so far: honest enough for CAM
+  // programs whose lines are of similar length, and never shown on the first percent
+  if (v.fraction >= 0.01 && elapsed_s > 0.0) v.remaining_s = elapsed_s * (1.0 - v.fraction) / v.fraction;
+  return v;
+}
+
+std::string format_duration(double seconds) {
+  if (!(seconds >= 0.0)) seconds = 0.0;
+  const auto total = static_cast<long long>(std::llround(seconds));
+  char buf[64];
+  if (total >= 3600) {
+    std::snprintf(buf, sizeof buf, "%lld:%02lld:%02lld", total / 3600, (total / 60) % 60, total % 60);
+  } else {
+    std::snprintf(buf, sizeof buf, "%lld:%02lld", total / 60, total % 60);
+  }
+  return buf;
+}
+
+std::string format_progress_bar(const ProgressView& v, const ProgressUpdate& u, int bar_width) {
+  std::string bar;
+  if (bar_width > 0) {
+    const int filled = static_cast<int>(std::floor(v.fraction * bar_width));
+    bar = "[" + std::string(static_cast<std::size_t>(filled), '#') +
+          std::string(static_cast<std::size_t>(bar_width - filled), '.') + "] ";
+  }
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%5.1f %%  line %u/%llu  elapsed %s  left %s  machine %s", 100.0 * v.fraction, u.line,
+                static_cast<unsigned long long>(u.total_lines), format_duration(v.elapsed_s).c_str(),
+                v.remaining_s ? format_duration(*v.remaining_s).c_str() : "?", format_duration(u.machine_time_s).c_str());
+  return bar + buf;
+}
+
+std::string format_progress_log(const ProgressView& v, const ProgressUpdate& u) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "pcnc: line %u/%llu (%.1f %%), elapsed %s, %s%s left, machine time %s", u.line,
+                static_cast<unsigned long long>(u.total_lines), 100.0 * v.fraction, format_duration(v.elapsed_s).c_str(),
+                v.remaining_s ? "about " : "", v.remaining_s ? format_duration(*v.remaining_s).c_str() : "unknown time",
+                format_duration(u.machine_time_s).c_str());
+  return buf;
+}
+
+ProgressDisplay::ProgressDisplay(std::FILE* out, bool terminal, double log_interval_s)
+    : out_(out), terminal_(terminal), interval_s_(log_interval_s), start_(std::chrono::steady_clock::now()) {}
+
+bool ProgressDisplay::is_terminal(std::FILE* out) {
+  if (!isatty(fileno(out))) return false;
+  const char* term = std::getenv("TERM");
+  return !(term && std::strcmp(term, "dumb") == 0);
+}
+
+void ProgressDisplay::update(const ProgressUpdate& u) {
+  const auto now = std::chrono::steady_clock::now();
+  const ProgressView v = make_progress_view(u, std::chrono::duration<double>(now - start_).count());
+  if (terminal_) {
+    int columns = 80;
+    winsize ws{};
+    if (ioctl(fileno(out_), TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0) columns = ws.ws_col;
+    // the text after the bar is about 70 characters; the bar takes what is left (up to 30)
+    const int bar = std::clamp(columns - 75, 0, 30);
+    std::string text = format_progress_bar(v, u, bar);
+    if (static_cast<int>(text.size()) >= columns) text.resize(static_cast<std::size_t>(std::max(columns - 1, 0)));
+    std::fprintf(out_, "\r%s\x1b[K", text.c_str());
+    std::fflush(out_);
+    drawn_ = true;
+    return;
+  }
+  if (last_log_ && std::chrono::duration<double>(now - *last_log_).count() < interval_s_) return;
+  if (!last_log_ && v.elapsed_s < interval_s_) return;  // short runs print no progress at all
+  last_log_ = now;
+  std::fprintf(out_, "%s\n", format_progress_log(v, u).c_str());
+  std::fflush(out_);
+}
+
+void ProgressDisplay::finish() {
+  if (terminal_ && drawn_) {
+    std::fprintf(out_, "\r\x1b[K");
+    std::fflush(out_);
+  }
+  drawn_ = false;
+}
+
+}  // namespace pcnc
