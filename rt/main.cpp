@@ -96,10 +96,11 @@ int main(int argc, char** argv) {
       close(ready_fd);
     }
     const std::uint64_t cycles = loop.run(g_stop);
-    const pcnc::TimingStats t = loop.timing().summary();
-    spdlog::info("stopped after {} cycles; compute mean {:.2f} us p99 {:.2f} us max {:.2f} us; wake p99 {:.1f} us "
-                 "max {:.1f} us; {} overruns",
-                 cycles, t.compute_mean_us, t.compute_p99_us, t.compute_max_us, t.wake_p99_us, t.wake_max_us, t.overruns);
+    const pcnc::CycleTiming& t = loop.timing();
+    spdlog::info("stopped after {} cycles; compute p50 {:.2f} us p99 {:.2f} us max {:.2f} us; wake-up latency "
+                 "p50 {:.1f} us p99 {:.1f} us p99.9 {:.1f} us max {:.1f} us; {} overruns",
+                 cycles, t.compute.quantile(0.5), t.compute.quantile(0.99), t.compute.max(), t.wake.quantile(0.5),
+                 t.wake.quantile(0.99), t.wake.quantile(0.999), t.wake.max(), t.overruns);
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;
