@@ -92,6 +92,7 @@ bool RtLink::rt_alive() const {
 
 std::string RtLink::rt_loss_reason() const {
   const int pid = shm().header.rt_pid.load();
+  if (pid == 0) return "pcnc-rt exited (it released its segment)";
   if (!pid_running(pid)) return "pcnc-rt (pid " + std::to_string(pid) + ") is gone";
   const double age = rt_heartbeat_age_s();
   if (age >= config_.process.rt_timeout_s) {
