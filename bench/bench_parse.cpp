@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -107,7 +108,8 @@ Figure measure(const std::string& self, const std::vector<std::string>& args) {
   return f;
 }
 
-void report(const char* name, const char* what, const std::string& self, const std::vector<std::string>& args, int repeats) {
+void report(const char* name, const char* what, const std::string& self, const std::vector<std::string>& args, int repeats,
+            unsigned long long known_lines = 0) {
   Figure best;
   best.wall_s = 1e9;
   for (int i = 0; i < repeats; ++i) {
@@ -118,9 +120,27 @@ void report(const char* name, const char* what, const std::string& self, const s
     }
     if (f.wall_s < best.wall_s) best = f;
   }
+  if (known_lines) best.lines = known_lines;
   std::printf("%-30s %-34s %9llu lines  wall %7.4f s  cpu %7.4f s  %6.2f M lines/s  peak RSS %6.1f MB\n", name, what, best.lines,
               best.wall_s, best.user_s, static_cast<double>(best.lines) / best.wall_s / 1e6,
               static_cast<double>(best.peak_rss_kb) / 1024.0);
+}
+
+// The peers' machine as a TOML file for the pcnc CLI: the given config with +-100 mm travel and
+// G54 at the origin (text edits of the keys the default config spells out).
+bool write_peer_config(const std::string& from, const std::string& to) {
+  std::ifstream in(from);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto replace_all = [&](const std::string& a, const std::string& b) {
+    int n = 0;
+    for (std::size_t pos = text.find(a); pos != std::string::npos; pos = text.find(a, pos + b.size()), ++n) text.replace(pos, a.size(), b);
+    return n;
+  };
+  const int mins = replace_all("travel_min_mm = 0.0", "travel_min_mm = -100.0");
+  const int maxs = replace_all("travel_max_mm = 25.0", "travel_max_mm = 100.0");
+  const int g54 = replace_all("g54 = [12.5, 12.5, 25.0]", "g54 = [0.0, 0.0, 0.0]");
+  std::ofstream(to) << text;
+  return mins == 3 && maxs == 3 && g54 == 1;
 }
 
 void write_big_program(const std::string& path, int n) {
@@ -190,6 +210,14 @@ int main(int argc, char** argv) {
   report("tiny200k.ngc", "check (peer travel +-100 mm)", self, {"--child", tiny, "--config", config_path, "--peer"}, repeats);
   report("tiny200k.ngc", "check + blocks (peer travel)", self, {"--child", tiny, "--config", config_path, "--peer", "--blocks"}, repeats);
   report("tiny200k.ngc", "check --fit + blocks (25 mm mill)", self, {"--child", tiny, "--config", config_path, "--fit", "--blocks"}, repeats);
+  // The real command line, if it was built next to this bench (build/tools/pcnc).
+  const std::string pcnc = (fs::path(self).parent_path().parent_path() / "tools" / "pcnc").string();
+  const std::string peer_toml = dir + "/bench-peers.toml";
+  if (fs::exists(pcnc) && write_peer_config(config_path, peer_toml)) {
+    report("tiny200k.ngc", "pcnc check -q (the CLI, peer config)", pcnc, {"check", tiny, "--config", peer_toml, "-q"}, repeats, 200009);
+    report("tiny200k.ngc", "pcnc check --fit -q (the CLI, 25 mm)", pcnc, {"check", tiny, "--config", config_path, "--fit", "-q"}, repeats,
+           200009);
+  }
   const std::string lname = fs::relative(largest, shared + "/gcode/cam").string();
   report(lname.c_str(), "check --fit", self, {"--child", largest, "--config", config_path, "--fit"}, repeats);
   report(lname.c_str(), "check --fit + blocks", self, {"--child", largest, "--config", config_path, "--fit", "--blocks"}, repeats);

@@ -220,7 +220,7 @@ struct BlockStream::Impl {
   Impl(std::unique_ptr<LineReader> r, const std::string& name, const MachineConfig& c, const JobFrame& frame)
       : reader(std::move(r)), config(c), sink(name), source(*reader, config, frame, sink) {}
   std::unique_ptr<LineReader> reader;
-  const MachineConfig& config;
+  MachineConfig config;  // a copy: the stream may outlive the caller's config (or a temporary)
   DiagnosticSink sink;
   MoveSource source;
 };

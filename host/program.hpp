@@ -53,7 +53,7 @@ CheckResult check_program_text(std::string_view text, const std::string& name, c
 
 /// Pass 2: streams Blocks in program order. Construct only after check_program(...).ok, with
 /// its transform. Throws std::runtime_error if the program turns out to have an error after
-/// all (e.g. the file changed since it was checked).
+/// all (e.g. the file changed since it was checked). The stream keeps its own copy of `config`.
 class BlockStream {
  public:
   BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options, const Transform& transform);

@@ -120,7 +120,7 @@ TEST(Interpreter, FullCircleWhenEndEqualsStart) {
 TEST(Interpreter, HelixCarriesTheThirdAxis) {
   const auto r = run_program("G0 X10 Y0 Z0\nG3 X10 Y0 Z-2 I-10 F600\nM2\n", wide_config());
   ASSERT_TRUE(r.check.ok);
-  const Block& a = r.motion().at(1);
+  const Block a = r.motion().at(1);
   EXPECT_NEAR(a.arc.helix, -2, 1e-12);
   EXPECT_EQ(a.motion_class, MotionClass::kSpace);
   EXPECT_NEAR(a.length, std::hypot(20 * kPi, 2.0), 1e-9);
@@ -134,7 +134,7 @@ TEST(Interpreter, RFormPicksTheShortOrLongArc) {
   // G3 R10 from (0,0) to (10,0): minor arc, center left of the chord (+Y side for travel +X).
   r = run_program("G0 X0 Y0\nG3 X10 Y0 R10 F600\nM2\n", wide_config());
   ASSERT_TRUE(r.check.ok);
-  const Block& minor = r.motion().at(0);
+  const Block minor = r.motion().at(0);
   EXPECT_NEAR(minor.arc.center[0], 5, 1e-9);
   EXPECT_NEAR(minor.arc.center[1], std::sqrt(75.0), 1e-9);
   EXPECT_GT(minor.arc.sweep, 0);
@@ -150,7 +150,7 @@ TEST(Interpreter, ArcPlanesG18AndG19) {
   // G18: angles from Z toward X, normal Y. Start (0,0,10) about center (0,0,0).
   auto r = run_program("G18 G0 X0 Y0 Z10\nG3 X10 Z0 K-10 F600\nM2\n", wide_config());
   ASSERT_TRUE(r.check.ok);
-  const Block& a = r.motion().at(1);
+  const Block a = r.motion().at(1);
   EXPECT_EQ(a.arc.normal_axis, 1);
   EXPECT_NEAR(a.arc.start_angle, 0, 1e-12);  // on the +Z axis
   EXPECT_NEAR(a.arc.sweep, kPi / 2, 1e-12);  // Z -> X is counter-clockwise in G18

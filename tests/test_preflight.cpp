@@ -82,7 +82,7 @@ TEST(Preflight, FitScalesDownAndCentres) {
   EXPECT_NEAR(r.check.max_point[1], 12.5 + 6.25, 1e-9);
   EXPECT_NEAR(0.5 * (r.check.min_point[2] + r.check.max_point[2]), 12.5, 1e-9);
   // machine = scale * program + offset holds for every point
-  const Block& corner = r.motion().at(3);  // X100 at Z-1
+  const Block corner = r.motion().at(3);  // X100 at Z-1
   EXPECT_NEAR(corner.end[0], 0.25 * 100 + r.check.transform.offset[0], 1e-9);
   EXPECT_NEAR(corner.end[2], 0.25 * -1 + r.check.transform.offset[2], 1e-9);
 }
