@@ -108,8 +108,8 @@ Figure measure(const std::string& self, const std::vector<std::string>& args) {
   return f;
 }
 
-void report(const char* name, const char* what, const std::string& self, const std::vector<std::string>& args, int repeats,
-            unsigned long long known_lines = 0) {
+void report(const char* name, const char* what, const std::string& self, const std::vector<std::string>& args,
+            int repeats, unsigned long long known_lines = 0) {
   Figure best;
   best.wall_s = 1e9;
   for (int i = 0; i < repeats; ++i) {
@@ -121,8 +121,8 @@ void report(const char* name, const char* what, const std::string& self, const s
     if (f.wall_s < best.wall_s) best = f;
   }
   if (known_lines) best.lines = known_lines;
-  std::printf("%-30s %-34s %9llu lines  wall %7.4f s  cpu %7.4f s  %6.2f M lines/s  peak RSS %6.1f MB\n", name, what, best.lines,
-              best.wall_s, best.user_s, static_cast<double>(best.lines) / best.wall_s / 1e6,
+  std::printf("%-30s %-34s %9llu lines  wall %7.4f s  cpu %7.4f s  %6.2f M lines/s  peak RSS %6.1f MB\n", name, what,
+              best.lines, best.wall_s, best.user_s, static_cast<double>(best.lines) / best.wall_s / 1e6,
               static_cast<double>(best.peak_rss_kb) / 1024.0);
 }
 
@@ -133,7 +133,8 @@ bool write_peer_config(const std::string& from, const std::string& to) {
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   auto replace_all = [&](const std::string& a, const std::string& b) {
     int n = 0;
-    for (std::size_t pos = text.find(a); pos != std::string::npos; pos = text.find(a, pos + b.size()), ++n) text.replace(pos, a.size(), b);
+    for (std::size_t pos = text.find(a); pos != std::string::npos; pos = text.find(a, pos + b.size()), ++n)
+      text.replace(pos, a.size(), b);
     return n;
   };
   const int mins = replace_all("travel_min_mm = 0.0", "travel_min_mm = -100.0");
@@ -165,7 +166,8 @@ int main(int argc, char** argv) {
   bool peer = false, fit = false, blocks = false;
   int repeats = 3;
   app.add_option("--config", config_path, "machine configuration");
-  app.add_option("--shared", shared, "the shared folder (default: $PCNC_SHARED_DIR, else ../shared of the source tree)");
+  app.add_option("--shared", shared,
+                 "the shared folder (default: $PCNC_SHARED_DIR, else ../shared of the source tree)");
   app.add_option("--repeats", repeats, "runs per figure (the fastest is printed)");
   app.add_option("--child", child_file, "internal: run one measurement in this process");
   app.add_flag("--peer", peer, "internal: the peers' machine (travel +-100 mm)");
@@ -207,20 +209,25 @@ int main(int argc, char** argv) {
   std::printf("config %s; %d runs per figure, fastest shown; whole process (fork+exec, config load, check, blocks)\n",
               config_path.c_str(), repeats);
   const std::string tiny = dir + "/tiny200k.ngc";
-  report("tiny200k.ngc", "check (peer travel +-100 mm)", self, {"--child", tiny, "--config", config_path, "--peer"}, repeats);
-  report("tiny200k.ngc", "check + blocks (peer travel)", self, {"--child", tiny, "--config", config_path, "--peer", "--blocks"}, repeats);
-  report("tiny200k.ngc", "check --fit + blocks (25 mm mill)", self, {"--child", tiny, "--config", config_path, "--fit", "--blocks"}, repeats);
+  report("tiny200k.ngc", "check (peer travel +-100 mm)", self, {"--child", tiny, "--config", config_path, "--peer"},
+         repeats);
+  report("tiny200k.ngc", "check + blocks (peer travel)", self,
+         {"--child", tiny, "--config", config_path, "--peer", "--blocks"}, repeats);
+  report("tiny200k.ngc", "check --fit + blocks (25 mm mill)", self,
+         {"--child", tiny, "--config", config_path, "--fit", "--blocks"}, repeats);
   // The real command line, if it was built next to this bench (build/tools/pcnc).
   const std::string pcnc = (fs::path(self).parent_path().parent_path() / "tools" / "pcnc").string();
   const std::string peer_toml = dir + "/bench-peers.toml";
   if (fs::exists(pcnc) && write_peer_config(config_path, peer_toml)) {
-    report("tiny200k.ngc", "pcnc check -q (the CLI, peer config)", pcnc, {"check", tiny, "--config", peer_toml, "-q"}, repeats, 200009);
-    report("tiny200k.ngc", "pcnc check --fit -q (the CLI, 25 mm)", pcnc, {"check", tiny, "--config", config_path, "--fit", "-q"}, repeats,
-           200009);
+    report("tiny200k.ngc", "pcnc check -q (the CLI, peer config)", pcnc, {"check", tiny, "--config", peer_toml, "-q"},
+           repeats, 200009);
+    report("tiny200k.ngc", "pcnc check --fit -q (the CLI, 25 mm)", pcnc,
+           {"check", tiny, "--config", config_path, "--fit", "-q"}, repeats, 200009);
   }
   const std::string lname = fs::relative(largest, shared + "/gcode/cam").string();
   report(lname.c_str(), "check --fit", self, {"--child", largest, "--config", config_path, "--fit"}, repeats);
-  report(lname.c_str(), "check --fit + blocks", self, {"--child", largest, "--config", config_path, "--fit", "--blocks"}, repeats);
+  report(lname.c_str(), "check --fit + blocks", self,
+         {"--child", largest, "--config", config_path, "--fit", "--blocks"}, repeats);
   report("tiny1m.ngc (1,000,005 lines)", "check + blocks (peer travel)", self,
          {"--child", big, "--config", config_path, "--peer", "--blocks"}, 1);
   fs::remove_all(dir);

@@ -15,8 +15,9 @@ bool finite(const pcnc::Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v
 
 void check_block(const pcnc::Block& b, const pcnc::MachineConfig& c) {
   bool ok = finite(b.start) && finite(b.end) && finite(b.dir_start) && finite(b.dir_end) && std::isfinite(b.length) &&
-            std::isfinite(b.speed) && std::isfinite(b.accel) && std::isfinite(b.decel_start) && std::isfinite(b.dwell_s) &&
-            finite(b.arc.center) && std::isfinite(b.arc.angular_speed) && std::isfinite(b.arc.sweep);
+            std::isfinite(b.speed) && std::isfinite(b.accel) && std::isfinite(b.decel_start) &&
+            std::isfinite(b.dwell_s) && finite(b.arc.center) && std::isfinite(b.arc.angular_speed) &&
+            std::isfinite(b.arc.sweep);
   if (b.kind == pcnc::BlockKind::kLine || b.kind == pcnc::BlockKind::kRapid) {
     for (int i = 0; i < pcnc::kAxes; ++i) {
       const auto k = static_cast<std::size_t>(i);

@@ -38,8 +38,8 @@ void DiagnosticSink::warning(int line, int column, std::string_view key, std::st
     ++dropped_warnings_;
     return;
   }
-  kept_.push_back({Diagnostic{Diagnostic::Severity::kWarning, file_, line, column, std::move(message)},
-                   std::string(key), 0});
+  kept_.push_back(
+      {Diagnostic{Diagnostic::Severity::kWarning, file_, line, column, std::move(message)}, std::string(key), 0});
 }
 
 bool DiagnosticSink::repeat(std::string_view key) {

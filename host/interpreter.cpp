@@ -28,38 +28,83 @@ std::string num(double v) {
 // nullptr when the G code (x10) is executed or warned about; else why it is rejected.
 const char* rejected_g(int c) {
   switch (c) {
-    case 100: return "setting offsets or tool data from the program (G10) is not supported; expected offsets in the config, --offset or the control socket";
-    case 281: case 301: return "storing a home position (G28.1/G30.1) is not supported; expected G28 G91 Z0 for a safe retract";
+    case 100:
+      return "setting offsets or tool data from the program (G10) is not supported; expected offsets in the config, "
+             "--offset or the control socket";
+    case 281:
+    case 301: return "storing a home position (G28.1/G30.1) is not supported; expected G28 G91 Z0 for a safe retract";
     case 300: return "a second home position (G30) is not supported; expected G28 G91 Z0 for a safe retract";
-    case 520: case 920: case 921: case 922: case 923:
-      return "coordinate offsets from the program (G52/G92) are not supported; expected G54-G59 (offsets from the config), --offset or the control socket";
-    case 50: case 51: return "cubic and quadratic splines (G5/G5.1) are not supported; expected G1/G2/G3 moves";
-    case 330: case 331: return "spindle-synchronized motion (G33) is not supported: the machine has no spindle; expected G0/G1/G2/G3 moves";
-    case 382: case 383: case 384: case 385: return "probing (G38.x) is not supported: the machine has no probe; expected G0/G1/G2/G3 moves";
-    case 730: case 740: case 760: case 810: case 820: case 830: case 840: case 850: case 860: case 870: case 880: case 890:
+    case 520:
+    case 920:
+    case 921:
+    case 922:
+    case 923:
+      return "coordinate offsets from the program (G52/G92) are not supported; expected G54-G59 (offsets from the "
+             "config), --offset or the control socket";
+    case 50:
+    case 51: return "cubic and quadratic splines (G5/G5.1) are not supported; expected G1/G2/G3 moves";
+    case 330:
+    case 331:
+      return "spindle-synchronized motion (G33) is not supported: the machine has no spindle; expected G0/G1/G2/G3 "
+             "moves";
+    case 382:
+    case 383:
+    case 384:
+    case 385: return "probing (G38.x) is not supported: the machine has no probe; expected G0/G1/G2/G3 moves";
+    case 730:
+    case 740:
+    case 760:
+    case 810:
+    case 820:
+    case 830:
+    case 840:
+    case 850:
+    case 860:
+    case 870:
+    case 880:
+    case 890:
       return "canned cycles are not supported; expected the CAM post-processor to write drilling as G0/G1 moves";
-    case 171: case 181: case 191: return "the UV/WU/VW planes (G17.1/G18.1/G19.1) are not supported; expected G17, G18 or G19";
+    case 171:
+    case 181:
+    case 191: return "the UV/WU/VW planes (G17.1/G18.1/G19.1) are not supported; expected G17, G18 or G19";
     case 901: return "absolute arc centers (G90.1) are not supported; expected G91.1 (I/J/K relative to the arc start)";
     case 930: return "inverse time feed (G93) is not supported; expected G94 (F in units per minute)";
     case 950: return "feed per revolution (G95) is not supported: the machine has no spindle; expected G94";
-    case 410: case 411: case 420: case 421:
-      return "cutter radius compensation (G41/G42) is not supported; expected a tool path already offset by the CAM system";
-    case 431: case 432: return "dynamic tool length offsets (G43.1/G43.2) are not supported; expected G43 H or G49";
-    case 980: case 990: return "canned-cycle return modes (G98/G99) are not supported: there are no canned cycles; expected G0/G1 retracts";
-    case 591: case 592: case 593: return "work offsets G59.1-G59.3 are not supported; expected G54-G59";
-    case 960: return "constant surface speed (G96) is not supported: the machine has no spindle; expected G97 or nothing";
-    case 70: case 80: return "lathe diameter/radius modes (G7/G8) are not supported on this mill; expected a milling program";
+    case 410:
+    case 411:
+    case 420:
+    case 421:
+      return "cutter radius compensation (G41/G42) is not supported; expected a tool path already offset by the CAM "
+             "system";
+    case 431:
+    case 432: return "dynamic tool length offsets (G43.1/G43.2) are not supported; expected G43 H or G49";
+    case 980:
+    case 990:
+      return "canned-cycle return modes (G98/G99) are not supported: there are no canned cycles; expected G0/G1 "
+             "retracts";
+    case 591:
+    case 592:
+    case 593: return "work offsets G59.1-G59.3 are not supported; expected G54-G59";
+    case 960:
+      return "constant surface speed (G96) is not supported: the machine has no spindle; expected G97 or nothing";
+    case 70:
+    case 80: return "lathe diameter/radius modes (G7/G8) are not supported on this mill; expected a milling program";
     default: return nullptr;
   }
 }
 
 const char* rejected_m(int c) {
   if (c == 60) return "pallet change (M60) is not supported; expected M0 to pause the program";
-  if (c == 19) return "spindle orientation (M19) is not supported: the machine has no spindle; expected no spindle words";
-  if (c >= 48 && c <= 53) return "override switches (M48-M53) are not supported; expected overrides from the control socket";
-  if (c >= 62 && c <= 68) return "digital and analog I/O (M62-M68) is not supported; expected a program without I/O words";
-  if (c >= 70 && c <= 73) return "saving and restoring modal state (M70-M73) is not supported; expected explicit modal words";
-  if (c >= 100 && c <= 199) return "user M codes (M100-M199) are not supported; expected M codes listed in docs/gcode.md";
+  if (c == 19)
+    return "spindle orientation (M19) is not supported: the machine has no spindle; expected no spindle words";
+  if (c >= 48 && c <= 53)
+    return "override switches (M48-M53) are not supported; expected overrides from the control socket";
+  if (c >= 62 && c <= 68)
+    return "digital and analog I/O (M62-M68) is not supported; expected a program without I/O words";
+  if (c >= 70 && c <= 73)
+    return "saving and restoring modal state (M70-M73) is not supported; expected explicit modal words";
+  if (c >= 100 && c <= 199)
+    return "user M codes (M100-M199) are not supported; expected M codes listed in docs/gcode.md";
   return nullptr;
 }
 
@@ -116,7 +161,8 @@ bool Interpreter::check_words(const ParsedLine& l) {
   for (std::uint32_t bits = l.m_groups; bits; bits &= bits - 1) {
     const int g = __builtin_ctz(bits);
     const int c = l.m[static_cast<std::size_t>(g)];
-    if (const char* why = rejected_m(c)) return fail(l, l.m_col[static_cast<std::size_t>(g)], "M" + std::to_string(c) + ": " + why);
+    if (const char* why = rejected_m(c))
+      return fail(l, l.m_col[static_cast<std::size_t>(g)], "M" + std::to_string(c) + ": " + why);
   }
   const int motion_word = l.g[kGMotion];
   const int motion = motion_word >= 0 ? (motion_word == 800 ? -1 : motion_word) : motion_;
@@ -133,7 +179,9 @@ bool Interpreter::check_words(const ParsedLine& l) {
     const char off = center_letter(normal);
     if (l.has(off) && l.get(off) == 0.0) {
       allowed |= bit(off);
-      warn(l, l.column(off), "normal-offset", [&] { return std::string(std::string(1, off) + "0 on an arc ignored: it is an offset along the arc's normal axis"); });
+      warn(l, l.column(off), "normal-offset", [&] {
+        return std::string(std::string(1, off) + "0 on an arc ignored: it is an offset along the arc's normal axis");
+      });
     }
   }
   if (nonmodal == 40 || l.g[kGPathControl] == 640) allowed |= bit('P');
@@ -147,27 +195,46 @@ bool Interpreter::check_words(const ParsedLine& l) {
     const char c = static_cast<char>('A' + i);
     const int col = l.col[static_cast<std::size_t>(i)];
     switch (c) {
-      case 'A': case 'B': case 'C': case 'U': case 'V': case 'W':
-        return fail(l, col, std::string("the machine has no ") + c + " axis; expected X, Y or Z");
-      case 'X': case 'Y': case 'Z':
-        return fail(l, col, std::string(1, c) + " word with no motion mode in effect; expected G0, G1, G2 or G3 on this line or before it");
-      case 'I': case 'J': case 'K':
+      case 'A':
+      case 'B':
+      case 'C':
+      case 'U':
+      case 'V':
+      case 'W': return fail(l, col, std::string("the machine has no ") + c + " axis; expected X, Y or Z");
+      case 'X':
+      case 'Y':
+      case 'Z':
+        return fail(l, col,
+                    std::string(1, c) +
+                        " word with no motion mode in effect; expected G0, G1, G2 or G3 on this line or before it");
+      case 'I':
+      case 'J':
+      case 'K':
         if (is_arc(motion)) {
           const auto pa = plane_axes(normal);
-          return fail(l, col, std::string(1, c) + " word is not an offset in the " + (normal == 2 ? "G17" : normal == 1 ? "G18" : "G19") +
-                                  " plane of this arc; expected " + center_letter(std::min(pa[0], pa[1])) + " and " +
-                                  center_letter(std::max(pa[0], pa[1])));
+          return fail(l, col,
+                      std::string(1, c) + " word is not an offset in the " +
+                          (normal == 2   ? "G17"
+                           : normal == 1 ? "G18"
+                                         : "G19") +
+                          " plane of this arc; expected " + center_letter(std::min(pa[0], pa[1])) + " and " +
+                          center_letter(std::max(pa[0], pa[1])));
         }
         return fail(l, col, std::string(1, c) + " word with no G2/G3 that uses it; expected I/J/K only on arcs");
       case 'P':
-        if (is_arc(motion)) return fail(l, col, "P word (number of turns) on an arc is not supported; expected one arc per line");
+        if (is_arc(motion))
+          return fail(l, col, "P word (number of turns) on an arc is not supported; expected one arc per line");
         return fail(l, col, "P word with no G code that uses it; expected P only with G4 (dwell, seconds) or G64");
       case 'D':
-        return fail(l, col, "D word with no G code that uses it (cutter compensation is not supported); expected no D word");
+        return fail(l, col,
+                    "D word with no G code that uses it (cutter compensation is not supported); expected no D word");
       case 'E':
-        return fail(l, col, "E word is not part of this G-code dialect; expected a word letter of RS274 (G, M, X, Y, Z, F, ...)");
+        return fail(
+            l, col,
+            "E word is not part of this G-code dialect; expected a word letter of RS274 (G, M, X, Y, Z, F, ...)");
       default:
-        return fail(l, col, std::string(1, c) + " word with no G code that uses it; expected no " + c + " word on this line");
+        return fail(l, col,
+                    std::string(1, c) + " word with no G code that uses it; expected no " + c + " word on this line");
     }
   }
   return true;
@@ -190,16 +257,24 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     if (f < 0.0) return fail(l, l.column('F'), "negative F; expected a feed rate >= 0 (units per minute)");
     feed_ = f;
   }
-  if (l.has('S')) warn(l, l.column('S'), "S", [&] { return std::string("S" + num(l.get('S')) + " ignored: the machine has no spindle"); });
-  if (l.has('T')) warn(l, l.column('T'), "T", [&] { return std::string("T" + num(l.get('T')) + " ignored: single-tool machine (no tool changer)"); });
+  if (l.has('S'))
+    warn(l, l.column('S'), "S",
+         [&] { return std::string("S" + num(l.get('S')) + " ignored: the machine has no spindle"); });
+  if (l.has('T'))
+    warn(l, l.column('T'), "T",
+         [&] { return std::string("T" + num(l.get('T')) + " ignored: single-tool machine (no tool changer)"); });
   if (l.m[kMToolChange] >= 0) {
-    warn(l, l.m_col[kMToolChange], "M6", [&] { return std::string("M" + std::to_string(l.m[kMToolChange]) + " (tool change) ignored: single-tool machine"); });
+    warn(l, l.m_col[kMToolChange], "M6", [&] {
+      return std::string("M" + std::to_string(l.m[kMToolChange]) + " (tool change) ignored: single-tool machine");
+    });
   }
   if (l.m[kMSpindle] >= 0) {
-    warn(l, l.m_col[kMSpindle], "spindle", [&] { return std::string("M" + std::to_string(l.m[kMSpindle]) + " ignored: the machine has no spindle"); });
+    warn(l, l.m_col[kMSpindle], "spindle",
+         [&] { return std::string("M" + std::to_string(l.m[kMSpindle]) + " ignored: the machine has no spindle"); });
   }
   if (l.m[kMCoolant] >= 0) {
-    warn(l, l.m_col[kMCoolant], "coolant", [&] { return std::string("M" + std::to_string(l.m[kMCoolant]) + " ignored: the machine has no coolant"); });
+    warn(l, l.m_col[kMCoolant], "coolant",
+         [&] { return std::string("M" + std::to_string(l.m[kMCoolant]) + " ignored: the machine has no coolant"); });
   }
   if (l.m[kMContouring] == 21) contouring_ = true;
   if (l.m[kMContouring] == 22) contouring_ = false;
@@ -216,30 +291,43 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if (l.g[kGPlane] >= 0) normal_axis_ = l.g[kGPlane] == 170 ? 2 : l.g[kGPlane] == 180 ? 1 : 0;
   if (l.g[kGUnits] >= 0) inches_ = l.g[kGUnits] == 200;
   if (l.g[kGCutterComp] == 400) {
-    warn(l, l.g_col[kGCutterComp], "G40", [&] { return std::string("G40 ignored: cutter compensation is never active on this machine"); });
+    warn(l, l.g_col[kGCutterComp], "G40",
+         [&] { return std::string("G40 ignored: cutter compensation is never active on this machine"); });
   }
   if (l.g[kGToolLength] == 490) {
-    warn(l, l.g_col[kGToolLength], "G49", [&] { return std::string("G49 ignored: no tool length offset is ever active on this machine"); });
+    warn(l, l.g_col[kGToolLength], "G49",
+         [&] { return std::string("G49 ignored: no tool length offset is ever active on this machine"); });
   } else if (l.g[kGToolLength] == 430) {
-    warn(l, l.g_col[kGToolLength], "G43", [&] { return std::string("G43" + (l.has('H') ? " H" + num(l.get('H')) : std::string()) +
-             " ignored: the machine has no tool length table, the tool length offset stays 0"); });
+    warn(l, l.g_col[kGToolLength], "G43", [&] {
+      return std::string("G43" + (l.has('H') ? " H" + num(l.get('H')) : std::string()) +
+                         " ignored: the machine has no tool length table, the tool length offset stays 0");
+    });
   }
   if (l.g[kGCoordSystem] >= 0) work_index_ = (l.g[kGCoordSystem] - 540) / 10;
   if (l.g[kGPathControl] >= 0) {
     const int c = l.g[kGPathControl];
     const bool on = c == 640;
     contouring_ = on;
-    warn(l, l.g_col[kGPathControl], on ? "G64" : "G61", [&] { return std::string(on ? std::string("G64 maps to M21: contouring on") +
-                  (l.has('P') || l.has('Q') ? " (its P/Q tolerances are not used: the contouring angle in the config decides)" : "")
-            : g_name(c) + " maps to M22: contouring off (stop at every junction)"); });
+    warn(l, l.g_col[kGPathControl], on ? "G64" : "G61", [&] {
+      return std::string(
+          on ? std::string("G64 maps to M21: contouring on") +
+                   (l.has('P') || l.has('Q')
+                        ? " (its P/Q tolerances are not used: the contouring angle in the config decides)"
+                        : "")
+             : g_name(c) + " maps to M22: contouring off (stop at every junction)");
+    });
   }
   if (l.g[kGDistance] >= 0) incremental_ = l.g[kGDistance] == 910;
-  if (l.g[kGSpindleMode] == 970) warn(l, l.g_col[kGSpindleMode], "G97", [&] { return std::string("G97 ignored: the machine has no spindle"); });
+  if (l.g[kGSpindleMode] == 970)
+    warn(l, l.g_col[kGSpindleMode], "G97", [&] { return std::string("G97 ignored: the machine has no spindle"); });
 
-  if (l.g80_col > 0) warn(l, l.g80_col, "G80", [&] { return std::string("G80 ignored: no canned cycle is ever active on this machine"); });
+  if (l.g80_col > 0)
+    warn(l, l.g80_col, "G80",
+         [&] { return std::string("G80 ignored: no canned cycle is ever active on this machine"); });
   if (motion_word >= 0) {
     if (motion_word == 800) {
-      warn(l, l.g_col[kGMotion], "G80", [&] { return std::string("G80 ignored: no canned cycle is ever active on this machine"); });
+      warn(l, l.g_col[kGMotion], "G80",
+           [&] { return std::string("G80 ignored: no canned cycle is ever active on this machine"); });
       motion_ = -1;
     } else {
       motion_ = motion_word;
@@ -248,17 +336,19 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   bool ok = true;
   if (nonmodal == 280) {
     if (motion_word >= 0 && !is_straight(motion_word) && motion_word != 800) {
-      return fail(l, l.g_col[kGMotion], "G28 and " + g_name(motion_word) + " both use the axis words; expected them on separate lines");
+      return fail(l, l.g_col[kGMotion],
+                  "G28 and " + g_name(motion_word) + " both use the axis words; expected them on separate lines");
     }
     ok = home(l, out);
   } else if (nonmodal == 530) {
-    if (!is_straight(motion_)) return fail(l, l.g_col[kGNonModal], "G53 needs G0 or G1 in effect; expected G53 G0 or G53 G1");
-    if (!axis_words(l)) return fail(l, l.g_col[kGNonModal], "G53 without axis words; expected X, Y or Z machine coordinates");
+    if (!is_straight(motion_))
+      return fail(l, l.g_col[kGNonModal], "G53 needs G0 or G1 in effect; expected G53 G0 or G53 G1");
+    if (!axis_words(l))
+      return fail(l, l.g_col[kGNonModal], "G53 without axis words; expected X, Y or Z machine coordinates");
     ok = straight(l, motion_, true, out);
   } else if (is_straight(motion_) && axis_words(l)) {
     ok = straight(l, motion_, false, out);
-  } else if (is_arc(motion_) &&
-             (axis_words(l) || (l.present & (bit('I') | bit('J') | bit('K') | bit('R'))) != 0)) {
+  } else if (is_arc(motion_) && (axis_words(l) || (l.present & (bit('I') | bit('J') | bit('K') | bit('R'))) != 0)) {
     ok = arc(l, motion_, out);
   } else if (motion_word == 10 && !axis_words(l) && feed_ <= 0.0 && !l.has('F')) {
     // "G1" alone only selects the mode; the feed is checked at the first G1 move.
@@ -282,16 +372,21 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
 
 bool Interpreter::feed_for_move(const ParsedLine& l, int column, double& feed_mm_s) {
   if (!(feed_ > 0.0)) {
-    return fail(l, column, "feed move with no feed rate in effect (F0 or no F yet); expected an F word > 0 (units per minute)");
+    return fail(l, column,
+                "feed move with no feed rate in effect (F0 or no F yet); expected an F word > 0 (units per minute)");
   }
   double f = feed_ * (inches_ ? kInch : 1.0) / 60.0;
   if (f > max_feed_mm_s_ * (1.0 + 1e-12)) {
     if (!config_.gcode.clamp_excess_feed) {
-      return fail(l, column, "F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " + num(max_feed_mm_s_) +
-                                 " mm/s; expected F <= " + num(max_feed_mm_s_ * 60.0 / (inches_ ? kInch : 1.0)));
+      return fail(l, column,
+                  "F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " +
+                      num(max_feed_mm_s_) +
+                      " mm/s; expected F <= " + num(max_feed_mm_s_ * 60.0 / (inches_ ? kInch : 1.0)));
     }
-    warn(l, column, "feed-clamp", [&] { return std::string("F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " + num(max_feed_mm_s_) +
-             " mm/s; clamped to the maximum"); });
+    warn(l, column, "feed-clamp", [&] {
+      return std::string("F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " +
+                         num(max_feed_mm_s_) + " mm/s; clamped to the maximum");
+    });
     f = max_feed_mm_s_;
   }
   feed_mm_s = f;
@@ -375,10 +470,12 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   const bool has_r = l.has('R');
   const bool has_ijk = l.has(l0) || l.has(l1);
   const std::string gname = motion == 20 ? "G2" : "G3";
-  if (has_r && has_ijk) return fail_here(l.column('R'), "R and I/J/K words on one arc; expected either the center (I/J/K) or the radius (R)");
+  if (has_r && has_ijk)
+    return fail_here(l.column('R'),
+                     "R and I/J/K words on one arc; expected either the center (I/J/K) or the radius (R)");
   if (!has_r && !has_ijk) {
-    return fail_here(column, std::string("I, J, K and R words all missing for arc; expected ") + l0 + "/" + l1 + " (center offset) or R in the " +
-                               plane_name + " plane");
+    return fail_here(column, std::string("I, J, K and R words all missing for arc; expected ") + l0 + "/" + l1 +
+                                 " (center offset) or R in the " + plane_name + " plane");
   }
   Move m = base_move(MoveKind::kArc, l, column);
   if (!feed_for_move(l, column, m.feed_mm_s)) {
@@ -404,22 +501,24 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
     const double err = std::fabs(r1 - r2);
     const double rel = err / std::max(r1, r2);
     if (err > 100.0 * tol_abs || (err > tol_abs && rel > tol_rel)) {
-      return fail_here(column,
-                  "radius to end of arc differs from radius to start: r_start=" + num(r1) + " mm r_end=" + num(r2) +
-                      " mm (difference " + num(err) + " mm, " + num(100.0 * rel) + "%); expected them to agree within " +
-                      num(tol_abs) + " mm or " + num(100.0 * tol_rel) + "% of the radius (config gcode.arc_radius_tolerance_*)");
+      return fail_here(column, "radius to end of arc differs from radius to start: r_start=" + num(r1) +
+                                   " mm r_end=" + num(r2) + " mm (difference " + num(err) + " mm, " + num(100.0 * rel) +
+                                   "%); expected them to agree within " + num(tol_abs) + " mm or " +
+                                   num(100.0 * tol_rel) + "% of the radius (config gcode.arc_radius_tolerance_*)");
     }
     r = r1;
     full = chord < 1e-7;
   } else {
     const double rr = l.get('R') * u;
     if (chord < 1e-9) {
-      return fail_here(l.column('R'), "R-form arc whose end point equals its start point; expected a different end point, or I/J/K for a full circle");
+      return fail_here(l.column('R'),
+                       "R-form arc whose end point equals its start point; expected a different end point, or I/J/K "
+                       "for a full circle");
     }
     const double half = chord / 2.0;
     if (std::fabs(rr) < half && half - std::fabs(rr) > tol_abs) {
       return fail_here(l.column('R'), "R" + num(l.get('R')) + " is too small for the distance " + num(chord) +
-                                        " mm between start and end; expected |R| >= " + num(half / u));
+                                          " mm between start and end; expected |R| >= " + num(half / u));
     }
     const double h = std::sqrt(std::max(0.0, rr * rr - half * half));
     const double nu = -(ev - sv) / chord, nv = (eu - su) / chord;  // left of the chord
@@ -466,10 +565,12 @@ bool Interpreter::home(const ParsedLine& l, MoveList& out) {
     const char c = static_cast<char>('X' + i);
     if (!l.has(c)) continue;
     if (!incremental_) {
-      return fail(l, l.column(c), "G28 with an intermediate point in G90 is not supported; expected the CAM retract form G28 G91 Z0");
+      return fail(l, l.column(c),
+                  "G28 with an intermediate point in G90 is not supported; expected the CAM retract form G28 G91 Z0");
     }
     if (l.get(c) != 0.0) {
-      return fail(l, l.column(c), "G28 with a nonzero intermediate move is not supported; expected the CAM retract form G28 G91 Z0");
+      return fail(l, l.column(c),
+                  "G28 with a nonzero intermediate move is not supported; expected the CAM retract form G28 G91 Z0");
     }
     axes = static_cast<std::uint8_t>(axes | (1u << i));
   }
@@ -480,13 +581,17 @@ bool Interpreter::home(const ParsedLine& l, MoveList& out) {
   for (int i = 0; i < kAxes; ++i) {
     if (!((axes >> i) & 1u)) continue;
     m.end[static_cast<std::size_t>(i)] = home[static_cast<std::size_t>(i)];
-    q_[static_cast<std::size_t>(i)] = (home[static_cast<std::size_t>(i)] - frame_.offset[static_cast<std::size_t>(i)]) / frame_.scale;
+    q_[static_cast<std::size_t>(i)] =
+        (home[static_cast<std::size_t>(i)] - frame_.offset[static_cast<std::size_t>(i)]) / frame_.scale;
     what += std::string(what.empty() ? "" : " ") + axis_name(i) + num(home[static_cast<std::size_t>(i)]);
   }
   known_ = static_cast<std::uint8_t>(known_ | axes);
   m.known = known_;
   m.machine_frame = true;
-  warn(l, col, "G28", [&] { return std::string("G28: rapid to the home position " + what + " (machine coordinates; Z home is the top of its travel)"); });
+  warn(l, col, "G28", [&] {
+    return std::string("G28: rapid to the home position " + what +
+                       " (machine coordinates; Z home is the top of its travel)");
+  });
   out.push(m);
   return true;
 }
@@ -504,7 +609,8 @@ bool Interpreter::nurbs_motion(const ParsedLine& l, int motion_word, MoveList& o
   }
   if (motion_word >= 0) {
     motion_ = motion_word;
-    return fail(l, l.g_col[kGMotion], g_name(motion_word) + ": NURBS not yet supported; expected G0, G1, G2 or G3 moves");
+    return fail(l, l.g_col[kGMotion],
+                g_name(motion_word) + ": NURBS not yet supported; expected G0, G1, G2 or G3 moves");
   }
   return true;
 }

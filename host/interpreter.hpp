@@ -89,14 +89,14 @@ class Interpreter {
   double max_feed_mm_s_ = 0.0;
 
   // modal state
-  Vec3 q_{};                // current point, job frame (mm)
-  std::uint8_t known_ = 0;  // axes set by the program since the start
-  int motion_ = -1;         // G code x10 of the motion mode, -1 = none (G80)
-  int normal_axis_ = 2;     // G17
-  bool inches_ = false;     // G20
+  Vec3 q_{};                  // current point, job frame (mm)
+  std::uint8_t known_ = 0;    // axes set by the program since the start
+  int motion_ = -1;           // G code x10 of the motion mode, -1 = none (G80)
+  int normal_axis_ = 2;       // G17
+  bool inches_ = false;       // G20
   bool incremental_ = false;  // G91
   int work_index_ = 0;
-  double feed_ = 0.0;       // F as written, current units per minute
+  double feed_ = 0.0;  // F as written, current units per minute
   bool contouring_ = false;
   bool ended_ = false;
 };

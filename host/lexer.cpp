@@ -34,10 +34,10 @@ Func lookup_function(std::string_view name) {
     const char* name;
     Func f;
   };
-  static constexpr Entry kTable[] = {{"ABS", Func::kAbs},     {"ACOS", Func::kAcos}, {"ASIN", Func::kAsin},
-                                     {"ATAN", Func::kAtan},   {"COS", Func::kCos},   {"EXP", Func::kExp},
-                                     {"FIX", Func::kFix},     {"FUP", Func::kFup},   {"LN", Func::kLn},
-                                     {"ROUND", Func::kRound}, {"SIN", Func::kSin},   {"SQRT", Func::kSqrt},
+  static constexpr Entry kTable[] = {{"ABS", Func::kAbs},     {"ACOS", Func::kAcos},    {"ASIN", Func::kAsin},
+                                     {"ATAN", Func::kAtan},   {"COS", Func::kCos},      {"EXP", Func::kExp},
+                                     {"FIX", Func::kFix},     {"FUP", Func::kFup},      {"LN", Func::kLn},
+                                     {"ROUND", Func::kRound}, {"SIN", Func::kSin},      {"SQRT", Func::kSqrt},
                                      {"TAN", Func::kTan},     {"EXISTS", Func::kExists}};
   for (const Entry& e : kTable) {
     if (name.size() == std::char_traits<char>::length(e.name)) {
@@ -86,7 +86,8 @@ class LineLexer {
       }
       if (c == '#') return fail(at, "parameters ('#') are not supported; expected a word (letter and number)");
       if (c == '[') return fail(at, "expression without a word letter; expected a word such as X[1+2]");
-      return fail(at, "unexpected " + describe(*at) + "; expected a word (letter and number), a comment or end of line");
+      return fail(at,
+                  "unexpected " + describe(*at) + "; expected a word (letter and number), a comment or end of line");
     }
   }
 
@@ -109,7 +110,9 @@ class LineLexer {
         const char* open = p_;
         ++p_;
         while (p_ < e_ && *p_ != ')') {
-          if (*p_ == '(') return fail(p_, "nested comment; expected ')' to close the comment opened at column " + std::to_string(col(open)));
+          if (*p_ == '(')
+            return fail(
+                p_, "nested comment; expected ')' to close the comment opened at column " + std::to_string(col(open)));
           ++p_;
         }
         if (p_ == e_) return fail(open, "comment not closed; expected ')' before end of line");
@@ -126,12 +129,17 @@ class LineLexer {
   bool o_word(const char* at, LexedLine& out) {
     if (out.count != 0) return fail(at, "O word after other words; expected a program number alone on its line");
     skip_spaces();
-    if (p_ < e_ && *p_ == '<') return fail(at, "named O-words (subroutines, control flow) are not supported; expected a program number alone on its line");
+    if (p_ < e_ && *p_ == '<')
+      return fail(
+          at,
+          "named O-words (subroutines, control flow) are not supported; expected a program number alone on its line");
     double v = 0.0;
     if (!read_number(v, 'O', at)) return false;
     if (!skip_blank()) return false;
     if (p_ != e_) {
-      return fail(at, "O-word control flow (sub, call, if, while, ...) is not supported; expected a program number alone on its line");
+      return fail(at,
+                  "O-word control flow (sub, call, if, while, ...) is not supported; expected a program number alone "
+                  "on its line");
     }
     out.program_number = true;
     return true;
@@ -148,8 +156,8 @@ class LineLexer {
       const char* name_at = p_;
       if (!function_call(v, 0)) {
         if (sink_.error_count() == errors_before_) {
-          return fail(name_at, std::string(1, letter) + " word without a value; expected a number after " + letter + ", found " +
-                                   describe(*name_at));
+          return fail(name_at, std::string(1, letter) + " word without a value; expected a number after " + letter +
+                                   ", found " + describe(*name_at));
         }
         return false;
       }
@@ -292,7 +300,8 @@ class LineLexer {
       const char* at = p_;
       errors_before_ = sink_.error_count();
       if (!function_call(v, depth + 1)) {
-        if (sink_.error_count() == errors_before_) return fail(at, "unknown function; expected a number or a function such as SQRT[...]");
+        if (sink_.error_count() == errors_before_)
+          return fail(at, "unknown function; expected a number or a function such as SQRT[...]");
         return false;
       }
       return true;

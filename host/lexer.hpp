@@ -16,8 +16,8 @@
 namespace pcnc {
 
 struct Word {
-  char letter = 0;    // 'A'..'Z'
-  int column = 0;     // 1-based column of the letter
+  char letter = 0;  // 'A'..'Z'
+  int column = 0;   // 1-based column of the letter
   double value = 0.0;
 };
 
@@ -25,8 +25,8 @@ struct LexedLine {
   static constexpr int kMaxWords = 64;
   Word words[kMaxWords];
   int count = 0;
-  bool block_delete = false;  // the line starts with '/'
-  bool percent = false;       // the line holds a '%' delimiter (nothing else)
+  bool block_delete = false;    // the line starts with '/'
+  bool percent = false;         // the line holds a '%' delimiter (nothing else)
   bool program_number = false;  // an O word alone on its line
 };
 

@@ -15,12 +15,12 @@ enum class MoveKind : std::uint8_t { kRapid, kLine, kArc, kDwell, kPause, kEnd }
 
 struct Move {
   MoveKind kind = MoveKind::kLine;
-  int line = 0;    // source line (1-based)
-  int column = 0;  // column of the word that caused it (motion G word or first axis word)
-  Vec3 start{};    // mm, machine coordinates
-  Vec3 end{};      // mm, machine coordinates
-  double feed_mm_s = 0.0;  // programmed feed (already clamped to the machine maximum); 0 for rapids
-  bool contouring = false;  // M21 state (G64 on, G61 off) for this move
+  int line = 0;                // source line (1-based)
+  int column = 0;              // column of the word that caused it (motion G word or first axis word)
+  Vec3 start{};                // mm, machine coordinates
+  Vec3 end{};                  // mm, machine coordinates
+  double feed_mm_s = 0.0;      // programmed feed (already clamped to the machine maximum); 0 for rapids
+  bool contouring = false;     // M21 state (G64 on, G61 off) for this move
   bool optional_stop = false;  // kPause from M01
   bool machine_frame = false;  // G53 or G28: given in machine coordinates, not moved by --fit
   std::uint8_t known = 7;      // axes whose end coordinate the program has set so far (bit per axis)
@@ -42,7 +42,9 @@ bool is_null_move(const Move& m);
 /// The two axes of the arc plane in angle order: angles run from plane_axes(n)[0] toward
 /// plane_axes(n)[1] (G17: X->Y, G18: Z->X, G19: Y->Z).
 inline constexpr std::array<int, 2> plane_axes(int normal_axis) {
-  return normal_axis == 2 ? std::array<int, 2>{0, 1} : normal_axis == 1 ? std::array<int, 2>{2, 0} : std::array<int, 2>{1, 2};
+  return normal_axis == 2   ? std::array<int, 2>{0, 1}
+         : normal_axis == 1 ? std::array<int, 2>{2, 0}
+                            : std::array<int, 2>{1, 2};
 }
 
 }  // namespace pcnc

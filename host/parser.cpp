@@ -8,50 +8,116 @@ namespace pcnc {
 
 int g_group(int c) {
   switch (c) {
-    case 40: case 100: case 280: case 281: case 300: case 301: case 520: case 530:
-    case 920: case 921: case 922: case 923:
-      return kGNonModal;
-    case 0: case 10: case 20: case 30: case 50: case 51: case 52: case 53: case 62:
-    case 330: case 331: case 382: case 383: case 384: case 385: case 730: case 740: case 760:
-    case 800: case 810: case 820: case 830: case 840: case 850: case 860: case 870: case 880: case 890:
-      return kGMotion;
-    case 170: case 171: case 180: case 181: case 190: case 191:
-      return kGPlane;
-    case 900: case 910:
-      return kGDistance;
-    case 901: case 911:
-      return kGArcDistance;
-    case 930: case 940: case 950:
-      return kGFeedMode;
-    case 200: case 210:
-      return kGUnits;
-    case 400: case 410: case 411: case 420: case 421:
-      return kGCutterComp;
-    case 430: case 431: case 432: case 490:
-      return kGToolLength;
-    case 980: case 990:
-      return kGCannedReturn;
-    case 540: case 550: case 560: case 570: case 580: case 590: case 591: case 592: case 593:
-      return kGCoordSystem;
-    case 610: case 611: case 640:
-      return kGPathControl;
-    case 960: case 970:
-      return kGSpindleMode;
-    case 70: case 80:
-      return kGLatheDiameter;
-    default:
-      return -1;
+    case 40:
+    case 100:
+    case 280:
+    case 281:
+    case 300:
+    case 301:
+    case 520:
+    case 530:
+    case 920:
+    case 921:
+    case 922:
+    case 923: return kGNonModal;
+    case 0:
+    case 10:
+    case 20:
+    case 30:
+    case 50:
+    case 51:
+    case 52:
+    case 53:
+    case 62:
+    case 330:
+    case 331:
+    case 382:
+    case 383:
+    case 384:
+    case 385:
+    case 730:
+    case 740:
+    case 760:
+    case 800:
+    case 810:
+    case 820:
+    case 830:
+    case 840:
+    case 850:
+    case 860:
+    case 870:
+    case 880:
+    case 890: return kGMotion;
+    case 170:
+    case 171:
+    case 180:
+    case 181:
+    case 190:
+    case 191: return kGPlane;
+    case 900:
+    case 910: return kGDistance;
+    case 901:
+    case 911: return kGArcDistance;
+    case 930:
+    case 940:
+    case 950: return kGFeedMode;
+    case 200:
+    case 210: return kGUnits;
+    case 400:
+    case 410:
+    case 411:
+    case 420:
+    case 421: return kGCutterComp;
+    case 430:
+    case 431:
+    case 432:
+    case 490: return kGToolLength;
+    case 980:
+    case 990: return kGCannedReturn;
+    case 540:
+    case 550:
+    case 560:
+    case 570:
+    case 580:
+    case 590:
+    case 591:
+    case 592:
+    case 593: return kGCoordSystem;
+    case 610:
+    case 611:
+    case 640: return kGPathControl;
+    case 960:
+    case 970: return kGSpindleMode;
+    case 70:
+    case 80: return kGLatheDiameter;
+    default: return -1;
   }
 }
 
 int m_group(int c) {
   switch (c) {
-    case 0: case 1: case 2: case 30: case 60: return kMStop;
-    case 6: case 61: return kMToolChange;
-    case 3: case 4: case 5: case 19: return kMSpindle;
-    case 7: case 8: case 9: return kMCoolant;
-    case 48: case 49: case 50: case 51: case 52: case 53: return kMOverride;
-    case 21: case 22: return kMContouring;
+    case 0:
+    case 1:
+    case 2:
+    case 30:
+    case 60: return kMStop;
+    case 6:
+    case 61: return kMToolChange;
+    case 3:
+    case 4:
+    case 5:
+    case 19: return kMSpindle;
+    case 7:
+    case 8:
+    case 9: return kMCoolant;
+    case 48:
+    case 49:
+    case 50:
+    case 51:
+    case 52:
+    case 53: return kMOverride;
+    case 21:
+    case 22: return kMContouring;
     default:
       if ((c >= 62 && c <= 68) || (c >= 70 && c <= 73) || (c >= 100 && c <= 199)) return kMOther;
       return -1;
@@ -86,7 +152,8 @@ bool parse_line(const LexedLine& lexed, int line_no, ParsedLine& out, Diagnostic
       const int c = static_cast<int>(code);
       const int group = g_group(c);
       if (group < 0) {
-        sink.error(line_no, w.column, "unknown G code " + g_name(c) + "; expected an RS274 G code (docs/gcode.md lists them)");
+        sink.error(line_no, w.column,
+                   "unknown G code " + g_name(c) + "; expected an RS274 G code (docs/gcode.md lists them)");
         return false;
       }
       if (group == kGMotion && out.g[kGMotion] >= 0 && (c == 800) != (out.g[kGMotion] == 800)) {
@@ -111,7 +178,8 @@ bool parse_line(const LexedLine& lexed, int line_no, ParsedLine& out, Diagnostic
       const int c = static_cast<int>(code);
       const int group = m_group(c);
       if (group < 0) {
-        sink.error(line_no, w.column, "unknown M code M" + std::to_string(c) + "; expected an M code listed in docs/gcode.md");
+        sink.error(line_no, w.column,
+                   "unknown M code M" + std::to_string(c) + "; expected an M code listed in docs/gcode.md");
         return false;
       }
       if (out.m[static_cast<std::size_t>(group)] >= 0) {
@@ -128,7 +196,8 @@ bool parse_line(const LexedLine& lexed, int line_no, ParsedLine& out, Diagnostic
       const std::uint32_t bit = 1u << i26;
       if (out.present & bit) {
         sink.error(line_no, w.column,
-                   std::string("second ") + w.letter + " word on one line; expected at most one " + w.letter + " word per line");
+                   std::string("second ") + w.letter + " word on one line; expected at most one " + w.letter +
+                       " word per line");
         return false;
       }
       out.present |= bit;

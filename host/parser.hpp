@@ -16,31 +16,31 @@ namespace pcnc {
 
 /// G and M numbers are kept as ten times their value: G1 -> 10, G5.2 -> 52, G91.1 -> 911.
 enum GGroup : int {
-  kGNonModal = 0,   // G4 G10 G28 G28.1 G30 G30.1 G52 G53 G92 G92.x
-  kGMotion = 1,     // G0 G1 G2 G3 G5.x G6.2 G33 G38.x G73 G76 G80-G89
-  kGPlane = 2,      // G17 G18 G19 (and .1)
-  kGDistance = 3,   // G90 G91
-  kGArcDistance = 4,  // G90.1 G91.1
-  kGFeedMode = 5,   // G93 G94 G95
-  kGUnits = 6,      // G20 G21
-  kGCutterComp = 7,   // G40 G41 G42 (and .1)
-  kGToolLength = 8,   // G43 G43.1 G43.2 G49
-  kGCannedReturn = 10,  // G98 G99
-  kGCoordSystem = 12,   // G54-G59, G59.1-G59.3
-  kGPathControl = 13,   // G61 G61.1 G64
-  kGSpindleMode = 14,   // G96 G97
+  kGNonModal = 0,        // G4 G10 G28 G28.1 G30 G30.1 G52 G53 G92 G92.x
+  kGMotion = 1,          // G0 G1 G2 G3 G5.x G6.2 G33 G38.x G73 G76 G80-G89
+  kGPlane = 2,           // G17 G18 G19 (and .1)
+  kGDistance = 3,        // G90 G91
+  kGArcDistance = 4,     // G90.1 G91.1
+  kGFeedMode = 5,        // G93 G94 G95
+  kGUnits = 6,           // G20 G21
+  kGCutterComp = 7,      // G40 G41 G42 (and .1)
+  kGToolLength = 8,      // G43 G43.1 G43.2 G49
+  kGCannedReturn = 10,   // G98 G99
+  kGCoordSystem = 12,    // G54-G59, G59.1-G59.3
+  kGPathControl = 13,    // G61 G61.1 G64
+  kGSpindleMode = 14,    // G96 G97
   kGLatheDiameter = 15,  // G7 G8
   kGGroupCount = 16
 };
 
 enum MGroup : int {
-  kMStop = 0,         // M0 M1 M2 M30 M60
-  kMToolChange = 1,   // M6 M61
-  kMSpindle = 2,      // M3 M4 M5 M19
-  kMCoolant = 3,      // M7 M8 M9
-  kMOverride = 4,     // M48-M53
-  kMContouring = 5,   // M21 M22 (pcnc: contouring on/off)
-  kMOther = 6,        // M62-M68, M70-M73, M100-M199 (known, never executed here)
+  kMStop = 0,        // M0 M1 M2 M30 M60
+  kMToolChange = 1,  // M6 M61
+  kMSpindle = 2,     // M3 M4 M5 M19
+  kMCoolant = 3,     // M7 M8 M9
+  kMOverride = 4,    // M48-M53
+  kMContouring = 5,  // M21 M22 (pcnc: contouring on/off)
+  kMOther = 6,       // M62-M68, M70-M73, M100-M199 (known, never executed here)
   kMGroupCount = 7
 };
 
@@ -62,13 +62,13 @@ struct ParsedLine {
   std::array<std::int16_t, kGGroupCount> g_col{};
   std::array<std::int16_t, kMGroupCount> m = all_none<kMGroupCount>();  // M number, -1 = none
   std::array<std::int16_t, kMGroupCount> m_col{};
-  std::uint32_t present = 0;                       // bit (letter - 'A') for letters other than G/M
+  std::uint32_t present = 0;  // bit (letter - 'A') for letters other than G/M
   std::array<double, 26> value{};
   std::array<std::int32_t, 26> col{};
   std::uint32_t g_groups = 0;  // bit per G group present on the line
   std::uint32_t m_groups = 0;  // bit per M group present on the line
-  bool empty = true;  // no words at all (blank, comment, '%', O number)
-  int g80_col = 0;    // G80 written next to another motion code ("G80 G0", as some posts do)
+  bool empty = true;           // no words at all (blank, comment, '%', O number)
+  int g80_col = 0;             // G80 written next to another motion code ("G80 G0", as some posts do)
 
   bool has(char letter) const { return (present >> (letter - 'A')) & 1u; }
   double get(char letter) const { return value[static_cast<std::size_t>(letter - 'A')]; }

@@ -43,11 +43,14 @@ void Preflight::check_point(const Move& m, const Vec3& p) {
     std::uint64_t& count = violations_[static_cast<std::size_t>(2 * i + (above ? 1 : 0))];
     if (count++ == 0) {
       std::string what = std::string(1, axis_name(i)) + " " + mm(p[k]) + " mm (machine) is " +
-                          (above ? "above the travel maximum " + mm(a.travel_max_mm) : "below the travel minimum " + mm(a.travel_min_mm)) +
-                          " mm";
+                         (above ? "above the travel maximum " + mm(a.travel_max_mm)
+                                : "below the travel minimum " + mm(a.travel_min_mm)) +
+                         " mm";
       if (m.kind == MoveKind::kArc && p != m.end) what += " (arc extreme point)";
-      what += m.machine_frame ? "; expected a machine coordinate inside the travel"
-                              : "; expected the program to fit the travel after the work offset (use --offset, or --fit to scale it)";
+      what +=
+          m.machine_frame
+              ? "; expected a machine coordinate inside the travel"
+              : "; expected the program to fit the travel after the work offset (use --offset, or --fit to scale it)";
       sink_.error(m.line, m.column, what);
     }
   }
@@ -70,8 +73,10 @@ void Preflight::finish() {
     for (int side = 0; side < 2; ++side) {
       const std::uint64_t n = violations_[static_cast<std::size_t>(2 * i + side)];
       if (n > 1) {
-        sink_.error(0, 0, std::to_string(n) + " points leave the travel " + (side ? "above the maximum" : "below the minimum") +
-                              " of axis " + axis_name(i) + " (the first is reported above)");
+        sink_.error(0, 0,
+                    std::to_string(n) + " points leave the travel " +
+                        (side ? "above the maximum" : "below the minimum") + " of axis " + axis_name(i) +
+                        " (the first is reported above)");
       }
     }
   }

@@ -46,8 +46,8 @@ class Preflight {
   void finish();
 
   std::uint64_t moves() const { return moves_; }
-  const Box& extents() const { return all_; }        // every point, machine coordinates
-  const Box& fit_extents() const { return fit_; }    // program-frame points the program set itself
+  const Box& extents() const { return all_; }      // every point, machine coordinates
+  const Box& fit_extents() const { return fit_; }  // program-frame points the program set itself
   const Vec3& last_point() const { return last_; }
   double feed_time_s() const { return feed_time_s_; }
 

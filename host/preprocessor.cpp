@@ -19,7 +19,8 @@ void plan_line(const Move& m, const MachineConfig& cfg, Block& b) {
   const Vec3 u = length > 0.0 ? (1.0 / length) * d : Vec3{0.0, 0.0, 0.0};
   b.dir_start = b.dir_end = u;
 
-  double speed = m.kind == MoveKind::kRapid ? (cfg.motion.rapid_speed_mm_s > 0.0 ? cfg.motion.rapid_speed_mm_s : kInf) : m.feed_mm_s;
+  double speed = m.kind == MoveKind::kRapid ? (cfg.motion.rapid_speed_mm_s > 0.0 ? cfg.motion.rapid_speed_mm_s : kInf)
+                                            : m.feed_mm_s;
   double accel = kInf;
   int moving = 0;
   int drive = 0;
@@ -58,7 +59,7 @@ void plan_arc(const Move& m, const MachineConfig& cfg, Block& b) {
   const double sweep = m.sweep;
   const double helix = m.end[nk] - m.start[nk];
   const double theta0 = std::atan2(m.start[a1] - m.center[a1], m.start[a0] - m.center[a0]);
-  const double pitch = helix / std::fabs(sweep);   // mm along the normal per radian
+  const double pitch = helix / std::fabs(sweep);        // mm along the normal per radian
   const double rho = std::sqrt(r * r + pitch * pitch);  // |dp/dtheta|
   const double length = rho * std::fabs(sweep);
 
@@ -187,9 +188,7 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
       b.kind = BlockKind::kPause;
       b.optional_stop = m.optional_stop ? 1 : 0;
       break;
-    case MoveKind::kEnd:
-      b.kind = BlockKind::kEnd;
-      break;
+    case MoveKind::kEnd: b.kind = BlockKind::kEnd; break;
   }
 }
 

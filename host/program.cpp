@@ -65,12 +65,14 @@ class MoveSource {
       const int line_no = static_cast<int>(std::min<std::uint64_t>(reader_.line_number(), 0x7fffffff));
       last_line_ = line_no;
       if (too_long) {
-        sink_.error(line_no, static_cast<int>(LineReader::kMaxLine), "line too long; expected at most 65536 characters per line");
+        sink_.error(line_no, static_cast<int>(LineReader::kMaxLine),
+                    "line too long; expected at most 65536 characters per line");
         return;
       }
       if (!lex_line(text, line_no, lexed_, sink_)) return;
       if (lexed_.block_delete) {
-        sink_.warning(line_no, 1, "block-delete", "'/' block delete: the line is skipped (the block delete switch is always on)");
+        sink_.warning(line_no, 1, "block-delete",
+                      "'/' block delete: the line is skipped (the block delete switch is always on)");
         return;
       }
       if (lexed_.percent) {
@@ -126,7 +128,6 @@ JobFrame make_frame(const MachineConfig& config, const JobOptions& options, cons
   return f;
 }
 
-
 struct Input {
   const std::string* path = nullptr;
   std::string_view text;
@@ -145,7 +146,8 @@ struct PassResult {
   double feed_time = 0.0;
 };
 
-PassResult run_pass(const Input& in, const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink, bool limits) {
+PassResult run_pass(const Input& in, const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink,
+                    bool limits) {
   std::unique_ptr<LineReader> reader = in.open();
   MoveSource source(*reader, config, frame, sink);
   Preflight pre(config, sink, limits);
@@ -163,7 +165,8 @@ PassResult run_pass(const Input& in, const MachineConfig& config, const JobFrame
   return r;
 }
 
-CheckResult check_input(const Input& in, const std::string& name, const MachineConfig& config, const JobOptions& options) {
+CheckResult check_input(const Input& in, const std::string& name, const MachineConfig& config,
+                        const JobOptions& options) {
   CheckResult result;
   DiagnosticSink sink(name);
   try {
@@ -175,7 +178,8 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
       const FitResult f = fit_to_travel(a.fit, t.offset, config);
       t.offset = f.offset;
       t.scale = f.scale;
-      if (options.offset) sink.warning(0, 0, "fit-offset", "--fit recentres the program: the --offset value is not used");
+      if (options.offset)
+        sink.warning(0, 0, "fit-offset", "--fit recentres the program: the --offset value is not used");
     }
     const PassResult b = run_pass(in, config, make_frame(config, options, t), sink, true);
     result.transform = t;
@@ -225,8 +229,10 @@ struct BlockStream::Impl {
   MoveSource source;
 };
 
-BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options, const Transform& transform)
-    : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(path), path, config, make_frame(config, options, transform))) {}
+BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
+                         const Transform& transform)
+    : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(path), path, config,
+                                   make_frame(config, options, transform))) {}
 
 BlockStream::BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config,
                          const JobOptions& options, const Transform& transform)
@@ -259,7 +265,8 @@ std::string format_block(const Block& b) {
   char buf[1024];
   int n = std::snprintf(buf, sizeof buf, "L%u %s", b.line, to_string(b.kind));
   auto add = [&](const char* fmt, auto... args) {
-    if (n >= 0 && n < static_cast<int>(sizeof buf)) n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n), fmt, args...);
+    if (n >= 0 && n < static_cast<int>(sizeof buf))
+      n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n), fmt, args...);
   };
   auto c = [](double v, double scale) {  // what prints as zero prints as "0.0000", never "-0.0000"
     return std::fabs(v) * scale < 0.5 ? 0.0 : v;
@@ -274,9 +281,9 @@ std::string format_block(const Block& b) {
       pt(b.start);
       add("->");
       pt(b.end);
-      add(" len=%.4f class=%s v=%.3f a=%.1f drive=%c%c vd=%.3f ad=%.1f dec=%.4f t0=", c(b.length, 1e4), to_string(b.motion_class),
-          c(b.speed, 1e3), c(b.accel, 1e1), axis_name(b.driving_axis), b.driving_dir < 0 ? '-' : '+', c(b.driving_speed, 1e3),
-          c(b.driving_accel, 1e1), c(b.decel_start, 1e4));
+      add(" len=%.4f class=%s v=%.3f a=%.1f drive=%c%c vd=%.3f ad=%.1f dec=%.4f t0=", c(b.length, 1e4),
+          to_string(b.motion_class), c(b.speed, 1e3), c(b.accel, 1e1), axis_name(b.driving_axis),
+          b.driving_dir < 0 ? '-' : '+', c(b.driving_speed, 1e3), c(b.driving_accel, 1e1), c(b.decel_start, 1e4));
       pt(b.dir_start);
       add(" t1=");
       pt(b.dir_end);

@@ -18,10 +18,10 @@
 namespace pcnc {
 
 struct JobOptions {
-  int work_offset_index = 0;        // 0 = G54 ... 5 = G59 default selection (program may select another)
-  std::optional<Vec3> offset;       // --offset X,Y,Z: overrides the config's G54 value (program zero in machine coords)
-  bool fit = false;                 // --fit: scale uniformly (factor <= 1) so the program fits the travel; also recentre
-  std::optional<bool> contouring;   // --contouring on|off, else config motion.contouring_default
+  int work_offset_index = 0;       // 0 = G54 ... 5 = G59 default selection (program may select another)
+  std::optional<Vec3> offset;      // --offset X,Y,Z: overrides the config's G54 value (program zero in machine coords)
+  bool fit = false;                // --fit: scale uniformly (factor <= 1) so the program fits the travel; also recentre
+  std::optional<bool> contouring;  // --contouring on|off, else config motion.contouring_default
   // Machine position before the first move (the launcher passes the rt's actual position).
   // Default: program zero (the G54 point after --offset/--fit) clamped into the travel.
   std::optional<Vec3> start_position;
@@ -56,10 +56,11 @@ CheckResult check_program_text(std::string_view text, const std::string& name, c
 /// all (e.g. the file changed since it was checked). The stream keeps its own copy of `config`.
 class BlockStream {
  public:
-  BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options, const Transform& transform);
-  struct FromText {};
-  BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config, const JobOptions& options,
+  BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
               const Transform& transform);
+  struct FromText {};
+  BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config,
+              const JobOptions& options, const Transform& transform);
   ~BlockStream();
   BlockStream(BlockStream&&) noexcept;
   BlockStream& operator=(BlockStream&&) noexcept;

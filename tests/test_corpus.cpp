@@ -71,7 +71,8 @@ void expect_blocks_valid(const std::string& path, const MachineConfig& c, const 
     ASSERT_NEAR(norm(b.dir_end), 1.0, 1e-9) << path << " line " << b.line;
     for (int i = 0; i < kAxes; ++i) {
       const auto k = static_cast<std::size_t>(i);
-      ASSERT_LE(b.speed * std::fabs(b.dir_start[k]), c.axes[k].max_velocity_mm_s * (1 + 1e-9)) << path << " line " << b.line;
+      ASSERT_LE(b.speed * std::fabs(b.dir_start[k]), c.axes[k].max_velocity_mm_s * (1 + 1e-9))
+          << path << " line " << b.line;
       ASSERT_GE(b.end[k], c.axes[k].travel_min_mm - 1e-6) << path << " line " << b.line;
       ASSERT_LE(b.end[k], c.axes[k].travel_max_mm + 1e-6) << path << " line " << b.line;
     }
@@ -237,8 +238,8 @@ std::string listing(const std::string& path, const MachineConfig& c, const JobOp
   }
   if (!r.ok) return os.str();
   char buf[200];
-  std::snprintf(buf, sizeof buf, "# transform scale=%.6f offset=(%.4f,%.4f,%.4f)\n", r.transform.scale, r.transform.offset[0],
-                r.transform.offset[1], r.transform.offset[2]);
+  std::snprintf(buf, sizeof buf, "# transform scale=%.6f offset=(%.4f,%.4f,%.4f)\n", r.transform.scale,
+                r.transform.offset[0], r.transform.offset[1], r.transform.offset[2]);
   os << buf;
   BlockStream s(path, c, o, r.transform);
   Block b;
@@ -278,7 +279,8 @@ TEST_P(Golden, BlockListingUnchanged) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Programs, Golden,
-                         ::testing::Values(GoldenCase{"lines", "lines.ngc", false}, GoldenCase{"arcs", "arcs.ngc", false},
+                         ::testing::Values(GoldenCase{"lines", "lines.ngc", false},
+                                           GoldenCase{"arcs", "arcs.ngc", false},
                                            GoldenCase{"modes", "modes.ngc", false},
                                            GoldenCase{"cnc_Face_fit", "shared:cam/fusion360/cnc_Face.nc", true},
                                            GoldenCase{"arc_rword_fit", "shared:cam/ugs/arc_rword_test.gcode", true}),

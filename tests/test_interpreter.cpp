@@ -261,17 +261,18 @@ TEST_P(WarnedWords, AcceptedWithWarning) {
   EXPECT_TRUE(r.has_warning(GetParam().warning)) << GetParam().program;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Table, WarnedWords,
-    ::testing::Values(WarnCase{"S1000", "no spindle"}, WarnCase{"M3 S100", "no spindle"}, WarnCase{"M4", "no spindle"},
-                      WarnCase{"M5", "no spindle"}, WarnCase{"M7", "no coolant"}, WarnCase{"M8", "no coolant"},
-                      WarnCase{"M9", "no coolant"}, WarnCase{"T2 M6", "single-tool"}, WarnCase{"T1", "single-tool"},
-                      WarnCase{"G40", "cutter compensation"}, WarnCase{"G49", "tool length"},
-                      WarnCase{"G43 H1", "no tool length table"}, WarnCase{"G80", "canned cycle"},
-                      WarnCase{"G61", "contouring off"}, WarnCase{"G61.1", "contouring off"},
-                      WarnCase{"G64 P0.01 Q0.01", "contouring on"}, WarnCase{"G97", "no spindle"},
-                      WarnCase{"/G0 X1", "block delete"}, WarnCase{"G80 G0 X1", "G80 ignored"},
-                      WarnCase{"G0 X10\nG2 X0 Y10 I-10 K0 F60", "normal axis"}));
+INSTANTIATE_TEST_SUITE_P(Table, WarnedWords,
+                         ::testing::Values(WarnCase{"S1000", "no spindle"}, WarnCase{"M3 S100", "no spindle"},
+                                           WarnCase{"M4", "no spindle"}, WarnCase{"M5", "no spindle"},
+                                           WarnCase{"M7", "no coolant"}, WarnCase{"M8", "no coolant"},
+                                           WarnCase{"M9", "no coolant"}, WarnCase{"T2 M6", "single-tool"},
+                                           WarnCase{"T1", "single-tool"}, WarnCase{"G40", "cutter compensation"},
+                                           WarnCase{"G49", "tool length"}, WarnCase{"G43 H1", "no tool length table"},
+                                           WarnCase{"G80", "canned cycle"}, WarnCase{"G61", "contouring off"},
+                                           WarnCase{"G61.1", "contouring off"},
+                                           WarnCase{"G64 P0.01 Q0.01", "contouring on"}, WarnCase{"G97", "no spindle"},
+                                           WarnCase{"/G0 X1", "block delete"}, WarnCase{"G80 G0 X1", "G80 ignored"},
+                                           WarnCase{"G0 X10\nG2 X0 Y10 I-10 K0 F60", "normal axis"}));
 
 // ---- words and programs rejected ----
 
@@ -279,7 +280,7 @@ struct RejectCase {
   const char* program;
   const char* error;  // fragment of the message
   int line;
-  const char* at;     // the error's column is where this text starts on that line
+  const char* at;  // the error's column is where this text starts on that line
 };
 
 class RejectedWords : public ::testing::TestWithParam<RejectCase> {};
@@ -310,22 +311,26 @@ TEST_P(RejectedWords, RejectedWithLineColumnAndReason) {
 INSTANTIATE_TEST_SUITE_P(
     Table, RejectedWords,
     ::testing::Values(
-        RejectCase{"G81 X0 Y0 Z-1 R1 F10", "canned cycles", 1, "G81"}, RejectCase{"G83 X0 Y0 Z-1 R1 Q1 F10", "canned cycles", 1, "G83"},
-        RejectCase{"G41 D1", "cutter radius compensation", 1, "G41"}, RejectCase{"G42.1 D1", "cutter radius compensation", 1, "G42"},
-        RejectCase{"G93", "inverse time", 1, "G93"}, RejectCase{"G95", "feed per revolution", 1, "G95"},
-        RejectCase{"G10 L2 P1 X0", "G10", 1, "G10"}, RejectCase{"G92 X0", "G92", 1, "G92"}, RejectCase{"G38.2 Z-1 F1", "probing", 1, "G38"},
+        RejectCase{"G81 X0 Y0 Z-1 R1 F10", "canned cycles", 1, "G81"},
+        RejectCase{"G83 X0 Y0 Z-1 R1 Q1 F10", "canned cycles", 1, "G83"},
+        RejectCase{"G41 D1", "cutter radius compensation", 1, "G41"},
+        RejectCase{"G42.1 D1", "cutter radius compensation", 1, "G42"}, RejectCase{"G93", "inverse time", 1, "G93"},
+        RejectCase{"G95", "feed per revolution", 1, "G95"}, RejectCase{"G10 L2 P1 X0", "G10", 1, "G10"},
+        RejectCase{"G92 X0", "G92", 1, "G92"}, RejectCase{"G38.2 Z-1 F1", "probing", 1, "G38"},
         RejectCase{"G33 Z-1 K1", "spindle-synchronized", 1, "G33"}, RejectCase{"G30", "G30", 1, "G30"},
         RejectCase{"G90.1", "absolute arc centers", 1, "G90"}, RejectCase{"G59.1", "G59.1", 1, "G59"},
         RejectCase{"G96 S100", "constant surface speed", 1, "G96"}, RejectCase{"G7", "lathe", 1, "G7"},
-        RejectCase{"G5 X1 Y1 I1 J1 P1 Q1", "splines", 1, "G5 "}, RejectCase{"G5.2 X0 Y0 P1 L3", "NURBS not yet supported", 1, "G5."},
+        RejectCase{"G5 X1 Y1 I1 J1 P1 Q1", "splines", 1, "G5 "},
+        RejectCase{"G5.2 X0 Y0 P1 L3", "NURBS not yet supported", 1, "G5."},
         RejectCase{"G6.2 P1 L3 K0 R1", "NURBS not yet supported", 1, "G6."}, RejectCase{"M60", "pallet", 1, "M60"},
-        RejectCase{"M19", "spindle orientation", 1, "M19"}, RejectCase{"M48", "override", 1, "M48"}, RejectCase{"M62 P1", "I/O", 1, "M62"},
-        RejectCase{"M100", "user M codes", 1, "M10"}, RejectCase{"G12", "unknown G code G12", 1, "G12"},
-        RejectCase{"M12", "unknown M code M12", 1, "M12"}, RejectCase{"G0 A10", "no A axis", 1, "A10"},
-        RejectCase{"G0 X1 X2", "second X word", 1, "X2"}, RejectCase{"G0 G1 X1", "same modal group", 1, "G1 "},
-        RejectCase{"G20 G21", "same modal group", 1, "G21"}, RejectCase{"M3 M5", "same modal group", 1, "M5"},
-        RejectCase{"G1 X1", "no feed rate", 1, "G1 "}, RejectCase{"G1 X1 F0", "no feed rate", 1, "G1 "},
-        RejectCase{"X1", "no motion mode", 1, "X1"}, RejectCase{"G61 R0.5", "R word with no G code", 1, "R0."},
+        RejectCase{"M19", "spindle orientation", 1, "M19"}, RejectCase{"M48", "override", 1, "M48"},
+        RejectCase{"M62 P1", "I/O", 1, "M62"}, RejectCase{"M100", "user M codes", 1, "M10"},
+        RejectCase{"G12", "unknown G code G12", 1, "G12"}, RejectCase{"M12", "unknown M code M12", 1, "M12"},
+        RejectCase{"G0 A10", "no A axis", 1, "A10"}, RejectCase{"G0 X1 X2", "second X word", 1, "X2"},
+        RejectCase{"G0 G1 X1", "same modal group", 1, "G1 "}, RejectCase{"G20 G21", "same modal group", 1, "G21"},
+        RejectCase{"M3 M5", "same modal group", 1, "M5"}, RejectCase{"G1 X1", "no feed rate", 1, "G1 "},
+        RejectCase{"G1 X1 F0", "no feed rate", 1, "G1 "}, RejectCase{"X1", "no motion mode", 1, "X1"},
+        RejectCase{"G61 R0.5", "R word with no G code", 1, "R0."},
         RejectCase{"G0 X1 I1", "I word with no G2/G3", 1, "I1"}, RejectCase{"G1 X1 F10 P2", "P word", 1, "P2"},
         RejectCase{"G2 X1 F1", "I, J, K and R words all missing", 1, "G2 "},
         RejectCase{"G2 X1 Y0 I0.5 R0.5 F1", "R and I/J/K", 1, "R0.5"},
@@ -335,11 +340,14 @@ INSTANTIATE_TEST_SUITE_P(
         RejectCase{"G17 G2 X1 Y1 K1 F1", "not an offset in the G17 plane", 1, "K1"},
         RejectCase{"G4", "G4 without P", 1, "G4"}, RejectCase{"G4 P-1", "negative dwell", 1, "P-1"},
         RejectCase{"G28 X10", "G28 with an intermediate point", 1, "X10"},
-        RejectCase{"G91 G28 Z5", "nonzero intermediate", 1, "Z5"}, RejectCase{"G53 G2 X1 I1 F1", "G53 needs G0 or G1", 1, "G53"},
+        RejectCase{"G91 G28 Z5", "nonzero intermediate", 1, "Z5"},
+        RejectCase{"G53 G2 X1 I1 F1", "G53 needs G0 or G1", 1, "G53"},
         RejectCase{"G91 G53 G0 X1", "G53 in incremental", 1, "G53"}, RejectCase{"#1=5", "parameters", 1, "#1="},
         RejectCase{"G0 X#1", "parameters", 1, "#1"}, RejectCase{"O100 sub", "control flow", 1, "O10"},
-        RejectCase{"o<foo> call", "named O-words", 1, "o<f"}, RejectCase{"G0 X1 (unclosed", "comment not closed", 1, "(un"},
-        RejectCase{"G0 X1 (a (nested) )", "nested comment", 1, "(ne"}, RejectCase{"G0 Xm", "expected a number after X", 1, "m"},
+        RejectCase{"o<foo> call", "named O-words", 1, "o<f"},
+        RejectCase{"G0 X1 (unclosed", "comment not closed", 1, "(un"},
+        RejectCase{"G0 X1 (a (nested) )", "nested comment", 1, "(ne"},
+        RejectCase{"G0 Xm", "expected a number after X", 1, "m"},
         RejectCase{"G0 X1.2.3", "two decimal points", 1, ".3"}, RejectCase{"G0 X[1/0]", "division by zero", 1, "/0]"},
         RejectCase{"G0 X[1+2", "expected ']'", 1, "$END"}, RejectCase{"G0 X1 $", "unexpected '$'", 1, "$"},
         RejectCase{"G0 X1 E5", "E word", 1, "E5"}, RejectCase{"G0 X1e5", "E word", 1, "e5"},
@@ -384,12 +392,13 @@ TEST(Interpreter, ArcToleranceRuleFollowsLinuxCnc) {
   // Above 100 x the absolute tolerance: rejected whatever the radius.
   EXPECT_FALSE(run_program("G0 X0 Y0\nG2 X20002 Y0 I10000 F100\nM2\n", c).check.ok);
   // Inch programs: the absolute threshold is 2.54 times the metric one (as in LinuxCNC).
-  EXPECT_TRUE(run_program("G20 G0 X0 Y0\nG2 X0.2009 Y0 I0.1 F10\nM2\n", c).check.ok);  // 0.0229 mm
+  EXPECT_TRUE(run_program("G20 G0 X0 Y0\nG2 X0.2009 Y0 I0.1 F10\nM2\n", c).check.ok);    // 0.0229 mm
   EXPECT_FALSE(run_program("G21 G0 X0 Y0\nG2 X5.1029 Y0 I2.54 F10\nM2\n", c).check.ok);  // same in mm
 }
 
 TEST(Interpreter, ExpressionsAreEvaluated) {
-  const auto r = run_program("G0 X[1 + 2 * 3] Y[SQRT[16] - ABS[-1]] Z[2 ** 3 / 4]\nG0 X[ATAN[1]/[1]] Y[COS[60]]\nM2\n", wide_config());
+  const auto r = run_program("G0 X[1 + 2 * 3] Y[SQRT[16] - ABS[-1]] Z[2 ** 3 / 4]\nG0 X[ATAN[1]/[1]] Y[COS[60]]\nM2\n",
+                             wide_config());
   ASSERT_TRUE(r.check.ok);
   expect_point(r.motion().at(0).end, 7, 3, 2, 1e-12);
   EXPECT_NEAR(r.motion().at(1).end[0], 45, 1e-12);

@@ -51,8 +51,9 @@ INSTANTIATE_TEST_SUITE_P(
                       WordCase{"G 01 X 1 .5", "GX", {1, 1.5}}, WordCase{"X+.5 Y-.25 Z1.", "XYZ", {0.5, -0.25, 1}},
                       WordCase{"X007.0100", "X", {7.01}}, WordCase{"G1 (comment X5) X3", "GX", {1, 3}},
                       WordCase{"G1 X3 ; Y4", "GX", {1, 3}}, WordCase{"(only a comment)", "", {}},
-                      WordCase{"   ", "", {}}, WordCase{"\tG0\tX1\r", "GX", {0, 1}}, WordCase{"N10 G5.2", "NG", {10, 5.2}},
-                      WordCase{"X[1+2*3-4/2]", "X", {5}}, WordCase{"X[2**3**1]", "X", {8}}, WordCase{"X[-[1]]", "X", {-1}},
+                      WordCase{"   ", "", {}}, WordCase{"\tG0\tX1\r", "GX", {0, 1}},
+                      WordCase{"N10 G5.2", "NG", {10, 5.2}}, WordCase{"X[1+2*3-4/2]", "X", {5}},
+                      WordCase{"X[2**3**1]", "X", {8}}, WordCase{"X[-[1]]", "X", {-1}},
                       WordCase{"X sqrt[4] Y abs[-3]", "XY", {2, 3}}, WordCase{"X[7 MOD 3]", "X", {1}},
                       WordCase{"X[ROUND[2.5]] Y[FIX[-1.5]] Z[FUP[1.2]]", "XYZ", {3, -2, 2}},
                       WordCase{"X[ATAN[1]/[0]]", "X", {90}}, WordCase{"X[SIN[90]]", "X", {1}},
@@ -98,15 +99,17 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(ErrorCase{"G1 X", "without a value", 4}, ErrorCase{"G1 X-", "without a value", 5},
                       ErrorCase{"X.", "without a value", 2}, ErrorCase{"X1..2", "two decimal points", 4},
                       ErrorCase{"X#5", "parameters", 2}, ErrorCase{"#<a>=1", "parameters", 1},
-                      ErrorCase{"G1 (open", "not closed", 4}, ErrorCase{"(a(b))", "nested", 3}, ErrorCase{"G1 *", "unexpected '*'", 4},
-                      ErrorCase{"G1 \x01", "byte 0x01", 4}, ErrorCase{"X[1", "expected ']'", 4}, ErrorCase{"X[1/0]", "division by zero", 4},
+                      ErrorCase{"G1 (open", "not closed", 4}, ErrorCase{"(a(b))", "nested", 3},
+                      ErrorCase{"G1 *", "unexpected '*'", 4}, ErrorCase{"G1 \x01", "byte 0x01", 4},
+                      ErrorCase{"X[1", "expected ']'", 4}, ErrorCase{"X[1/0]", "division by zero", 4},
                       ErrorCase{"X[SQRT[-1]]", "SQRT of a negative", 3}, ErrorCase{"X[1 EQ 1]", "operator 'EQ'", 5},
                       ErrorCase{"X[FOO[1]]", "unknown function", 3}, ErrorCase{"X[EXISTS[#1]]", "EXISTS", 3},
                       ErrorCase{"X[ATAN[1]]", "ATAN needs two arguments", 10}, ErrorCase{"O1 call", "control flow", 1},
                       ErrorCase{"G1 O1", "O word after other words", 4}, ErrorCase{"[1]", "without a word letter", 1},
                       ErrorCase{"G1 % ", "unexpected '%'", 4}, ErrorCase{"G1 X1 Y", "without a value", 7},
                       ErrorCase{"X1000000000.5", "out of range", 1}, ErrorCase{"X[10**400]", "no finite number", 5},
-                      ErrorCase{"X[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
+                      ErrorCase{"X[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]"
+                                "]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
                                 "nested too deeply", 35}));
 
 TEST(Lexer, TooManyWordsOnALine) {

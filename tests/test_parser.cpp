@@ -88,14 +88,15 @@ TEST_P(ParseErrors, Reported) {
   EXPECT_EQ(r.diags[0].column, c.column) << c.text;
 }
 
-INSTANTIATE_TEST_SUITE_P(Table, ParseErrors,
-                         ::testing::Values(ErrorCase{"G0 G1", "same modal group", 4}, ErrorCase{"G17 G18", "same modal group", 5},
-                                           ErrorCase{"G54 G55", "same modal group", 5}, ErrorCase{"G4 G53", "same modal group", 4},
-                                           ErrorCase{"M0 M30", "same modal group", 4}, ErrorCase{"M21 M22", "same modal group", 5},
-                                           ErrorCase{"X1 Y2 X3", "second X word", 7}, ErrorCase{"F1 F2", "second F word", 4},
-                                           ErrorCase{"G2.5", "unknown G code", 1}, ErrorCase{"G-1", "bad G number", 1},
-                                           ErrorCase{"G1.05", "bad G number", 1}, ErrorCase{"M3.5", "bad M number", 1},
-                                           ErrorCase{"M999", "unknown M code", 1}, ErrorCase{"G99999", "bad G number", 1}));
+INSTANTIATE_TEST_SUITE_P(
+    Table, ParseErrors,
+    ::testing::Values(ErrorCase{"G0 G1", "same modal group", 4}, ErrorCase{"G17 G18", "same modal group", 5},
+                      ErrorCase{"G54 G55", "same modal group", 5}, ErrorCase{"G4 G53", "same modal group", 4},
+                      ErrorCase{"M0 M30", "same modal group", 4}, ErrorCase{"M21 M22", "same modal group", 5},
+                      ErrorCase{"X1 Y2 X3", "second X word", 7}, ErrorCase{"F1 F2", "second F word", 4},
+                      ErrorCase{"G2.5", "unknown G code", 1}, ErrorCase{"G-1", "bad G number", 1},
+                      ErrorCase{"G1.05", "bad G number", 1}, ErrorCase{"M3.5", "bad M number", 1},
+                      ErrorCase{"M999", "unknown M code", 1}, ErrorCase{"G99999", "bad G number", 1}));
 
 }  // namespace
 }  // namespace pcnc

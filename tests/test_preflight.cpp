@@ -28,7 +28,8 @@ TEST(Preflight, EndPointOutsideTravelIsAnErrorWithItsLine) {
   const Diagnostic* d = r.first_error();
   ASSERT_NE(d, nullptr);
   EXPECT_EQ(d->line, 2);
-  EXPECT_NE(d->message.find("X 30.0000 mm (machine) is above the travel maximum 25.0000"), std::string::npos) << d->message;
+  EXPECT_NE(d->message.find("X 30.0000 mm (machine) is above the travel maximum 25.0000"), std::string::npos)
+      << d->message;
 }
 
 TEST(Preflight, ArcBulgeOutsideTravelIsCaughtAtItsExtremePoint) {

@@ -64,7 +64,8 @@ TEST(Preprocessor, FeedProjectedSoNoAxisExceedsItsLimit) {
   EXPECT_NEAR(b.driving_speed, 80, 1e-9);
   EXPECT_NEAR(b.driving_accel, 1500, 1e-9);
   for (int i = 0; i < 3; ++i) {
-    EXPECT_LE(b.speed * std::fabs(b.dir_start[static_cast<std::size_t>(i)]), limits().axes[static_cast<std::size_t>(i)].max_velocity_mm_s + 1e-9);
+    EXPECT_LE(b.speed * std::fabs(b.dir_start[static_cast<std::size_t>(i)]),
+              limits().axes[static_cast<std::size_t>(i)].max_velocity_mm_s + 1e-9);
   }
 }
 
@@ -73,7 +74,7 @@ TEST(Preprocessor, SpaceLineAndTriangularProfile) {
   const Block b = make_block(line({0, 0, 0}, {1, 1, 1}, 100), limits());
   EXPECT_EQ(b.motion_class, MotionClass::kSpace);
   const double u = 1 / std::sqrt(3.0);
-  EXPECT_NEAR(b.speed, 50 / u, 1e-9);  // Z limit
+  EXPECT_NEAR(b.speed, 50 / u, 1e-9);      // Z limit
   EXPECT_NEAR(b.decel_start, 0.5, 1e-12);  // X is the driving axis (first of the equal ones)
   EXPECT_EQ(b.driving_axis, 0);
 }
@@ -138,9 +139,10 @@ TEST(Preprocessor, ArcSpeedLimitedByTheAxisThatPeaks) {
   // A small arc around angle 0 only: Y moves at full speed, X hardly at all -> still 80.
   // Around angle 90 deg: X moves at full speed -> 100.
   const double a = 0.1;
-  const Block c = make_block(arc({1000 * std::cos(kPi / 2 - a), 1000 * std::sin(kPi / 2 - a), 0},
-                                 {1000 * std::cos(kPi / 2 + a), 1000 * std::sin(kPi / 2 + a), 0}, {0, 0, 0}, 1000, 2 * a, 2, 500),
-                             limits());
+  const Block c =
+      make_block(arc({1000 * std::cos(kPi / 2 - a), 1000 * std::sin(kPi / 2 - a), 0},
+                     {1000 * std::cos(kPi / 2 + a), 1000 * std::sin(kPi / 2 + a), 0}, {0, 0, 0}, 1000, 2 * a, 2, 500),
+                 limits());
   EXPECT_NEAR(c.speed, 100, 1e-9);
 }
 
@@ -166,8 +168,8 @@ TEST(Preprocessor, ArcInG18PlaneUsesZAndX) {
   const Block b = make_block(arc({0, 0, 10}, {10, 0, 0}, {0, 0, 0}, 10, kPi / 2, 1, 10), limits());
   EXPECT_EQ(b.arc.normal_axis, 1);
   EXPECT_NEAR(b.arc.start_angle, 0, 1e-12);
-  EXPECT_NEAR(b.dir_start[0], 1, 1e-12);   // moving toward +X first
-  EXPECT_NEAR(b.dir_end[2], -1, 1e-12);    // then down in Z
+  EXPECT_NEAR(b.dir_start[0], 1, 1e-12);  // moving toward +X first
+  EXPECT_NEAR(b.dir_end[2], -1, 1e-12);   // then down in Z
   // in-plane axes are Z (1000) and X (2000): tangential accel from the smaller one
   EXPECT_NEAR(b.accel, (1 - kArcCentripetalShare) * 1000, 1e-9);
 }

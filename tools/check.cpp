@@ -2,7 +2,6 @@
 #include "check.hpp"
 
 #include <CLI/CLI.hpp>
-
 #include <charconv>
 #include <cstdio>
 #include <iostream>
@@ -62,8 +61,10 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
     }
     job.offset = *v;
   }
-  if (o.contouring == "on") job.contouring = true;
-  else if (o.contouring == "off") job.contouring = false;
+  if (o.contouring == "on")
+    job.contouring = true;
+  else if (o.contouring == "off")
+    job.contouring = false;
   else if (!o.contouring.empty()) {
     err << "pcnc check: --contouring '" << o.contouring << "': expected on or off\n";
     return 2;
@@ -85,10 +86,11 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
     const Transform& t = r.transform;
     out << o.file << ": OK: " << r.lines << " lines, " << r.moves << " moves, " << warnings << " warning"
         << (warnings == 1 ? "" : "s") << "\n";
-    out << "  transform: machine = " << f4(t.scale) << " * program + (" << f4(t.offset[0]) << ", " << f4(t.offset[1]) << ", "
-        << f4(t.offset[2]) << ") mm" << (o.fit ? "  (--fit)" : "") << "\n";
-    out << "  extents (machine): X " << f4(r.min_point[0]) << " .. " << f4(r.max_point[0]) << ", Y " << f4(r.min_point[1])
-        << " .. " << f4(r.max_point[1]) << ", Z " << f4(r.min_point[2]) << " .. " << f4(r.max_point[2]) << " mm\n";
+    out << "  transform: machine = " << f4(t.scale) << " * program + (" << f4(t.offset[0]) << ", " << f4(t.offset[1])
+        << ", " << f4(t.offset[2]) << ") mm" << (o.fit ? "  (--fit)" : "") << "\n";
+    out << "  extents (machine): X " << f4(r.min_point[0]) << " .. " << f4(r.max_point[0]) << ", Y "
+        << f4(r.min_point[1]) << " .. " << f4(r.max_point[1]) << ", Z " << f4(r.min_point[2]) << " .. "
+        << f4(r.max_point[2]) << " mm\n";
     out << "  feed time (length/F, no acceleration): " << f4(r.feed_length_time_s) << " s\n";
   } else {
     out << o.file << ": OK\n";
@@ -112,9 +114,11 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
 
 void add_check_subcommand(CLI::App& app, int& exit_code) {
   auto opts = std::make_shared<CheckCommandOptions>();
-  CLI::App* sub = app.add_subcommand("check", "check a G-code program without a machine: syntax, words, arcs, soft limits, feeds");
+  CLI::App* sub =
+      app.add_subcommand("check", "check a G-code program without a machine: syntax, words, arcs, soft limits, feeds");
   sub->add_option("FILE", opts->file, "G-code program")->required();
-  sub->add_option("--config", opts->config_path, "machine configuration (TOML); default: $PCNC_CONFIG or configs/desktop-mill.toml");
+  sub->add_option("--config", opts->config_path,
+                  "machine configuration (TOML); default: $PCNC_CONFIG or configs/desktop-mill.toml");
   sub->add_flag("--fit", opts->fit, "scale the program down uniformly (never up) and centre it so it fits the travel");
   sub->add_option("--offset", opts->offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   sub->add_option("--contouring", opts->contouring, "contouring at program start: on|off (default: the config's)");

@@ -5,8 +5,8 @@
 // --print-blocks streams the preprocessed blocks (pass 2) in their stable text form.
 #pragma once
 
-#include <iosfwd>
 #include <array>
+#include <iosfwd>
 #include <optional>
 #include <string>
 
@@ -18,12 +18,12 @@ namespace pcnc {
 
 struct CheckCommandOptions {
   std::string file;
-  std::string config_path;      // empty: default_config_path()
+  std::string config_path;  // empty: default_config_path()
   bool fit = false;
-  std::string offset;           // "X,Y,Z" mm, empty: the config's G54
-  std::string contouring;       // "on" | "off" | empty (config default)
+  std::string offset;      // "X,Y,Z" mm, empty: the config's G54
+  std::string contouring;  // "on" | "off" | empty (config default)
   bool print_blocks = false;
-  bool quiet = false;           // only errors and the verdict
+  bool quiet = false;  // only errors and the verdict
 };
 
 /// Runs the check; writes the report and blocks to `out`, diagnostics to `err`.
