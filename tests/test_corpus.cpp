@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 
+#include "check.hpp"
 #include "gcode_test_util.hpp"
 
 namespace pcnc {
@@ -285,6 +286,79 @@ INSTANTIATE_TEST_SUITE_P(Programs, Golden,
                                            GoldenCase{"cnc_Face_fit", "shared:cam/fusion360/cnc_Face.nc", true},
                                            GoldenCase{"arc_rword_fit", "shared:cam/ugs/arc_rword_test.gcode", true}),
                          [](const auto& info) { return std::string(info.param.name); });
+
+// ---- the `pcnc check` command ----
+struct CommandRun {
+  int status;
+  std::string out, err;
+};
+
+CommandRun run_check(CheckCommandOptions o) {
+  if (o.config_path.empty()) o.config_path = test::default_config();
+  std::ostringstream out, err;
+  const int status = run_check_command(o, out, err);
+  return {status, out.str(), err.str()};
+}
+
+TEST(CheckCommand, OkProgramPrintsTransformExtentsAndBlocks) {
+  CheckCommandOptions o;
+  o.file = gcode_dir() + "/cam/fusion360/cnc_Face.nc";
+  o.fit = true;
+  o.print_blocks = true;
+  const CommandRun r = run_check(o);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find(": OK: 50 lines"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("transform: machine = 0.1037 * program"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(--fit)"), std::string::npos);
+  EXPECT_NE(r.out.find("\n1 L14 rapid "), std::string::npos) << "blocks are numbered from 1";
+  EXPECT_NE(r.out.find(" end at "), std::string::npos);
+  EXPECT_NE(r.err.find("warning: S20000 ignored"), std::string::npos) << r.err;
+}
+
+TEST(CheckCommand, FailingProgramExitsOneAndNamesTheLine) {
+  CheckCommandOptions o;
+  o.file = gcode_dir() + "/cam/linuxcnc-tp/Cereal.ngc";
+  o.fit = true;
+  o.print_blocks = true;
+  const CommandRun r = run_check(o);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("Cereal.ngc:17:4: error: Z -10.0000 mm (machine) is below the travel minimum"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.out.find("FAILED"), std::string::npos);
+  EXPECT_EQ(r.out.find(" rapid "), std::string::npos) << "no block of a failed program is printed";
+}
+
+TEST(CheckCommand, QuietPrintsOnlyErrorsAndVerdict) {
+  CheckCommandOptions o;
+  o.file = gcode_dir() + "/cam/fusion360/cnc_Face.nc";
+  o.fit = true;
+  o.quiet = true;
+  const CommandRun r = run_check(o);
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(r.out, o.file + ": OK\n");
+}
+
+TEST(CheckCommand, BadOptionsExitTwo) {
+  CheckCommandOptions o;
+  o.file = gcode_dir() + "/cam/fusion360/cnc_Face.nc";
+  o.offset = "1,2";
+  EXPECT_EQ(run_check(o).status, 2);
+  o.offset = "";
+  o.contouring = "maybe";
+  EXPECT_EQ(run_check(o).status, 2);
+  o.contouring = "";
+  o.config_path = "/nonexistent.toml";
+  EXPECT_EQ(run_check(o).status, 2);
+}
+
+TEST(CheckCommand, OffsetOption) {
+  EXPECT_EQ(parse_xyz("1,2,3").value(), (std::array<double, 3>{1, 2, 3}));
+  EXPECT_EQ(parse_xyz(" -1.5 , +2 ,0").value(), (std::array<double, 3>{-1.5, 2, 0}));
+  EXPECT_FALSE(parse_xyz("1,2").has_value());
+  EXPECT_FALSE(parse_xyz("1,2,3,4").has_value());
+  EXPECT_FALSE(parse_xyz("a,b,c").has_value());
+}
 
 }  // namespace
 }  // namespace pcnc
