@@ -19,4 +19,5 @@ seeds=()
 echo "fuzzing the G-code front end for ${secs} s (seeds: ${seeds[*]:-none})"
 cd "$build"  # crash-* files land here
 "$build/fuzz/fuzz_gcode" -max_total_time="$secs" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
+  -dict="$root/fuzz/gcode.dict" \
   -print_final_stats=1 "$work" "${seeds[@]}"
