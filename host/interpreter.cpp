@@ -588,7 +588,7 @@ bool Interpreter::home(const ParsedLine& l, MoveList& out) {
   known_ = static_cast<std::uint8_t>(known_ | axes);
   m.known = known_;
   m.machine_frame = true;
-  warn(l, col, "G28", [&] {
+  warn(l, col, "G28" + what, [&] {
     return std::string("G28: rapid to the home position " + what +
                        " (machine coordinates; Z home is the top of its travel)");
   });

@@ -71,7 +71,7 @@ class Interpreter {
   bool axis_words(const ParsedLine& l) const { return (l.present & kAxisBits) != 0; }
   // The message is built only for the first occurrence of its key (repeats are just counted).
   template <class MakeMessage>
-  void warn(const ParsedLine& l, int column, const char* key, MakeMessage&& make) {
+  void warn(const ParsedLine& l, int column, std::string_view key, MakeMessage&& make) {
     if (sink_.repeat(key)) return;
     sink_.warning(l.line, column, key, make());
   }
