@@ -117,34 +117,85 @@ std::string pt(const P2& p) { return f1(p.x) + "," + f1(p.y); }
 
 // ---- the tool path ----
 
+namespace {
+
+// The part's box: the program's extents and the final tool position (machine coordinates).
+// The approach from the home position may leave it; the views clip there.
+void part_box(const RunSummary& s, Vec3& lo, Vec3& hi) {
+  lo = s.min_point;
+  hi = s.max_point;
+  for (std::size_t i = 0; i < 3; ++i) {
+    lo[i] = std::min(lo[i], s.final_status.actual[i]);
+    hi[i] = std::max(hi[i], s.final_status.actual[i]);
+    const double pad = std::max(0.02 * (hi[i] - lo[i]), 1e-3);  // a flat part still gets a visible box
+    lo[i] -= pad;
+    hi[i] += pad;
+  }
+}
+
+// The feed-speed colour scale: rapids excluded (they would squash it).
+double feed_speed_max(const std::vector<ToolPathPoint>& path) {
+  double v = 0.0;
+  for (const ToolPathPoint& q : path) {
+    if (!q.rapid) v = std::max(v, q.speed);
+  }
+  return v > 0.0 ? v : 1.0;
+}
+
+// Polylines of the path through `project`: runs of segments with the same kind and colour.
+template <typename Project>
+std::string path_polylines(const std::vector<ToolPathPoint>& path, double vmax, Project project, double width,
+                           std::size_t* feeds = nullptr) {
+  constexpr int kBins = 32;
+  auto bin_of = [&](const ToolPathPoint& q) { return std::clamp(static_cast<int>(q.speed / vmax * kBins), 0, kBins - 1); };
+  std::ostringstream o;
+  std::size_t n_feed = 0;
+  std::size_t i = 1;
+  while (i < path.size()) {
+    const bool rapid = path[i].rapid;
+    const int bin = rapid ? -1 : bin_of(path[i]);
+    std::string pts = pt(project(path[i - 1].p));
+    std::size_t j = i;
+    while (j < path.size() && path[j].rapid == rapid && (rapid || bin_of(path[j]) == bin)) {
+      pts += " " + pt(project(path[j].p));
+      ++j;
+    }
+    if (rapid) {
+      o << "<polyline class=\"rapid\" stroke=\"#aab3c5\" stroke-opacity=\"0.55\" stroke-width=\"" << fixed(width * 0.6, 2)
+        << "\" stroke-dasharray=\"4 3\" points=\"" << pts << "\"/>\n";
+    } else {
+      ++n_feed;
+      o << "<polyline class=\"feed\" stroke=\"" << colour_at((bin + 0.5) / kBins) << "\" stroke-width=\"" << fixed(width, 2)
+        << "\" points=\"" << pts << "\"/>\n";
+    }
+    i = j;
+  }
+  if (feeds) *feeds = n_feed;
+  return o.str();
+}
+
+std::string end_markers(const P2& last, const P2& tool, const std::string& id) {
+  return "<circle cx=\"" + f1(last.x) + "\" cy=\"" + f1(last.y) +
+         "\" r=\"8\" fill=\"none\" stroke=\"#ffffff\" stroke-opacity=\"0.75\" stroke-width=\"1.2\"/>\n"
+         "<circle class=\"final-tool\"" + (id.empty() ? std::string() : " id=\"" + id + "\"") + " cx=\"" + f1(tool.x) + "\" cy=\"" + f1(tool.y) +
+         "\" r=\"5\" fill=\"#ff2d2d\" stroke=\"#ffffff\" stroke-width=\"1.5\"/>\n";
+}
+
+}  // namespace
+
 std::string render_toolpath_svg(const ReportPage& page) {
   const RunSummary& s = page.summary;
-  constexpr double W = 760, H = 560, M = 36, kLegend = 56;
+  constexpr double W = 760, H = 540, M = 30, kLegend = 50;
   std::ostringstream o;
   o << "<svg class=\"toolpath\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << W << " " << H
     << "\" role=\"img\" aria-label=\"tool path, isometric view\">\n";
-  o << "<rect width=\"" << W << "\" height=\"" << H << "\" rx=\"10\" fill=\"#161a24\"/>\n";
+  o << "<defs><clipPath id=\"iso-clip\"><rect x=\"4\" y=\"4\" width=\"" << W - 8 << "\" height=\"" << H - kLegend - 8
+    << "\"/></clipPath></defs>\n";
 
-  const std::vector<PathPoint> empty;
-  const std::vector<PathPoint>& path = page.has_trace ? page.trace.path : empty;
-
-  // the box: the path and the program's extents (machine coordinates)
-  Vec3 lo = s.min_point, hi = s.max_point;
-  for (const PathPoint& q : path) {
-    for (std::size_t i = 0; i < 3; ++i) {
-      lo[i] = std::min(lo[i], q.p[i]);
-      hi[i] = std::max(hi[i], q.p[i]);
-    }
-  }
-  const Vec3 fin = s.final_status.actual;
-  for (std::size_t i = 0; i < 3; ++i) {
-    lo[i] = std::min(lo[i], fin[i]);
-    hi[i] = std::max(hi[i], fin[i]);
-    if (hi[i] - lo[i] < 1e-3) {  // a flat part still gets a visible box
-      lo[i] -= 0.5e-3;
-      hi[i] += 0.5e-3;
-    }
-  }
+  const std::vector<ToolPathPoint> empty;
+  const std::vector<ToolPathPoint>& path = page.has_trace ? page.trace.path : empty;
+  Vec3 lo, hi;
+  part_box(s, lo, hi);
   std::vector<Vec3> corners;
   for (int k = 0; k < 8; ++k) corners.push_back({(k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]});
   double minx = 1e300, maxx = -1e300, miny = 1e300, maxy = -1e300;
@@ -160,6 +211,7 @@ std::string render_toolpath_svg(const ReportPage& page) {
   fr.scale = std::min(avail_w / std::max(maxx - minx, 1e-9), avail_h / std::max(maxy - miny, 1e-9));
   fr.ox = M + (avail_w - (maxx - minx) * fr.scale) / 2 - minx * fr.scale;
   fr.oy = M + (avail_h + (maxy - miny) * fr.scale) / 2 + miny * fr.scale;
+  auto project = [&](const Vec3& p) { return fr.to_screen(p); };
 
   // the box's twelve edges
   o << "<g stroke=\"#3b4358\" stroke-width=\"1\" fill=\"none\">\n";
@@ -167,93 +219,98 @@ std::string render_toolpath_svg(const ReportPage& page) {
     for (int b = a + 1; b < 8; ++b) {
       const int diff = a ^ b;
       if (diff != 1 && diff != 2 && diff != 4) continue;
-      o << "<line x1=\"" << f1(fr.to_screen(corners[a]).x) << "\" y1=\"" << f1(fr.to_screen(corners[a]).y) << "\" x2=\""
-        << f1(fr.to_screen(corners[b]).x) << "\" y2=\"" << f1(fr.to_screen(corners[b]).y) << "\"/>\n";
+      const P2 p = project(corners[a]), q = project(corners[b]);
+      o << "<line x1=\"" << f1(p.x) << "\" y1=\"" << f1(p.y) << "\" x2=\"" << f1(q.x) << "\" y2=\"" << f1(q.y) << "\"/>\n";
     }
   }
   o << "</g>\n";
-
-  // axis labels along three edges from the min corner, with the box's size
+  // the box's size along the three edges from its corner nearest the viewer's left
   const char* names[3] = {"X", "Y", "Z"};
   for (int i = 0; i < 3; ++i) {
-    Vec3 mid = lo;
-    mid[i] = (lo[i] + hi[i]) / 2;
-    const P2 q = fr.to_screen(mid);
-    const double dx = i == 0 ? -14 : i == 1 ? -14 : -10, dy = i == 0 ? 16 : i == 1 ? -6 : 0;
-    o << "<text x=\"" << f1(q.x + dx) << "\" y=\"" << f1(q.y + dy) << "\" fill=\"#8c96ad\" font-size=\"12\" text-anchor=\"end\">"
-      << names[i] << " " << fixed(hi[i] - lo[i], 2) << " mm</text>\n";
+    Vec3 mid = i == 1 ? Vec3{hi[0], lo[1], lo[2]} : lo;
+    mid[static_cast<std::size_t>(i)] = (lo[static_cast<std::size_t>(i)] + hi[static_cast<std::size_t>(i)]) / 2;
+    const P2 q = project(mid);
+    const double dx = i == 0 ? -8 : 8, dy = i == 2 ? 4 : 16;
+    o << "<text x=\"" << f1(q.x + dx) << "\" y=\"" << f1(q.y + dy) << "\" fill=\"#8c96ad\" font-size=\"12\" text-anchor=\""
+      << (i == 0 ? "end" : "start") << "\">" << names[i] << " " << fixed(hi[static_cast<std::size_t>(i)] - lo[static_cast<std::size_t>(i)], 2)
+      << " mm</text>\n";
   }
 
-  // feed speed scale (rapids excluded: they would squash it)
-  double vmax = 0.0;
-  for (const PathPoint& q : path) {
-    if (!q.rapid) vmax = std::max(vmax, q.speed);
-  }
-  if (vmax <= 0.0) vmax = 1.0;
-  constexpr int kBins = 32;
-  auto bin_of = [&](const PathPoint& q) { return std::clamp(static_cast<int>(q.speed / vmax * kBins), 0, kBins - 1); };
-
-  // polylines: runs of segments with the same kind and colour
-  std::size_t feeds = 0, rapids = 0;
-  o << "<g fill=\"none\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n";
-  std::size_t i = 1;
-  while (i < path.size()) {
-    const bool rapid = path[i].rapid;
-    const int bin = rapid ? -1 : bin_of(path[i]);
-    std::string pts = pt(fr.to_screen(path[i - 1].p));
-    std::size_t j = i;
-    while (j < path.size() && path[j].rapid == rapid && (rapid || bin_of(path[j]) == bin)) {
-      pts += " " + pt(fr.to_screen(path[j].p));
-      ++j;
-    }
-    if (rapid) {
-      ++rapids;
-      o << "<polyline class=\"rapid\" stroke=\"#aab3c5\" stroke-opacity=\"0.6\" stroke-width=\"0.9\" stroke-dasharray=\"4 3\" points=\""
-        << pts << "\"/>\n";
-    } else {
-      ++feeds;
-      o << "<polyline class=\"feed\" stroke=\"" << colour_at((bin + 0.5) / kBins) << "\" stroke-width=\"1.5\" points=\"" << pts
-        << "\"/>\n";
-    }
-    i = j;
-  }
-  o << "</g>\n";
-
-  // the programmed last point (hollow) and the final measured tool position (red dot)
-  const P2 last = fr.to_screen(s.last_point);
-  o << "<circle cx=\"" << f1(last.x) << "\" cy=\"" << f1(last.y)
-    << "\" r=\"8\" fill=\"none\" stroke=\"#ffffff\" stroke-opacity=\"0.7\" stroke-width=\"1.2\"/>\n";
-  const P2 tool = fr.to_screen(fin);
-  o << "<circle id=\"final-tool\" cx=\"" << f1(tool.x) << "\" cy=\"" << f1(tool.y)
-    << "\" r=\"5\" fill=\"#ff2d2d\" stroke=\"#ffffff\" stroke-width=\"1.5\"/>\n";
+  const double vmax = feed_speed_max(path);
+  std::size_t feeds = 0;
+  o << "<g clip-path=\"url(#iso-clip)\" fill=\"none\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n"
+    << path_polylines(path, vmax, project, 1.5, &feeds) << "</g>\n";
+  o << end_markers(project(s.last_point), project(s.final_status.actual), "final-tool");
 
   // legend: colour bar for the feed speed, the rapid dash, the dots
-  const double ly = H - kLegend + 8, lx = M;
+  const double ly = H - kLegend + 10, lx = M;
   constexpr int kSteps = 48;
-  const double bw = 240.0 / kSteps;
+  const double bw = 200.0 / kSteps;
   o << "<g font-size=\"12\" fill=\"#c9d0de\">\n";
-  o << "<text x=\"" << lx << "\" y=\"" << ly << "\">feed speed (commanded path speed)</text>\n";
   for (int k = 0; k < kSteps; ++k) {
-    o << "<rect x=\"" << f1(lx + k * bw) << "\" y=\"" << ly + 6 << "\" width=\"" << f1(bw + 0.6) << "\" height=\"10\" fill=\""
+    o << "<rect x=\"" << f1(lx + k * bw) << "\" y=\"" << ly << "\" width=\"" << f1(bw + 0.6) << "\" height=\"10\" fill=\""
       << colour_at((k + 0.5) / kSteps) << "\"/>\n";
   }
-  o << "<text x=\"" << lx << "\" y=\"" << ly + 30 << "\">0</text>\n";
-  o << "<text x=\"" << lx + 240 << "\" y=\"" << ly + 30 << "\" text-anchor=\"end\">" << fixed(vmax, 1) << " mm/s ("
+  o << "<text x=\"" << lx << "\" y=\"" << ly + 26 << "\">0</text>\n";
+  o << "<text x=\"" << lx + 200 << "\" y=\"" << ly + 26 << "\" text-anchor=\"end\">" << fixed(vmax, 1) << " mm/s ("
     << fixed(vmax * 60.0, 0) << " mm/min)</text>\n";
-  const double rx = lx + 290;
-  o << "<line x1=\"" << rx << "\" y1=\"" << ly + 11 << "\" x2=\"" << rx + 34 << "\" y2=\"" << ly + 11
-    << "\" stroke=\"#aab3c5\" stroke-dasharray=\"4 3\"/><text x=\"" << rx + 42 << "\" y=\"" << ly + 15 << "\">rapid (G0)</text>\n";
-  o << "<circle cx=\"" << rx + 150 << "\" cy=\"" << ly + 11 << "\" r=\"5\" fill=\"#ff2d2d\" stroke=\"#fff\" stroke-width=\"1.5\"/><text x=\""
-    << rx + 162 << "\" y=\"" << ly + 15 << "\">tool at the end</text>\n";
-  o << "<circle cx=\"" << rx + 290 << "\" cy=\"" << ly + 11
-    << "\" r=\"7\" fill=\"none\" stroke=\"#fff\" stroke-opacity=\"0.7\" stroke-width=\"1.2\"/><text x=\"" << rx + 302 << "\" y=\""
-    << ly + 15 << "\">last programmed point</text>\n";
+  const double rx = lx + 240;
+  o << "<line x1=\"" << rx << "\" y1=\"" << ly + 5 << "\" x2=\"" << rx + 30 << "\" y2=\"" << ly + 5
+    << "\" stroke=\"#aab3c5\" stroke-dasharray=\"4 3\"/><text x=\"" << rx + 36 << "\" y=\"" << ly + 9 << "\">rapid</text>\n";
+  o << "<circle cx=\"" << rx + 100 << "\" cy=\"" << ly + 5 << "\" r=\"5\" fill=\"#ff2d2d\" stroke=\"#fff\" stroke-width=\"1.5\"/><text x=\""
+    << rx + 110 << "\" y=\"" << ly + 9 << "\">tool at the end</text>\n";
+  o << "<circle cx=\"" << rx + 230 << "\" cy=\"" << ly + 5
+    << "\" r=\"7\" fill=\"none\" stroke=\"#fff\" stroke-opacity=\"0.75\" stroke-width=\"1.2\"/><text x=\"" << rx + 242 << "\" y=\""
+    << ly + 9 << "\">last programmed point</text>\n";
   o << "</g>\n";
   if (path.empty()) {
     o << "<text x=\"" << W / 2 << "\" y=\"" << H / 2 << "\" fill=\"#c9d0de\" font-size=\"15\" text-anchor=\"middle\">no trace: "
       << escape(page.trace_note.empty() ? "the tool path is not available" : page.trace_note) << "</text>\n";
   }
-  o << "<!-- " << feeds << " feed polylines, " << rapids << " rapid polylines, " << path.size() << " points -->\n";
+  o << "<!-- " << feeds << " feed polylines, " << path.size() << " points -->\n";
+  o << "</svg>\n";
+  return o.str();
+}
+
+std::string render_top_view_svg(const ReportPage& page) {
+  const RunSummary& s = page.summary;
+  const std::vector<ToolPathPoint> empty;
+  const std::vector<ToolPathPoint>& path = page.has_trace ? page.trace.path : empty;
+  Vec3 lo, hi;
+  part_box(s, lo, hi);
+  constexpr double W = 760, L = 52, R = 16, T = 14, B = 34;
+  const double sx = hi[0] - lo[0], sy = hi[1] - lo[1];
+  const double scale = (W - L - R) / sx;
+  const double H = std::clamp(sy * scale, 160.0, 520.0) + T + B;
+  const double k = std::min(scale, (H - T - B) / sy);  // equal scale on X and Y
+  const double ox = L + ((W - L - R) - sx * k) / 2, oy = T + ((H - T - B) + sy * k) / 2;
+  auto project = [&](const Vec3& p) { return P2{ox + (p[0] - lo[0]) * k, oy - (p[1] - lo[1]) * k}; };
+  std::ostringstream o;
+  o << "<svg class=\"topview\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << W << " " << f1(H)
+    << "\" role=\"img\" aria-label=\"tool path, top view\">\n";
+  o << "<defs><clipPath id=\"top-clip\"><rect x=\"" << f1(ox) << "\" y=\"" << f1(oy - sy * k) << "\" width=\"" << f1(sx * k)
+    << "\" height=\"" << f1(sy * k) << "\"/></clipPath></defs>\n";
+  // grid in machine millimetres
+  const double step = nice_step(std::max(sx, sy), 8);
+  const int d = decimals_for(step);
+  o << "<g font-size=\"11\" fill=\"#8c96ad\" stroke-width=\"1\">\n";
+  for (double x = std::ceil(lo[0] / step) * step; x <= hi[0] + 1e-9; x += step) {
+    const P2 a = project({x, lo[1], 0}), b = project({x, hi[1], 0});
+    o << "<line x1=\"" << f1(a.x) << "\" y1=\"" << f1(a.y) << "\" x2=\"" << f1(b.x) << "\" y2=\"" << f1(b.y)
+      << "\" stroke=\"#262c3b\"/><text x=\"" << f1(a.x) << "\" y=\"" << f1(a.y + 15) << "\" text-anchor=\"middle\">" << fixed(x, d)
+      << "</text>\n";
+  }
+  for (double y = std::ceil(lo[1] / step) * step; y <= hi[1] + 1e-9; y += step) {
+    const P2 a = project({lo[0], y, 0}), b = project({hi[0], y, 0});
+    o << "<line x1=\"" << f1(a.x) << "\" y1=\"" << f1(a.y) << "\" x2=\"" << f1(b.x) << "\" y2=\"" << f1(b.y)
+      << "\" stroke=\"#262c3b\"/><text x=\"" << f1(a.x - 6) << "\" y=\"" << f1(a.y + 4) << "\" text-anchor=\"end\">" << fixed(y, d)
+      << "</text>\n";
+  }
+  o << "<text x=\"" << W - R << "\" y=\"" << f1(H - 4) << "\" text-anchor=\"end\">X, mm</text>"
+    << "<text x=\"12\" y=\"" << T + 8 << "\">Y, mm</text>\n</g>\n";
+  o << "<g clip-path=\"url(#top-clip)\" fill=\"none\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n"
+    << path_polylines(path, feed_speed_max(path), project, 1.3) << "</g>\n";
+  o << end_markers(project(s.last_point), project(s.final_status.actual), "");
   o << "</svg>\n";
   return o.str();
 }
@@ -494,7 +551,9 @@ std::string render_report_html(const ReportPage& page) {
     o << " " << page.trace.path.size() << " points, kept " << fixed(page.trace.path_tolerance_mm * 1000.0, 0)
       << " µm apart or more.";
   }
-  o << "</p>\n" << render_toolpath_svg(page) << "</section>\n</div>\n";
+  o << "</p>\n" << render_toolpath_svg(page) << "</section>\n";
+  o << "<section class=\"card dark\"><h2>Top view (X–Y)</h2>\n<p>Looking down Z, same colours; grid in machine millimetres.</p>\n"
+    << render_top_view_svg(page) << "</section>\n</div>\n";
 
   o << "<section class=\"card\"><h2>Figures</h2>\n<table>\n";
   for (const auto& [title, rows] : groups) {

@@ -6,7 +6,8 @@
 // fetched from the network, so it opens anywhere with nothing but a browser.
 //
 // Pictures: the tool path as measured, in an isometric view (rapids dashed, feed moves
-// coloured by path speed, the final tool position as a red dot); the path speed over time;
+// coloured by path speed, the final tool position as a red dot) and from above; the path
+// speed over time;
 // the following error per axis over time (min..max envelopes, so no peak is lost to
 // decimation). Figures: one table, each row with a stable id for scripts and tests.
 #pragma once
@@ -31,6 +32,8 @@ std::string render_report_html(const ReportPage& page);
 
 /// The isometric tool path alone (an <svg> element), for tests.
 std::string render_toolpath_svg(const ReportPage& page);
+/// The tool path seen from above (X right, Y up, equal scales).
+std::string render_top_view_svg(const ReportPage& page);
 
 /// Reads summary and trace, classifies the program's lines (rapid or not) with a BlockStream
 /// over `program` under the summary's transform, renders and writes `html_path`.

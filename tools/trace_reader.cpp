@@ -16,6 +16,7 @@ constexpr std::size_t kMaxIdleTail = 20000;  // 10 s at 2 kHz: longer idle close
 
 // Next comma-separated field of `s` from `pos`; advances pos past the comma.
 std::string_view field(std::string_view s, std::size_t& pos) {
+  if (pos > s.size()) return {};  // past the last field
   const std::size_t start = pos;
   const std::size_t comma = s.find(',', pos);
   if (comma == std::string_view::npos) {
@@ -197,18 +198,18 @@ void TraceDigester::add_to_path(const TraceRow& row) {
   const bool rapid = o_.is_rapid_line && o_.is_rapid_line(row.line);
   auto& path = d_.path;
   if (!path.empty()) {
-    const PathPoint& last = path.back();
+    const ToolPathPoint& last = path.back();
     if (rapid == last.rapid && norm(row.actual - last.p) < path_tol_) return;
   }
-  path.push_back(PathPoint{row.actual, row.speed, rapid});
+  path.push_back(ToolPathPoint{row.actual, row.speed, rapid});
   if (path.size() > o_.max_path_points) thin_path();
 }
 
 void TraceDigester::thin_path() {
   path_tol_ *= 2.0;
-  std::vector<PathPoint> kept;
+  std::vector<ToolPathPoint> kept;
   kept.reserve(d_.path.size() / 2 + 1);
-  for (const PathPoint& p : d_.path) {
+  for (const ToolPathPoint& p : d_.path) {
     if (!kept.empty() && p.rapid == kept.back().rapid && norm(p.p - kept.back().p) < path_tol_) continue;
     kept.push_back(p);
   }
@@ -218,7 +219,7 @@ void TraceDigester::thin_path() {
 TraceDigest TraceDigester::finish() {
   // the final position: the last row of the window, also when the path thinned it away
   if (d_.program_rows > 0 && (d_.path.empty() || norm(d_.path.back().p - d_.last.actual) > 0.0)) {
-    d_.path.push_back(PathPoint{d_.last.actual, d_.last.speed, o_.is_rapid_line && o_.is_rapid_line(d_.last.line)});
+    d_.path.push_back(ToolPathPoint{d_.last.actual, d_.last.speed, o_.is_rapid_line && o_.is_rapid_line(d_.last.line)});
   }
   d_.path_tolerance_mm = path_tol_;
   return std::move(d_);

@@ -64,7 +64,7 @@ struct TraceBucket {
 };
 
 /// A kept point of the tool path (actual, measured position, machine coordinates).
-struct PathPoint {
+struct ToolPathPoint {
   Vec3 p{};
   double speed = 0.0;  // commanded path speed there, mm/s
   bool rapid = false;  // the block in execution was a rapid (G00)
@@ -86,7 +86,7 @@ struct TraceDigest {
   double speed_max = 0.0;           // mm/s
   Vec3 ferr_abs_max{};              // mm, over the window
   std::vector<TraceBucket> buckets;
-  std::vector<PathPoint> path;
+  std::vector<ToolPathPoint> path;
   double path_tolerance_mm = 0.0;   // the tolerance finally used
   TraceRow last{};                  // the last row of the window
   bool saw_fault = false;           // FAULT, ESTOP or HOST_LOST appeared

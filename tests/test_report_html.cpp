@@ -1,0 +1,435 @@
+// test_report_html.cpp — the HTML run report and what it is made from: trace rows parsed and
+// digested (min/max buckets keep every peak, the path thins but keeps its ends), the run
+// summary's JSON round trip, the page's figures equal to the summary's, SVGs present and
+// non-empty, nothing fetched from the network; and the page rendered by headless Chromium
+// into a screenshot that is neither missing nor blank.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "progress.hpp"
+#include "report_html.hpp"
+#include "run_summary.hpp"
+#include "subprocess.hpp"
+#include "trace_reader.hpp"
+#include "trace_writer.hpp"
+
+namespace pcnc {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A summary with distinct, recognisable values in every figure the page shows.
+RunSummary sample_summary() {
+  RunSummary s;
+  s.program = "/tmp/some dir/part <1>.ngc";
+  s.machine = "desktop-mill";
+  s.config_path = "configs/desktop-mill.toml";
+  s.clock = "virtual";
+  s.contouring_at_start = true;
+  s.contouring_angle_deg = 10.0;
+  s.cycle_hz = 2000.0;
+  s.travel_max = {25, 25, 25};
+  s.lines = 1234;
+  s.moves = 1200;
+  s.warnings = 2;
+  s.transform.scale = 0.25;
+  s.transform.offset = {12.5, 12.5, 20.0};
+  s.min_point = {10.0, 11.0, 19.0};
+  s.max_point = {15.0, 14.0, 20.5};
+  s.last_point = {12.5, 12.5, 20.5};
+  s.feed_length_time_s = 41.2346;
+  s.end = "completed";
+  s.blocks_sent = 1201;
+  s.lines_read = 1234;
+  s.wall_time_s = 0.5;
+  s.refill_count = 1197;
+  s.refill_p50_us = 12.25;
+  s.refill_p99_us = 87.5;
+  s.refill_max_us = 301.0;
+  Status& st = s.final_status;
+  st.state = MachineState::kIdle;
+  st.program_done = 1;
+  st.clock_virtual = 1;
+  st.program_time_s = 47.8915;
+  st.blocks_done = 1201;
+  st.junction_flows = 876;
+  st.junction_stops = 324;
+  st.underruns = 3;
+  st.actual = {12.5001, 12.4999, 20.5002};
+  st.commanded = {12.5, 12.5, 20.5};
+  st.max_following_error = {0.00412, 0.00377, 0.00151};
+  st.program_cycles = 95783;
+  st.following_error_sq_sum = {95783 * 1e-6, 95783 * 4e-6, 95783 * 0.25e-6};  // RMS 1, 2, 0.5 µm
+  st.max_contour_error = 0.00734;
+  st.contour_error_sq_sum = 95783 * 9e-6;  // RMS 3 µm
+  st.timing.compute_p99_us = 3.25;
+  st.timing.compute_max_us = 17.5;
+  st.timing.wake_p99_us = 0.0;
+  st.timing.overruns = 0;
+  return s;
+}
+
+TraceRow row(double t, std::uint32_t line, MachineState state, Vec3 act, Vec3 ferr, double speed) {
+  TraceRow r;
+  r.t = t;
+  r.line = line;
+  r.state = state;
+  r.actual = act;
+  r.commanded = act + ferr;
+  r.following_error = ferr;
+  r.speed = speed;
+  return r;
+}
+
+// A square traced at 2 kHz: rapid on line 1, feed on lines 2..5, with a following-error
+// spike of 9 µm on Y in a single cycle.
+TraceDigest square_digest(std::size_t max_buckets = 100, std::size_t max_points = 100000) {
+  DigestOptions o;
+  o.max_buckets = max_buckets;
+  o.path_tolerance_mm = 0.01;
+  o.max_path_points = max_points;
+  o.is_rapid_line = [](std::uint32_t line) { return line == 1; };
+  TraceDigester d(o);
+  double t = 0.0;
+  for (int i = 0; i < 20; ++i) d.add(row(t += 0.0005, 0, MachineState::kIdle, {10, 11, 20}, {}, 0.0));
+  Vec3 p{10, 11, 20};
+  for (int i = 0; i < 200; ++i) {  // rapid: 1 mm in +X at 10 mm/s... then the square
+    p[0] += 0.005;
+    d.add(row(t += 0.0005, 1, MachineState::kRunning, p, {0.001, 0, 0}, 10.0));
+  }
+  const Vec3 dirs[4] = {{0, 1, 0}, {1, 0, 0}, {0, -1, 0}, {-1, 0, 0}};
+  int n = 0;
+  for (std::uint32_t side = 0; side < 4; ++side) {
+    for (int i = 0; i < 400; ++i, ++n) {
+      p = p + 0.005 * dirs[side];
+      const Vec3 ferr = n == 777 ? Vec3{0, 0.009, 0} : Vec3{0, 0.001, -0.0005};
+      d.add(row(t += 0.0005, 2 + side, MachineState::kRunning, p, ferr, 10.0));
+    }
+  }
+  for (int i = 0; i < 50; ++i) d.add(row(t += 0.0005, 6, MachineState::kIdle, p, {}, 0.0));
+  return d.finish();
+}
+
+TEST(TraceReader, ParsesTheWritersRows) {
+  TraceSample s;
+  s.t = 1.2345;
+  s.line = 17;
+  s.state = MachineState::kPaused;
+  s.commanded = {1.5, -2.25, 3.0};
+  s.actual = {1.4999, -2.2501, 2.9999};
+  s.following_error = {0.0001, 0.0001, 0.0001};
+  s.speed = 12.5;
+  TraceRow r;
+  ASSERT_TRUE(parse_trace_row(trace_csv_row(s), r)) << trace_csv_row(s);
+  EXPECT_DOUBLE_EQ(r.t, 1.2345);
+  EXPECT_EQ(r.line, 17u);
+  EXPECT_EQ(r.state, MachineState::kPaused);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_NEAR(r.commanded[i], s.commanded[i], 1e-7);
+    EXPECT_NEAR(r.actual[i], s.actual[i], 1e-7);
+    EXPECT_NEAR(r.following_error[i], s.following_error[i], 1e-7);
+  }
+  EXPECT_DOUBLE_EQ(r.speed, 12.5);
+  EXPECT_FALSE(parse_trace_row("1.0,2,RUNNING,1,2,3,4,5,6,7,8,9", r)) << "a field short";
+  EXPECT_FALSE(parse_trace_row("1.0,2,RUNNING,1,2,3,4,5,6,7,8,9,10,11", r)) << "a field too many";
+  EXPECT_FALSE(parse_trace_row("1.0,2,WALKING,1,2,3,4,5,6,7,8,9,10", r)) << "unknown state";
+  EXPECT_FALSE(parse_trace_row("1.0,x,RUNNING,1,2,3,4,5,6,7,8,9,10", r));
+}
+
+TEST(TraceReader, StreamsAFileAndRefusesOtherFiles) {
+  const std::string dir = test::make_temp_dir("trace_reader");
+  const std::string path = dir + "/t.csv";
+  {
+    std::ofstream f(path);
+    f << trace_csv_header() << "\n";
+    for (int i = 0; i < 1000; ++i) {
+      TraceSample s;
+      s.t = i * 0.0005;
+      s.line = static_cast<std::uint32_t>(i / 100);
+      s.state = MachineState::kRunning;
+      s.speed = i;
+      f << trace_csv_row(s) << "\n";
+    }
+  }
+  TraceReader reader(path);
+  TraceRow r;
+  double sum = 0.0;
+  while (reader.next(r)) sum += r.speed;
+  EXPECT_EQ(reader.rows(), 1000u);
+  EXPECT_DOUBLE_EQ(sum, 999.0 * 1000.0 / 2.0);
+
+  const std::string other = dir + "/other.csv";
+  std::ofstream(other) << "a,b,c\n1,2,3\n";
+  EXPECT_THROW(TraceReader{other}, std::runtime_error);
+  EXPECT_THROW(TraceReader{dir + "/missing.csv"}, std::runtime_error);
+  const std::string bad = dir + "/bad.csv";
+  std::ofstream(bad) << trace_csv_header() << "\nnot,a,row\n";
+  TraceReader bad_reader(bad);
+  EXPECT_THROW(bad_reader.next(r), std::runtime_error);
+  fs::remove_all(dir);
+}
+
+TEST(TraceDigest, KeepsPeaksWindowAndPathEnds) {
+  const TraceDigest d = square_digest(100);
+  EXPECT_EQ(d.rows, 20u + 200u + 1600u + 50u);
+  EXPECT_EQ(d.program_rows, 1800u) << "from the first RUNNING row to the last busy one";
+  EXPECT_NEAR(d.duration_s, 1799 * 0.0005, 1e-9);
+  EXPECT_LE(d.buckets.size(), 100u);
+  EXPECT_GE(d.buckets.size(), 50u) << "merging halves the count, never more";
+  double ymax = 0.0, zmin = 0.0;
+  std::uint64_t rows = 0;
+  for (const TraceBucket& b : d.buckets) {
+    ymax = std::max(ymax, b.ferr_max[1]);
+    zmin = std::min(zmin, b.ferr_min[2]);
+    rows += b.rows;
+    EXPECT_LE(b.t0, b.t1);
+  }
+  EXPECT_DOUBLE_EQ(ymax, 0.009) << "a one-cycle spike survives decimation";
+  EXPECT_DOUBLE_EQ(zmin, -0.0005);
+  EXPECT_EQ(rows, d.program_rows);
+  EXPECT_DOUBLE_EQ(d.ferr_abs_max[1], 0.009);
+  EXPECT_DOUBLE_EQ(d.speed_max, 10.0);
+
+  // path: the rapid is marked, the corners are kept, the last point is the final position
+  ASSERT_GE(d.path.size(), 5u);
+  EXPECT_TRUE(d.path[1].rapid);
+  EXPECT_FALSE(d.path.back().rapid);
+  const Vec3 end{11.0, 11.0, 20.0};
+  EXPECT_NEAR(norm(d.path.back().p - end), 0.0, 1e-9);
+  for (const Vec3 corner : {Vec3{11, 13, 20}, Vec3{13, 13, 20}, Vec3{13, 11, 20}}) {
+    double best = 1e9;
+    for (const ToolPathPoint& q : d.path) best = std::min(best, norm(q.p - corner));
+    EXPECT_LT(best, 0.0101) << "corner " << corner[0] << "," << corner[1];
+  }
+}
+
+TEST(TraceDigest, ThinsAPathThatOutgrowsItsBudget) {
+  const TraceDigest wide = square_digest(100, 100000);
+  const TraceDigest thin = square_digest(100, 100);
+  EXPECT_LE(thin.path.size(), 101u);
+  EXPECT_LT(thin.path.size(), wide.path.size());
+  EXPECT_GT(thin.path_tolerance_mm, wide.path_tolerance_mm);
+  EXPECT_NEAR(norm(thin.path.back().p - wide.path.back().p), 0.0, 1e-12) << "the end point is kept";
+}
+
+TEST(RunSummary, JsonRoundTrip) {
+  const RunSummary a = sample_summary();
+  const RunSummary b = run_summary_from_json(nlohmann::json::parse(to_json(a).dump()));
+  EXPECT_EQ(to_json(a), to_json(b));
+  EXPECT_EQ(b.program, a.program);
+  EXPECT_EQ(b.final_status.junction_flows, 876u);
+  EXPECT_DOUBLE_EQ(b.final_status.program_time_s, 47.8915);
+  EXPECT_DOUBLE_EQ(b.transform.scale, 0.25);
+  nlohmann::json broken = to_json(a);
+  broken["status"].erase("underruns");
+  EXPECT_THROW(run_summary_from_json(broken), nlohmann::json::exception);
+  const Vec3 rms = rms_following_error(a.final_status);
+  EXPECT_NEAR(rms[0], 0.001, 1e-12);
+  EXPECT_NEAR(rms[1], 0.002, 1e-12);
+  EXPECT_NEAR(rms[2], 0.0005, 1e-12);
+  EXPECT_NEAR(rms_contour_error(a.final_status), 0.003, 1e-12);
+}
+
+std::string span(const std::string& html, const std::string& id) {
+  const std::regex re("id=\"" + id + "\">([^<]*)<");
+  std::smatch m;
+  return std::regex_search(html, m, re) ? m[1].str() : std::string("(missing " + id + ")");
+}
+
+ReportPage sample_page() {
+  ReportPage page;
+  page.summary = sample_summary();
+  page.trace = square_digest();
+  page.has_trace = true;
+  return page;
+}
+
+TEST(ReportHtml, FiguresEqualTheSummary) {
+  const std::string html = render_report_html(sample_page());
+  EXPECT_EQ(span(html, "machine-time"), "47.892");
+  EXPECT_EQ(span(html, "feed-time"), "41.235");
+  EXPECT_EQ(span(html, "time-ratio"), "1.161");
+  EXPECT_EQ(span(html, "replay-speed"), "96");
+  EXPECT_EQ(span(html, "lines"), "1234");
+  EXPECT_EQ(span(html, "blocks-sent"), "1201");
+  EXPECT_EQ(span(html, "junction-flows"), "876");
+  EXPECT_EQ(span(html, "junction-stops"), "324");
+  EXPECT_EQ(span(html, "ferr-max-x"), "4.12");
+  EXPECT_EQ(span(html, "ferr-max-y"), "3.77");
+  EXPECT_EQ(span(html, "ferr-max-z"), "1.51");
+  EXPECT_EQ(span(html, "ferr-rms-x"), "1.00");
+  EXPECT_EQ(span(html, "ferr-rms-y"), "2.00");
+  EXPECT_EQ(span(html, "ferr-rms-z"), "0.50");
+  EXPECT_EQ(span(html, "contour-max"), "7.34");
+  EXPECT_EQ(span(html, "contour-rms"), "3.00");
+  EXPECT_EQ(span(html, "underruns"), "3");
+  EXPECT_EQ(span(html, "rt-compute-p99"), "3.25");
+  EXPECT_EQ(span(html, "refill-p99"), "87.5");
+  EXPECT_EQ(span(html, "scale"), "0.250000");
+  EXPECT_EQ(span(html, "offset-z"), "20.0000");
+  EXPECT_EQ(span(html, "final-x"), "12.5001");
+  EXPECT_EQ(span(html, "last-point-z"), "20.5000");
+  EXPECT_EQ(span(html, "result"), "completed");
+  // the program name is escaped, not markup
+  EXPECT_NE(html.find("part &lt;1&gt;.ngc"), std::string::npos);
+  EXPECT_EQ(html.find("part <1>"), std::string::npos);
+}
+
+// Every <svg ...>...</svg> element of the page.
+std::vector<std::string> svgs(const std::string& html) {
+  std::vector<std::string> out;
+  std::size_t at = 0;
+  while ((at = html.find("<svg", at)) != std::string::npos) {
+    const std::size_t end = html.find("</svg>", at);
+    if (end == std::string::npos) break;
+    out.push_back(html.substr(at, end + 6 - at));
+    at = end;
+  }
+  return out;
+}
+
+TEST(ReportHtml, PicturesArePresentAndSelfContained) {
+  const ReportPage page = sample_page();
+  const std::string html = render_report_html(page);
+  const auto all = svgs(html);
+  ASSERT_EQ(all.size(), 4u) << "isometric, top view, speed, following error";
+  EXPECT_NE(all[0].find("class=\"toolpath\""), std::string::npos);
+  EXPECT_NE(all[1].find("class=\"topview\""), std::string::npos);
+  EXPECT_NE(all[2].find("class=\"speed-plot\""), std::string::npos);
+  EXPECT_NE(all[3].find("class=\"ferr-plot\""), std::string::npos);
+  for (const std::string& svg : all) EXPECT_NE(svg.find("<polyline"), std::string::npos) << svg.substr(0, 80);
+  // tool path: rapids and feeds, the red dot at the final position
+  EXPECT_NE(all[0].find("class=\"rapid\""), std::string::npos);
+  EXPECT_NE(all[0].find("class=\"feed\""), std::string::npos);
+  EXPECT_NE(all[0].find("id=\"final-tool\""), std::string::npos);
+  EXPECT_NE(all[0].find("fill=\"#ff2d2d\""), std::string::npos);
+  // three following-error series
+  std::size_t series = 0;
+  for (std::size_t at = 0; (at = all[3].find("class=\"series\"", at)) != std::string::npos; ++at) ++series;
+  EXPECT_EQ(series, 3u);
+  // nothing loaded from elsewhere
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_EQ(html.find("https://"), std::string::npos);
+  EXPECT_EQ(html.find("<link"), std::string::npos);
+  EXPECT_EQ(html.find("@import"), std::string::npos);
+  EXPECT_EQ(html.find("url(http"), std::string::npos);
+}
+
+TEST(ReportHtml, WithoutATraceSaysSo) {
+  ReportPage page;
+  page.summary = sample_summary();
+  page.trace_note = "the run was made without a trace";
+  const std::string html = render_report_html(page);
+  EXPECT_NE(html.find("no trace"), std::string::npos);
+  EXPECT_EQ(span(html, "machine-time"), "47.892") << "the figures are there all the same";
+}
+
+TEST(Progress, LineFormatRoundTripAndView) {
+  const ProgressUpdate u{1234, 5000, 61.5};
+  const auto back = parse_progress_update(format_progress_update(u));
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->line, 1234u);
+  EXPECT_EQ(back->total_lines, 5000u);
+  EXPECT_DOUBLE_EQ(back->machine_time_s, 61.5);
+  EXPECT_FALSE(parse_progress_update("progress 1 2"));
+  EXPECT_FALSE(parse_progress_update("done"));
+  EXPECT_FALSE(parse_progress_update("progress 1 2 3 4"));
+
+  const ProgressView v = make_progress_view(u, 10.0);
+  EXPECT_NEAR(v.fraction, 0.2468, 1e-12);
+  ASSERT_TRUE(v.remaining_s);
+  EXPECT_NEAR(*v.remaining_s, 10.0 * (1 - 0.2468) / 0.2468, 1e-9);
+  EXPECT_FALSE(make_progress_view({10, 5000, 1.0}, 3.0).remaining_s) << "no guess before 1 %";
+  const std::string bar = format_progress_bar(v, u, 20);
+  EXPECT_EQ(bar.substr(0, 22), "[####................]");
+  EXPECT_NE(bar.find("24.7 %"), std::string::npos) << bar;
+  EXPECT_NE(bar.find("line 1234/5000"), std::string::npos) << bar;
+  EXPECT_NE(bar.find("elapsed 0:10"), std::string::npos) << bar;
+  EXPECT_NE(bar.find("left 0:31"), std::string::npos) << bar;
+  EXPECT_EQ(format_duration(3725), "1:02:05");
+  EXPECT_EQ(format_duration(75), "1:15");
+}
+
+TEST(Progress, PlainLinesWhenNotATerminal) {
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  EXPECT_FALSE(ProgressDisplay::is_terminal(f));
+  ProgressDisplay d(f, false, 0.0);  // every update logs
+  d.update({100, 1000, 5.0});
+  d.update({200, 1000, 10.0});
+  d.finish();
+  std::rewind(f);
+  char buf[512];
+  std::string text;
+  while (std::fgets(buf, sizeof buf, f)) text += buf;
+  std::fclose(f);
+  EXPECT_NE(text.find("pcnc: line 100/1000 (10.0 %)"), std::string::npos) << text;
+  EXPECT_NE(text.find("pcnc: line 200/1000 (20.0 %)"), std::string::npos) << text;
+  EXPECT_EQ(text.find('\r'), std::string::npos) << "no terminal control in a log";
+  EXPECT_EQ(text.find("\x1b["), std::string::npos);
+}
+
+// ---- headless Chromium: the page renders and is not blank ----
+
+std::string find_chromium() {
+  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"}) {
+    if (fs::exists(p)) return p;
+  }
+  return "";
+}
+
+// PNG: signature, IHDR width and height (big-endian at bytes 16..23).
+bool png_size(const std::string& data, std::uint32_t& w, std::uint32_t& h) {
+  if (data.size() < 24 || data.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) return false;
+  auto be = [&](std::size_t at) {
+    return (static_cast<std::uint32_t>(static_cast<unsigned char>(data[at])) << 24) |
+           (static_cast<std::uint32_t>(static_cast<unsigned char>(data[at + 1])) << 16) |
+           (static_cast<std::uint32_t>(static_cast<unsigned char>(data[at + 2])) << 8) |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(data[at + 3]));
+  };
+  w = be(16);
+  h = be(20);
+  return true;
+}
+
+TEST(ReportChromium, RendersAScreenshotThatIsNotBlank) {
+  const std::string chromium = find_chromium();
+  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (tools/install-deps.sh installs it): the headless rendering test did not run";
+  const std::string dir = test::make_temp_dir("chromium");
+  const std::string html = dir + "/report.html";
+  std::ofstream(html) << render_report_html(sample_page());
+  const std::string png = dir + "/report.png";
+  const std::string blank_html = dir + "/blank.html", blank_png = dir + "/blank.png";
+  std::ofstream(blank_html) << "<!DOCTYPE html><html><body style=\"background:#f3f4f7\"></body></html>";
+  auto shoot = [&](const std::string& page, const std::string& out) {
+    return test::run_process({chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                              "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                              "--user-data-dir=" + out + ".profile", "--screenshot=" + out,
+                              "--window-size=1200,1600", "file://" + page},
+                             120);
+  };
+  const test::ProcessResult r = shoot(html, png);
+  ASSERT_TRUE(fs::exists(png)) << "exit " << r.exit_code << "\n" << r.err;
+  const test::ProcessResult rb = shoot(blank_html, blank_png);
+  ASSERT_TRUE(fs::exists(blank_png)) << rb.err;
+
+  const std::string data = test::read_file(png), blank = test::read_file(blank_png);
+  std::uint32_t w = 0, h = 0;
+  ASSERT_TRUE(png_size(data, w, h)) << "not a PNG";
+  EXPECT_EQ(w, 1200u);
+  EXPECT_EQ(h, 1600u);
+  // A blank page of the same size compresses to almost nothing; the report's lines, text and
+  // colours do not. (Sizes seen: blank about 10 kB, the report over 100 kB.)
+  EXPECT_GT(data.size(), 60000u) << "the screenshot is suspiciously small";
+  EXPECT_GT(data.size(), 5 * blank.size()) << "report " << data.size() << " bytes vs blank " << blank.size();
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pcnc
