@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libboost-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libtomlplusplus-dev nlohmann-json3-dev
   clang libclang-rt-14-dev stress-ng
+  chromium   # headless rendering test of the HTML run report (tests/test_report_html.cpp)
 )
 
 missing=()
