@@ -3,6 +3,8 @@
 
 #include <cstdio>
 
+#include "run_summary.hpp"
+
 namespace pcnc {
 
 Vec3 to_program_coordinates(const Vec3& machine, const Transform& t) {
@@ -13,6 +15,7 @@ std::string format_run_report(const RunReport& r) {
   const Status& s = r.job.final_status;
   const Transform& t = r.check.transform;
   const Vec3 prog = to_program_coordinates(s.actual, t);
+  const Vec3 rms = rms_following_error(s);
   char buf[4096];
   int n = std::snprintf(
       buf, sizeof buf,
@@ -26,7 +29,9 @@ std::string format_run_report(const RunReport& r) {
       "  final position    machine X%.4f Y%.4f Z%.4f mm; program X%.4f Y%.4f Z%.4f\n"
       "  commanded         X%.4f Y%.4f Z%.4f mm\n"
       "  max follow. error X %.2f um  Y %.2f um  Z %.2f um\n"
-      "  ring underruns    %llu\n"
+      "  RMS follow. error X %.2f um  Y %.2f um  Z %.2f um\n"
+      "  contour error     max %.2f um, RMS %.2f um (measured position to the programmed path)\n"
+      "  ring underruns    %llu (host slot refill p99 %.1f us)\n"
       "  rt cycle          compute p99 %.2f us max %.2f us; wake-up p99 %.1f us max %.1f us; %llu overruns\n",
       r.program.c_str(), to_string(r.job.end), r.job.message.empty() ? "" : ": ", r.job.message.c_str(),
       s.program_time_s, r.job.wall_time_s, s.clock_virtual ? "virtual" : "real", r.check.feed_length_time_s,
@@ -34,8 +39,9 @@ std::string format_run_report(const RunReport& r) {
       static_cast<unsigned long long>(s.blocks_done), static_cast<unsigned long long>(s.junction_flows),
       static_cast<unsigned long long>(s.junction_stops), t.scale, t.offset[0], t.offset[1], t.offset[2], s.actual[0],
       s.actual[1], s.actual[2], prog[0], prog[1], prog[2], s.commanded[0], s.commanded[1], s.commanded[2], s.max_following_error[0] * 1000.0,
-      s.max_following_error[1] * 1000.0, s.max_following_error[2] * 1000.0,
-      static_cast<unsigned long long>(s.underruns), s.timing.compute_p99_us, s.timing.compute_max_us,
+      s.max_following_error[1] * 1000.0, s.max_following_error[2] * 1000.0, rms[0] * 1000.0, rms[1] * 1000.0,
+      rms[2] * 1000.0, s.max_contour_error * 1000.0, rms_contour_error(s) * 1000.0,
+      static_cast<unsigned long long>(s.underruns), r.job.refill_latency.quantile(0.99), s.timing.compute_p99_us, s.timing.compute_max_us,
       s.timing.wake_p99_us, s.timing.wake_max_us, static_cast<unsigned long long>(s.timing.overruns));
   return std::string(buf, static_cast<std::size_t>(n > 0 ? n : 0));
 }
