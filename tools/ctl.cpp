@@ -365,6 +365,11 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
     const std::string name = s.name;
     sub->callback([&exit_code, name] {
       exit_code = simple_call(o, name, json::object(), [](const json& r) {
+        if (r.value("resumed", false)) {
+          std::printf("resumed %s at line %d from %s mm\n", r.value("file", "?").c_str(), r.value("line", 0),
+                      xyz(r.value("from", json())).c_str());
+          return;
+        }
         std::printf("ok%s%s\n", r.contains("state") ? ": " : "", r.contains("state") ? r["state"].get<std::string>().c_str() : "");
         if (r.contains("note")) std::printf("%s\n", r["note"].get<std::string>().c_str());
       });
