@@ -365,6 +365,15 @@ json status_to_json(const Status& s) {
   j["velocity"] = vec3_to_json(s.velocity);
   j["following_error"] = vec3_to_json(s.following_error);
   j["max_following_error"] = vec3_to_json(s.max_following_error);
+  if (s.program_cycles > 0) {
+    const double n = static_cast<double>(s.program_cycles);
+    j["rms_following_error"] = json{{"x", std::sqrt(s.following_error_sq_sum[0] / n)},
+                                    {"y", std::sqrt(s.following_error_sq_sum[1] / n)},
+                                    {"z", std::sqrt(s.following_error_sq_sum[2] / n)}};
+    j["rms_contour_error"] = std::sqrt(s.contour_error_sq_sum / n);
+  }
+  j["contour_error"] = s.contour_error;
+  j["max_contour_error"] = s.max_contour_error;
   j["path_speed"] = s.path_speed;
   j["feed_override_percent"] = s.feed_override * 100.0;
   j["ring_fill"] = s.ring_fill;

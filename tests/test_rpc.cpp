@@ -268,7 +268,12 @@ TEST(RpcReply, StatusObject) {
   s.timing.compute_p99_us = 7.5;
   s.fault = FaultCode::kFollowingError;
   s.fault_axis = 1;
+  s.program_cycles = 4;
+  s.following_error_sq_sum = {4.0 * 0.01, 0.0, 0.0};
+  s.max_contour_error = 0.02;
   const json j = rpc::status_to_json(s);
+  EXPECT_NEAR(j["rms_following_error"]["x"].get<double>(), 0.1, 1e-12);
+  EXPECT_EQ(j["max_contour_error"], 0.02);
   EXPECT_EQ(j["state"], "RUNNING");
   EXPECT_EQ(j["line"], 12);
   EXPECT_EQ(j["commanded"]["z"], 3.0);
