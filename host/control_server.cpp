@@ -124,6 +124,7 @@ void ControlServer::accept_clients() {
     const ClientId id = next_id_++;
     Client c;
     c.fd = fd;
+    c.progress = std::chrono::steady_clock::now();
     c.uid = cred.uid;
     c.pid = cred.pid;
     clients_.emplace(id, std::move(c));
@@ -147,6 +148,7 @@ void ControlServer::read_client(ClientId id, Client& c) {
 }
 
 void ControlServer::flush_client(ClientId id, Client& c) {
+  if (c.out_sent == c.out.size()) c.progress = std::chrono::steady_clock::now();
   while (c.out_sent < c.out.size()) {
     const ssize_t n = ::send(c.fd, c.out.data() + c.out_sent, c.out.size() - c.out_sent, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n < 0) {
@@ -155,6 +157,7 @@ void ControlServer::flush_client(ClientId id, Client& c) {
       return;
     }
     c.out_sent += static_cast<std::size_t>(n);
+    c.progress = std::chrono::steady_clock::now();
   }
   if (c.out_sent == c.out.size()) {
     c.out.clear();
@@ -169,6 +172,7 @@ bool ControlServer::send(ClientId client, std::string_view line) {
   auto it = clients_.find(client);
   if (it == clients_.end() || it->second.fd < 0) return false;
   Client& c = it->second;
+  if (c.out_sent == c.out.size()) c.progress = std::chrono::steady_clock::now();  // the stall clock starts now
   c.out.append(line);
   if (c.out.size() - c.out_sent > limits_.max_output_bytes) {
     spdlog::warn("control socket: dropping client {} (pid {}): more than {} bytes of replies queued, it does not read",
@@ -246,9 +250,11 @@ void ControlServer::run(const std::atomic<bool>& stop, double tick_s) {
     bool backlog = false;  // some client has complete lines waiting (fairness cap hit)
     for (auto& [id, c] : clients_) {
       if (c.fd < 0) continue;
+      const bool throttled = c.out.size() - c.out_sent > limits_.throttle_bytes;
       const bool pending_line = c.in.find('\n') != std::string::npos;
-      backlog = backlog || pending_line;
-      short events = pending_line || c.eof ? 0 : POLLIN;  // finish buffered lines before reading more
+      backlog = backlog || (pending_line && !throttled);
+      // Finish buffered lines before reading more; read nothing while its replies pile up.
+      short events = pending_line || c.eof || throttled ? 0 : POLLIN;
       if (c.out_sent < c.out.size()) events |= POLLOUT;
       fds.push_back({c.fd, events, 0});
       ids.push_back(id);
@@ -276,7 +282,7 @@ void ControlServer::run(const std::atomic<bool>& stop, double tick_s) {
     for (auto& [id, c] : clients_) {
       std::size_t handled = 0;
       std::size_t start = 0;
-      while (c.fd >= 0 && handled < limits_.max_lines_per_turn) {
+      while (c.fd >= 0 && handled < limits_.max_lines_per_turn && c.out.size() - c.out_sent <= limits_.throttle_bytes) {
         const std::size_t nl = c.in.find('\n', start);
         const std::size_t len = (nl == std::string::npos ? c.in.size() : nl) - start;
         if (len > limits_.max_line_bytes) {
@@ -295,6 +301,15 @@ void ControlServer::run(const std::atomic<bool>& stop, double tick_s) {
       }
       if (c.fd >= 0 && start > 0) c.in.erase(0, start);
       if (c.fd >= 0 && c.eof && c.in.find('\n') == std::string::npos) disconnect(id);
+    }
+    // A client whose replies have not moved for the stall timeout does not read: drop it.
+    const auto stall = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(limits_.stall_timeout_s));
+    for (auto& [id, c] : clients_) {
+      if (c.fd >= 0 && c.out_sent < c.out.size() && clock::now() - c.progress > stall) {
+        spdlog::warn("control socket: dropping client {} (pid {}): it does not read its replies ({} bytes pending for {:.1f} s)", id,
+                     c.pid, c.out.size() - c.out_sent, limits_.stall_timeout_s);
+        drop(id, nullptr);
+      }
     }
     if (clock::now() >= next_tick) {
       next_tick += tick;

@@ -4,14 +4,17 @@
 // It knows nothing about JSON or the machine: it checks each peer's uid (SO_PEERCRED), cuts
 // the input into lines with a bounded buffer per client (a line over the limit is answered
 // with `too_long_reply` and the client is dropped), queues output per client with a bound
-// (a client that stops reading is dropped once its queue exceeds the limit), and never
-// blocks on any client: all sockets are non-blocking. Other threads hand work to the loop
+// (a client that reads slowly is throttled: its requests are not read while its replies pile
+// up; one that does not read at all is dropped when its queue makes no progress for
+// stall_timeout_s or exceeds the hard limit), and never blocks on any client: all sockets
+// are non-blocking. Other threads hand work to the loop
 // with post(), which wakes it through an eventfd.
 #pragma once
 
 #include <sys/types.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -27,6 +30,8 @@ using ClientId = std::uint64_t;
 struct ServerLimits {
   std::size_t max_line_bytes = 64 * 1024;      // a request line longer than this: error + disconnect
   std::size_t max_output_bytes = 1024 * 1024;  // queued replies beyond this: the client is dropped
+  std::size_t throttle_bytes = 256 * 1024;     // above this, the client's requests wait (not read)
+  double stall_timeout_s = 5.0;                // output pending without progress this long: dropped
   std::size_t max_clients = 64;                // further connections are refused with a message
   std::size_t max_lines_per_turn = 256;        // lines handled per client per loop turn (fairness)
 };
@@ -80,6 +85,7 @@ class ControlServer {
     std::string out;
     std::size_t out_sent = 0;  // bytes of `out` already written
     bool eof = false;          // the peer closed its side: answer its lines, then close
+    std::chrono::steady_clock::time_point progress{};  // last time its output queue moved or was empty
   };
 
   void accept_clients();
