@@ -24,7 +24,20 @@ std::uint64_t monotonic_ns() {
 
 bool process_alive(int pid) {
   if (pid <= 0) return false;
-  return kill(pid, 0) == 0 || errno == EPERM;
+  if (kill(pid, 0) != 0 && errno != EPERM) return false;
+  // An exited process that its parent has not reaped yet (a zombie) still answers kill(0):
+  // read its state from /proc, so a crashed rt's segment can be recovered at once.
+  char path[64];
+  std::snprintf(path, sizeof path, "/proc/%d/stat", pid);
+  std::FILE* f = std::fopen(path, "r");
+  if (!f) return true;
+  char buf[512];
+  const std::size_t n = std::fread(buf, 1, sizeof buf - 1, f);
+  std::fclose(f);
+  buf[n] = 0;
+  const char* paren = std::strrchr(buf, ')');  // the command name may contain spaces
+  if (!paren || paren[1] == 0 || paren[2] == 0) return true;
+  return paren[2] != 'Z' && paren[2] != 'X';
 }
 
 namespace {
