@@ -127,6 +127,35 @@ TEST(Segment, StaleSegmentOfACrashedRtIsRecovered) {
   EXPECT_FALSE(segment_exists(name)) << "a clean exit removes the segment";
 }
 
+TEST(Segment, ZombieRtCountsAsGone) {
+  // An rt that died but was not reaped yet (its parent, e.g. a launcher, is busy) must not
+  // block the next rt from recovering the segment.
+  const std::string name = unique_name("zombie");
+  int ready[2];
+  ASSERT_EQ(pipe(ready), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    new RtSegment(name);  // never destroyed: the child "crashes"
+    char c = 1;
+    (void)!write(ready[1], &c, 1);
+    _exit(0);
+  }
+  char c;
+  ASSERT_EQ(read(ready[0], &c, 1), 1);
+  // wait until the child has exited (zombie), without reaping it
+  siginfo_t info{};
+  ASSERT_EQ(waitid(P_PID, static_cast<id_t>(child), &info, WEXITED | WNOWAIT), 0);
+  EXPECT_FALSE(process_alive(child)) << "a zombie is not a running rt";
+  std::string note;
+  {
+    RtSegment rt(name, &note);
+    EXPECT_NE(note.find(std::to_string(child)), std::string::npos) << note;
+  }
+  waitpid(child, nullptr, 0);
+  EXPECT_TRUE(process_alive(getpid()));
+}
+
 TEST(Segment, LiveRtSegmentIsNotStolen) {
   const std::string name = unique_name("live");
   int ready[2];
