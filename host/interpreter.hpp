@@ -4,11 +4,14 @@
 // offsets, path control, distance mode, motion, stop) and emits Moves in machine millimetres.
 // Every word is executed, accepted with a warning (no meaning on this machine) or rejected with
 // an error naming the word; docs/gcode.md is the list. The interpreter holds O(1) state, so it
-// streams programs of any length.
+// streams programs of any length; the one exception is an open NURBS group (G5.2 ... G5.3,
+// G6.2 ... closing knots), whose control points it collects (at most kMaxNurbsCurvePoints)
+// until the curve is complete and handed on as one Move.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "config.hpp"
 #include "diagnostics.hpp"
@@ -48,6 +51,8 @@ class Interpreter {
 
   /// True once M2/M30 has been executed.
   bool ended() const { return ended_; }
+  /// The input ended (end of file or closing '%') at `line`: reports a NURBS group left open.
+  void end_of_input(int line);
   /// The End move used when the file ends without M2/M30.
   Move end_move(int line) const;
   /// Current position, machine coordinates.
@@ -60,7 +65,12 @@ class Interpreter {
 
  private:
   bool check_words(const ParsedLine& l);
-  bool nurbs_motion(const ParsedLine& l, int motion, MoveList& out);
+  bool nurbs_open(const ParsedLine& l, int motion, MoveList& out);
+  bool nurbs_line(const ParsedLine& l, MoveList& out);
+  bool nurbs_point_line(const ParsedLine& l);
+  bool nurbs_knot(const ParsedLine& l);
+  bool nurbs_close(const ParsedLine& l, MoveList& out);
+  void nurbs_abandon();
   bool straight(const ParsedLine& l, int motion, bool g53, MoveList& out);
   bool arc(const ParsedLine& l, int motion, MoveList& out);
   bool home(const ParsedLine& l, MoveList& out);
@@ -99,6 +109,24 @@ class Interpreter {
   double feed_ = 0.0;  // F as written, current units per minute
   bool contouring_ = false;
   bool ended_ = false;
+
+  // An open NURBS group: LinuxCNC's G5.2 ... G5.3 or Fanuc's G6.2 ... closing knot-only lines.
+  struct NurbsGroup {
+    bool open = false;
+    bool fanuc = false;    // G6.2 (explicit knots), else G5.2
+    bool failed = false;   // an error was reported inside: read to its end without a move
+    int line = 0;          // the opening line and the column of its G word
+    int column = 0;
+    int order = 3;
+    int closing = 0;       // G6.2: knot-only lines read so far
+    int normal_axis = 2;   // G5.2: plane at the opening line
+    double feed_mm_s = 0.0;
+    std::uint8_t known = 0;
+    std::vector<Vec3> points;  // job frame, mm; the first is the position at the opening line
+    std::vector<double> weights;
+    std::vector<double> knots;  // G6.2 only
+  };
+  NurbsGroup nurbs_;
 };
 
 }  // namespace pcnc

@@ -2,16 +2,21 @@
 //
 // The interpreter has already applied units (G20/G21), distance mode (G90/G91), the work offset
 // (G54-G59 or --offset) and the --fit scale, and resolved arcs (I/J/K or R form) to a center,
-// radius and signed sweep. The preprocessor turns a Move into a ring Block.
+// radius and signed sweep. The preprocessor turns a Move into a ring Block; a NURBS move
+// (G5.2/G6.2) carries its whole curve and becomes one or more blocks (host/nurbs_move.hpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 
 #include "vec3.hpp"
 
 namespace pcnc {
 
-enum class MoveKind : std::uint8_t { kRapid, kLine, kArc, kDwell, kPause, kEnd };
+enum class MoveKind : std::uint8_t { kRapid, kLine, kArc, kDwell, kPause, kEnd, kNurbs };
+
+struct NurbsCurve;
 
 struct Move {
   MoveKind kind = MoveKind::kLine;
@@ -33,6 +38,10 @@ struct Move {
   double radius = 0.0;
   double sweep = 0.0;
   int normal_axis = 2;
+
+  // kNurbs: the validated curve in machine coordinates (first control point = start, last =
+  // end), shared so that copying a Move stays cheap; feed_mm_s is its programmed feed.
+  std::shared_ptr<const NurbsCurve> nurbs;
 };
 
 /// A straight move without displacement: checked (it may move under another transform) but

@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <string>
 
+#include "nurbs.hpp"
+#include "nurbs_move.hpp"
+
 namespace pcnc {
 namespace {
 constexpr double kLimitEps = 1e-6;  // mm: rounding of the program's own numbers
@@ -24,6 +27,10 @@ double move_length(const Move& m) {
     return std::hypot(m.radius * m.sweep, helix);
   }
   if (m.kind == MoveKind::kRapid || m.kind == MoveKind::kLine) return norm(m.end - m.start);
+  if (m.kind == MoveKind::kNurbs && m.nurbs) {
+    const NurbsView v = m.nurbs->view();
+    return nurbs_arc_length(v, v.u_min(), v.u_max());
+  }
   return 0.0;
 }
 
@@ -47,6 +54,7 @@ void Preflight::check_point(const Move& m, const Vec3& p) {
                                 : "below the travel minimum " + mm(a.travel_min_mm)) +
                          " mm";
       if (m.kind == MoveKind::kArc && p != m.end) what += " (arc extreme point)";
+      if (m.kind == MoveKind::kNurbs && p != m.end) what += " (a point of the NURBS curve)";
       what +=
           m.machine_frame
               ? "; expected a machine coordinate inside the travel"
@@ -56,7 +64,51 @@ void Preflight::check_point(const Move& m, const Vec3& p) {
   }
 }
 
+// A NURBS move: the curve itself (its extreme points) against the travel, and, as the block
+// stream will need it, its control polygon brought inside the travel by knot insertion.
+void Preflight::add_nurbs(const Move& m) {
+  ++moves_;
+  nurbs_extreme_points(*m.nurbs, points_);
+  // The curve's lowest and highest coordinate per axis (two corners of its bounding box):
+  // one soft-limit report per axis and side per curve, naming the true extreme.
+  Vec3 lo = m.end, hi = m.end;
+  for (const Vec3& p : points_) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      lo[i] = std::min(lo[i], p[i]);
+      hi[i] = std::max(hi[i], p[i]);
+    }
+  }
+  std::uint64_t before = 0;
+  for (const std::uint64_t v : violations_) before += v;
+  check_point(m, m.end);
+  check_point(m, lo);
+  check_point(m, hi);
+  std::uint64_t after = 0;
+  for (const std::uint64_t v : violations_) after += v;
+  if (check_limits_ && after == before) {
+    const double margin = nurbs_travel_margin(config_);
+    bool polygon_out = false;
+    for (const Vec3& p : m.nurbs->points) {
+      for (int i = 0; i < kAxes; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        if (p[k] < config_.axes[k].travel_min_mm - margin || p[k] > config_.axes[k].travel_max_mm + margin)
+          polygon_out = true;
+      }
+    }
+    if (polygon_out) {
+      NurbsCurve c = *m.nurbs;
+      if (std::string why = refine_into_travel(c, config_, margin); !why.empty()) sink_.error(m.line, m.column, why);
+    }
+  }
+  if (m.feed_mm_s > 0.0) feed_time_s_ += move_length(m) / m.feed_mm_s;
+  last_ = m.end;
+}
+
 void Preflight::add(const Move& m) {
+  if (m.kind == MoveKind::kNurbs && m.nurbs) {
+    add_nurbs(m);
+    return;
+  }
   if (m.kind != MoveKind::kRapid && m.kind != MoveKind::kLine && m.kind != MoveKind::kArc) {
     last_ = m.end;
     return;

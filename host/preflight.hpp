@@ -1,7 +1,8 @@
 // preflight.hpp — checks every move of a program before anything moves.
 //
-// Soft limits (every end point and every arc's extreme points against the configured travel,
-// in machine coordinates after work offset and --fit scale), and the program's figures: extents,
+// Soft limits (every end point, every arc's extreme points and every NURBS curve's extreme
+// points against the configured travel, in machine coordinates after work offset and --fit
+// scale), and the program's figures: extents,
 // move count, last point, feed time. Also the --fit transform computed from the extents.
 // O(1) memory: only the first violation per axis and side is reported, then counted.
 #pragma once
@@ -10,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "config.hpp"
 #include "diagnostics.hpp"
@@ -53,6 +55,7 @@ class Preflight {
 
  private:
   void check_point(const Move& m, const Vec3& p);
+  void add_nurbs(const Move& m);
   const MachineConfig& config_;
   DiagnosticSink& sink_;
   bool check_limits_;
@@ -62,6 +65,7 @@ class Preflight {
   Vec3 last_{};
   double feed_time_s_ = 0.0;
   std::array<std::uint64_t, 6> violations_{};  // per axis: [2*i] below min, [2*i+1] above max
+  std::vector<Vec3> points_;                     // scratch: a NURBS curve's extreme points
 };
 
 /// The --fit transform for program points spanning `box` (machine coordinates under the frame
@@ -73,7 +77,7 @@ struct FitResult {
 };
 FitResult fit_to_travel(const Box& box, const Vec3& offset, const MachineConfig& config);
 
-/// Path length of a move (line: distance; arc: helix length).
+/// Path length of a move (line: distance; arc: helix length; NURBS: arc length).
 double move_length(const Move& m);
 
 // ---- template implementation ----

@@ -189,6 +189,11 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
       b.optional_stop = m.optional_stop ? 1 : 0;
       break;
     case MoveKind::kEnd: b.kind = BlockKind::kEnd; break;
+    case MoveKind::kNurbs:
+      // A NURBS move becomes several blocks: plan_nurbs_move (host/nurbs_move.hpp). Here it
+      // stays an empty NURBS block, which the rt refuses: never a silent wrong move.
+      b.kind = BlockKind::kNurbs;
+      break;
   }
 }
 

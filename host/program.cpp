@@ -9,6 +9,7 @@
 #include "interpreter.hpp"
 #include "lexer.hpp"
 #include "line_reader.hpp"
+#include "nurbs_move.hpp"
 #include "parser.hpp"
 #include "preflight.hpp"
 #include "preprocessor.hpp"
@@ -90,6 +91,7 @@ class MoveSource {
       return;
     }
     // End of input (or closing '%') without M2/M30.
+    interp_.end_of_input(last_line_);
     sink_.warning(last_line_, 0, "no-end", "the program has no M2/M30; it ends at the end of the file");
     pending_.push(interp_.end_move(last_line_));
   }
@@ -227,6 +229,8 @@ struct BlockStream::Impl {
   MachineConfig config;  // a copy: the stream may outlive the caller's config (or a temporary)
   DiagnosticSink sink;
   MoveSource source;
+  std::vector<Block> nurbs;  // the blocks of the NURBS move being streamed (one curve at a time)
+  std::size_t nurbs_next = 0;
 };
 
 BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
@@ -244,6 +248,10 @@ BlockStream::BlockStream(BlockStream&&) noexcept = default;
 BlockStream& BlockStream::operator=(BlockStream&&) noexcept = default;
 
 bool BlockStream::next(Block& out) {
+  if (impl_->nurbs_next < impl_->nurbs.size()) {
+    out = impl_->nurbs[impl_->nurbs_next++];
+    return true;
+  }
   Move m;
   do {
     if (!impl_->source.next(m)) return false;
@@ -251,6 +259,17 @@ bool BlockStream::next(Block& out) {
   if (impl_->sink.has_errors()) {
     const std::vector<Diagnostic> d = impl_->sink.take();
     throw std::runtime_error(format_diagnostic(d.front()) + " (the program changed since it was checked?)");
+  }
+  if (m.kind == MoveKind::kNurbs) {
+    NurbsMoveBlocks nb = plan_nurbs_move(m, impl_->config);
+    if (!nb.error.empty() || nb.blocks.empty()) {
+      throw std::runtime_error("line " + std::to_string(m.line) + ": NURBS curve could not be planned: " +
+                               (nb.error.empty() ? std::string("no blocks") : nb.error));
+    }
+    impl_->nurbs = std::move(nb.blocks);
+    impl_->nurbs_next = 1;
+    out = impl_->nurbs.front();
+    return true;
   }
   make_block_into(m, impl_->config, out);
   return true;
@@ -288,6 +307,11 @@ std::string format_block(const Block& b) {
       add(" t1=");
       pt(b.dir_end);
       add(" m21=%d", static_cast<int>(b.contouring));
+      if (b.kind == BlockKind::kNurbs) {
+        add(" degree=%d points=%d knots=[", static_cast<int>(b.nurbs.degree), static_cast<int>(b.nurbs.point_count));
+        for (int k = 0; k < b.nurbs.knot_count && k < kMaxNurbsKnots; ++k) add(k ? " %.6g" : "%.6g", b.nurbs.knots[k]);
+        add("] schedule=%d", static_cast<int>(b.nurbs.schedule_count));
+      }
       if (b.kind == BlockKind::kArc) {
         add(" center=");
         pt(b.arc.center);
