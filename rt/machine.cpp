@@ -109,7 +109,8 @@ void Machine::Impl::program_start() {
 
 // Distance from the measured position to the programmed path of the feed move in execution
 // (lines and arcs; rapids and NURBS are not measured): the nearest point of the current
-// block, or of the previous one while the axes, lagging the setpoint, may still be on it.
+// block, or of the previous one while the axes, lagging the setpoint, may still be on it
+// (not when a rapid follows: leaving a cut at rapid speed is not a contour error).
 // −1 when there is no feed move to measure against.
 double Machine::Impl::contour_error(const Vec3& measured) const {
   auto feed = [](const PreparedBlock* b) { return b && (b->kind == BlockKind::kLine || b->kind == BlockKind::kArc); };
@@ -118,7 +119,7 @@ double Machine::Impl::contour_error(const Vec3& measured) const {
   if (feed(cur)) e = distance_to_path(*cur, measured, exec.progress()).distance;
   const PreparedBlock* prev = exec.previous_motion();
   const double lag = cfg.axes[0].following_error_limit_mm;
-  if (feed(prev) && (!cur || exec.progress() < lag)) {
+  if (feed(prev) && (!cur || (feed(cur) && exec.progress() < lag))) {
     const double d = distance_to_path(*prev, measured, prev->length).distance;
     e = e < 0.0 ? d : std::min(e, d);
   }
