@@ -70,7 +70,8 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     return finish(JobEnd::kFault, std::string("machine is ") + to_string(st.state) + ", not IDLE: cannot start a program");
   }
 
-  RingFeeder feeder(link_);
+  // Virtual clock: spin up to 200 µs for a free slot (see RingFeeder); real clock: 20 µs.
+  RingFeeder feeder(link_, 0.02, link_.status().clock_virtual ? 200000 : 20000);
   Command start;
   start.kind = CommandKind::kProgramStart;
   start.value = contouring ? 1.0 : 0.0;

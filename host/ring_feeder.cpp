@@ -13,12 +13,13 @@ const char* to_string(FeedResult r) {
   return "?";
 }
 
-RingFeeder::RingFeeder(RtLink& link, double check_period_s) : link_(link), check_period_s_(check_period_s) {}
+RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_ns)
+    : link_(link), check_period_s_(check_period_s), spin_ns_(spin_ns) {}
 
 FeedResult RingFeeder::wait_for_slot(const std::atomic<bool>* abort) {
   auto& shm = link_.shm();
   for (;;) {
-    if (shm.slot_freed.wait_until([&] { return shm.motion.begin_push() != nullptr; }, check_period_s_)) {
+    if (shm.slot_freed.wait_until([&] { return shm.motion.begin_push() != nullptr; }, check_period_s_, spin_ns_)) {
       return FeedResult::kPushed;
     }
     if (abort && abort->load()) return FeedResult::kAborted;

@@ -22,7 +22,10 @@ const char* to_string(FeedResult r);
 
 class RingFeeder {
  public:
-  explicit RingFeeder(RtLink& link, double check_period_s = 0.02);
+  /// `spin_ns`: how long to spin before sleeping when the ring is full. Under the virtual
+  /// clock the rt frees slots every few microseconds and both processes race through the
+  /// program: a longer spin keeps the hand-off off the scheduler's path.
+  explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000);
 
   /// Waits for a free slot, then calls `fill(Block&)` on it in place; `fill` returns false
   /// when there are no more blocks. The feeder assigns seq = 1, 2, 3, ...
@@ -57,6 +60,7 @@ class RingFeeder {
 
   RtLink& link_;
   double check_period_s_;
+  std::uint64_t spin_ns_;
   std::uint64_t seq_ = 0;
   LatencyHistogram refill_;
 };

@@ -95,7 +95,7 @@ std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
               return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) ||
                      stop.load(std::memory_order_relaxed);
             },
-            0.01);
+            0.01, 200000);  // the host is producing: spin up to 200 µs before sleeping
         // Still waiting for the host (and it is alive): do not advance time.
         if (machine_->wants_more_blocks(shm_.motion) && host_alive(monotonic_ns())) continue;
       } else if (at_rest) {
