@@ -61,6 +61,14 @@ void nurbs_extreme_points(const NurbsCurve& curve, std::vector<Vec3>& out) {
   }
 }
 
+int schedule_samples_per_span(const NurbsCurve& curve) {
+  const std::size_t spans = curve.points.size() > static_cast<std::size_t>(curve.degree)
+                                ? curve.points.size() - static_cast<std::size_t>(curve.degree)
+                                : 1;
+  const std::size_t fit = kMaxScheduleSamples / spans;
+  return static_cast<int>(std::clamp<std::size_t>(fit, kMinSamplesPerSpan, kMaxSamplesPerSpan));
+}
+
 double nurbs_travel_margin(const MachineConfig& config) { return 0.5 * config.motion.block_tolerance_mm; }
 
 std::string refine_into_travel(NurbsCurve& curve, const MachineConfig& config, double tol) {
@@ -94,7 +102,9 @@ NurbsMoveBlocks plan_nurbs_move(const Move& m, const MachineConfig& config) {
   NurbsCurve curve = *m.nurbs;
   out.error = refine_into_travel(curve, config, nurbs_travel_margin(config));
   if (!out.error.empty()) return out;
-  NurbsBlocks nb = plan_nurbs_blocks(curve, nurbs_limits(config, m.feed_mm_s));
+  NurbsLimits lim = nurbs_limits(config, m.feed_mm_s);
+  lim.samples_per_span = schedule_samples_per_span(curve);
+  NurbsBlocks nb = plan_nurbs_blocks(curve, lim);
   if (!nb.error.empty()) {
     out.error = nb.error;
     return out;

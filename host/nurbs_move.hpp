@@ -11,6 +11,7 @@
 // except at corners of the curve, where the program's M21/M22 decides as at any junction.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,17 @@ namespace pcnc {
 /// Most control points one G5.2/G6.2 curve may have: the host holds one whole curve (and its
 /// dense feed schedule, 32 samples per span) in memory, so this bounds the front end's memory.
 constexpr int kMaxNurbsCurvePoints = 10000;
+
+/// Density of the feed schedule's sampling (NurbsLimits::samples_per_span): 128 samples per
+/// knot span, fewer for long curves so that one curve's dense schedule stays under
+/// kMaxScheduleSamples samples (never fewer than the schedule's own default of 32). The
+/// schedule takes the speed limit at its samples only, so a sharp curvature peak between two
+/// samples is seen late: at 32 per span the trident's 4 um cusp ran 19 % over a 0.01 um chord
+/// tolerance (tests/test_nurbs_end_to_end.cpp, FastCubic...), at 128 within it.
+constexpr std::size_t kMaxScheduleSamples = 256 * 1024;
+constexpr std::size_t kMinSamplesPerSpan = 32;
+constexpr std::size_t kMaxSamplesPerSpan = 128;
+int schedule_samples_per_span(const NurbsCurve& curve);
 
 /// Points of the curve where a coordinate peaks (C'_axis changes sign inside a knot span,
 /// found on a dense sampling of every span and refined by bisection), plus the sample points
