@@ -1,5 +1,6 @@
 // test_corpus.cpp — the front end against real G-code from ../shared/gcode: LinuxCNC's good and
-// bad interpreter cases, the opcode suite's negative programs, every CAM program, and golden
+// bad interpreter cases, the opcode suite's negative programs, every CAM program, LinuxCNC's
+// G5.2 NURBS examples (their blocks checked as the rt checks them), and golden
 // block listings (tests/golden) for a handful of programs.
 //
 // Set PCNC_UPDATE_GOLDEN=1 to rewrite the golden listings after an intended change (then review
@@ -15,6 +16,7 @@
 
 #include "check.hpp"
 #include "gcode_test_util.hpp"
+#include "safety.hpp"
 
 namespace pcnc {
 namespace {
@@ -219,6 +221,48 @@ TEST(Corpus, EveryCamProgramCheckedOrRejectedForAReason) {
     EXPECT_GE(blocks, r.moves) << rel;
   }
   EXPECT_EQ(checked, 20);
+}
+
+// ---- LinuxCNC's G5.2 NURBS examples: all accepted with --fit, every block one the rt takes ----
+TEST(Corpus, EveryNurbsProgramCheckedAndItsBlocksAcceptedByTheRt) {
+  const MachineConfig c = test::mill_config();
+  int programs = 0, curves = 0;
+  for (const std::string& path : files_in(gcode_dir() + "/nurbs/g5.2", ".ngc")) {
+    const std::string name = fs::path(path).filename().string();
+    ++programs;
+    // Without --fit only nurbs-xy.ngc fits the 25 mm travel (G54 puts program zero at the top
+    // of Z; the others rise above it or reach past X/Y 12.5 mm): refused by the soft limits.
+    const CheckResult plain = check_program(path, c, JobOptions{});
+    EXPECT_EQ(plain.ok, name == "nurbs-xy.ngc") << name << ": " << first_error(plain);
+    if (!plain.ok) {
+      EXPECT_TRUE(has_error_with(plain, "travel")) << name << ": " << first_error(plain);
+    }
+    JobOptions o;
+    o.fit = true;
+    const CheckResult r = check_program(path, c, o);
+    ASSERT_TRUE(r.ok) << name << ": " << first_error(r);
+    BlockStream s(path, c, o, r.transform);
+    Block b;
+    std::uint64_t seq = 0;
+    Vec3 tail{};
+    bool first = true;
+    int nurbs = 0;
+    std::uint32_t last_line = 0;
+    while (s.next(b)) {
+      b.seq = ++seq;
+      if (first) tail = b.start;  // the machine stands where the program starts
+      first = false;
+      const BlockVerdict v = check_block(b, tail, seq, c);
+      ASSERT_EQ(v.fault, FaultCode::kNone) << name << " line " << b.line << ": " << v.reason;
+      if (b.kind != BlockKind::kDwell && b.kind != BlockKind::kPause && b.kind != BlockKind::kEnd) tail = b.end;
+      if (b.kind == BlockKind::kNurbs && b.line != last_line) ++nurbs;
+      if (b.kind == BlockKind::kNurbs) last_line = b.line;
+    }
+    EXPECT_GE(nurbs, 1) << name;
+    curves += nurbs;
+  }
+  EXPECT_EQ(programs, 8);
+  EXPECT_EQ(curves, 10);  // trident-xy-yz-zx.ngc holds three curves
 }
 
 // Without --fit, a program that leaves the travel is refused with the first offending line.
