@@ -8,6 +8,10 @@
 //   RUNNING/PAUSED ──kStop──► STOPPING (decelerate on the path) ──at rest──► IDLE, ring flushed
 //   RUNNING/PAUSED ──host heartbeat lost──► STOPPING ──at rest──► HOST_LOST (holding)
 //   IDLE ──jog──► JOGGING ──at rest──► IDLE
+//   PAUSED (at rest) ──jog──► JOGGING ──at rest──► PAUSED (the pause point is remembered; the
+//     executor keeps its place in the block). kResume away from the pause point: RUNNING,
+//     back to it with one-axis moves (Z up, X, Y, Z down), then the program resumes. kStop
+//     after such a jog: the program is flushed and IDLE starts where the machine stands.
 //   any ──following error / soft limit / bad block──► FAULT (amplifiers off, ring flushed)
 //   any ──kEstop──► ESTOP (amplifiers off);  FAULT/ESTOP/HOST_LOST ──kReset──► IDLE
 // After a stop, fault or e-stop, blocks still arriving for the abandoned program are
@@ -61,6 +65,8 @@ struct Machine::Impl {
   void cycle(MotionRing& ring);
   void run_program(MotionRing& ring);
   void run_jog();
+  bool start_return_leg();
+  void arrive_at_pause_point();
   void trip(FaultCode code, int axis, double value, std::uint32_t line, const char* reason, MotionRing* ring);
   void begin_stop(MachineState after);
   void program_start();
@@ -83,6 +89,13 @@ struct Machine::Impl {
   bool discard = false;       // drop blocks of an abandoned program
   bool flush_pending = false; // a fault/e-stop from a command: flush the ring next cycle
   MachineState after_stop = MachineState::kIdle;
+  // Jogs while a program is paused: the machine stands at `stand`, away from the executor's
+  // place on the path (`pause_point`), while `paused_jog`; `return_leg` is the next leg of
+  // the way back on resume (0 Z up, 1 X, 2 Y, 3 Z down), `returning` while on it.
+  bool paused_jog = false;
+  bool returning = false;
+  int return_leg = 0;
+  Vec3 pause_point{}, stand{};
   const char* fault_reason = "";
   Vec3 cmd{}, cmd_vel{}, cmd_acc{};
 };
@@ -127,6 +140,8 @@ double Machine::Impl::contour_error(const Vec3& measured) const {
 }
 
 void Machine::Impl::begin_stop(MachineState after) {
+  if (jog.active()) jog.stop();  // a paused program's jog or its way back: to rest, then flushed
+  returning = false;
   hold = true;
   after_stop = after;
   st.state = MachineState::kStopping;
@@ -150,6 +165,38 @@ void Machine::Impl::trip(FaultCode code, int axis, double value, std::uint32_t l
   fault_reason = reason;
   discard = true;
   hold = false;
+  paused_jog = false;
+  returning = false;
+}
+
+// The next one-axis move of the way back to the pause point (Z up first when Z must rise,
+// then X, then Y, then Z down), at half the axis's maximum velocity. False when none is left.
+bool Machine::Impl::start_return_leg() {
+  static constexpr int kLegAxis[4] = {2, 0, 1, 2};
+  for (; return_leg < 4; ++return_leg) {
+    const int a = kLegAxis[return_leg];
+    const double d = pause_point[a] - stand[a];
+    if (d == 0.0) continue;
+    if (return_leg == 0 && d < 0.0) continue;  // Z goes down last
+    if (return_leg == 3 && d > 0.0) continue;
+    const double feed = 0.5 * cfg.axes[a].max_velocity_mm_s;
+    if (jog.start_increment(stand, a, d, feed)) {
+      ++return_leg;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Back on the pause point (exactly: the last leg's target may differ from it by rounding):
+// the program continues as a plain resume does.
+void Machine::Impl::arrive_at_pause_point() {
+  stand = pause_point;
+  cmd = pause_point;
+  paused_jog = false;
+  returning = false;
+  hold = false;
+  resume_pause = true;
 }
 
 void Machine::Impl::command(const Command& c) {
@@ -162,7 +209,11 @@ void Machine::Impl::command(const Command& c) {
       if (s == MachineState::kIdle) program_start();
       break;
     case CommandKind::kPause:
-      if (s == MachineState::kRunning) {
+      if (s == MachineState::kRunning && returning) {
+        returning = false;  // on the way back: stop the move; PAUSED again once at rest
+        jog.stop();
+        st.state = MachineState::kJogging;
+      } else if (s == MachineState::kRunning) {
         hold = true;
         st.state = MachineState::kPaused;
       } else if (s == MachineState::kJogging) {
@@ -171,14 +222,22 @@ void Machine::Impl::command(const Command& c) {
       break;
     case CommandKind::kResume:
       if (s == MachineState::kPaused && host_alive) {
-        hold = false;
-        resume_pause = true;
         st.state = MachineState::kRunning;
+        if (paused_jog) {
+          return_leg = 0;
+          returning = start_return_leg();
+          if (!returning) arrive_at_pause_point();
+        } else {
+          hold = false;
+          resume_pause = true;
+        }
       }
       break;
     case CommandKind::kStop:
       if (s == MachineState::kRunning || s == MachineState::kPaused) {
         begin_stop(MachineState::kIdle);
+      } else if (s == MachineState::kJogging && paused_jog) {
+        begin_stop(MachineState::kIdle);  // the jog comes to rest, then the program is flushed
       } else if (s == MachineState::kJogging) {
         jog.stop();
       } else if (s == MachineState::kIdle) {
@@ -212,11 +271,20 @@ void Machine::Impl::command(const Command& c) {
       break;
     case CommandKind::kJogIncrement:
     case CommandKind::kJogContinuous:
-      if ((s == MachineState::kIdle && !st.program_active) || s == MachineState::kJogging) {
-        const bool ok = c.kind == CommandKind::kJogIncrement
-                            ? jog.start_increment(exec.position(), c.axis, c.value, c.feed)
-                            : jog.start_continuous(exec.position(), c.axis, c.value, c.feed);
-        if (ok) st.state = MachineState::kJogging;
+      // In PAUSED only at rest: a feed hold still decelerating refuses the jog.
+      if ((s == MachineState::kIdle && !st.program_active) || s == MachineState::kJogging ||
+          (s == MachineState::kPaused && exec.speed() == 0.0)) {
+        const Vec3 from = paused_jog ? stand : exec.position();
+        const bool ok = c.kind == CommandKind::kJogIncrement ? jog.start_increment(from, c.axis, c.value, c.feed)
+                                                             : jog.start_continuous(from, c.axis, c.value, c.feed);
+        if (ok) {
+          if (s == MachineState::kPaused && !paused_jog) {
+            paused_jog = true;
+            pause_point = exec.position();
+            stand = pause_point;
+          }
+          st.state = MachineState::kJogging;
+        }
       }
       break;
     case CommandKind::kJogStop:
@@ -235,10 +303,20 @@ void Machine::Impl::run_jog() {
   cmd_vel = jog.velocity();
   cmd_acc = jog.acceleration();
   st.path_speed = jog.speed();
-  if (!jog.active()) {
+  if (jog.active()) return;
+  if (!paused_jog) {
     exec.set_position(cmd);
     st.state = MachineState::kIdle;
+    return;
   }
+  // A paused program's jog at rest: the executor keeps its place; the machine stands here.
+  stand = cmd;
+  if (returning) {
+    if (!start_return_leg()) arrive_at_pause_point();
+  } else if (st.state == MachineState::kJogging) {
+    st.state = MachineState::kPaused;
+  }
+  // STOPPING: the next cycle flushes the program (run_program)
 }
 
 void Machine::Impl::run_program(MotionRing& ring) {
@@ -260,6 +338,12 @@ void Machine::Impl::run_program(MotionRing& ring) {
   cmd_vel = exec.velocity();
   cmd_acc = exec.acceleration();
   st.path_speed = exec.speed();
+  if (paused_jog) {  // held at rest away from the path: the machine stays where it stands
+    cmd = stand;
+    cmd_vel = {0.0, 0.0, 0.0};
+    cmd_acc = {0.0, 0.0, 0.0};
+    st.path_speed = 0.0;
+  }
   if (r.starved && st.state == MachineState::kRunning) {
     if (st.program_active) {
       ++st.underruns;
@@ -277,6 +361,8 @@ void Machine::Impl::run_program(MotionRing& ring) {
   }
   if (st.state == MachineState::kStopping && exec.speed() == 0.0) {
     exec.flush(ring);
+    if (paused_jog) exec.set_position(stand);  // take up where the machine stands
+    paused_jog = false;
     st.state = after_stop;
     st.program_active = 0;
     discard = true;
@@ -316,7 +402,11 @@ void Machine::Impl::cycle(MotionRing& ring) {
     case MachineState::kRunning:
     case MachineState::kPaused:
     case MachineState::kStopping:
-      run_program(ring);
+      if (jog.active()) {
+        run_jog();  // the way back to the pause point, or a paused jog coming to rest on a stop
+      } else {
+        run_program(ring);
+      }
       break;
     case MachineState::kJogging:
       run_jog();
@@ -365,7 +455,7 @@ void Machine::Impl::cycle(MotionRing& ring) {
   if (st.program_active && amps_on) {
     ++st.program_cycles;
     for (int i = 0; i < kAxes; ++i) st.following_error_sq_sum[i] += ferr[i] * ferr[i];
-    const double ce = contour_error(meas);
+    const double ce = paused_jog ? -1.0 : contour_error(meas);  // off the path on purpose
     if (ce >= 0.0) {
       st.contour_error = ce;
       st.max_contour_error = std::max(st.max_contour_error, ce);
