@@ -744,6 +744,25 @@ TEST(Machine, StopAfterAPausedJogIdlesWhereTheMachineStands) {
     EXPECT_EQ(run.check_setpoint_limits(), "");
   }
   {
+    // stop on the way back: the move comes to rest, IDLE there
+    MachineRunner run(c);
+    const Vec3 pp = pause_at_rest(run);
+    jog_to_rest(run, 0, 3.0, 20.0);
+    run.send(CommandKind::kResume);
+    run.run(100);
+    ASSERT_EQ(run.status().state, MachineState::kRunning);
+    run.send(CommandKind::kStop);
+    EXPECT_EQ(run.status().state, MachineState::kStopping);
+    run.run_while([](const Status& s) { return s.state == MachineState::kStopping; }, 10000);
+    EXPECT_EQ(run.status().state, MachineState::kIdle);
+    const Vec3 stand = run.status().commanded;
+    EXPECT_GT(stand[0], pp[0]);
+    EXPECT_LT(stand[0], pp[0] + 3.0);
+    run.run(100);
+    EXPECT_EQ(run.status().commanded, stand);
+    EXPECT_EQ(run.check_setpoint_limits(), "");
+  }
+  {
     // host lost during a paused jog: the jog stops, HOST_LOST holding where it stands
     MachineRunner run(c);
     pause_at_rest(run);
