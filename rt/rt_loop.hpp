@@ -46,6 +46,9 @@ class RtLoop {
   std::unique_ptr<CycleTiming> timing_;
   std::unique_ptr<TraceWriter> trace_;  // set when options.trace_path is given
   std::uint64_t host_timeout_ns_;
+  TimingStats timing_summary_{};
+  int summary_period_;
+  int summary_age_ = 0;
 };
 
 }  // namespace pcnc
