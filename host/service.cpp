@@ -305,6 +305,12 @@ struct Service::Impl {
         return sent(l, command(CommandKind::kStop), json{{"state", "STOPPING"}});
       case MachineState::kJogging:
         jog.reset();
+        if (st.program_active) {
+          // a jog while the program is paused: stop ends the jog and the program (the rt
+          // flushes it and takes up where the machine stands)
+          job_interrupt = true;
+          return sent(l, command(CommandKind::kStop), json{{"state", "STOPPING"}});
+        }
         return sent(l, command(CommandKind::kJogStop), json{{"state", "IDLE"}});
       case MachineState::kHostLost:
         // The interrupted program is abandoned: leave HOST_LOST, forget the journal.

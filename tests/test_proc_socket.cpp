@@ -297,6 +297,28 @@ TEST(ServiceSocket, JogWhilePausedIsAllowed) {
   EXPECT_NEAR(pos(s, "commanded", 2), 25.0, 1e-6);
 }
 
+TEST(ServiceSocket, StopDuringAJogWhilePausedEndsTheProgram) {
+  ServicePair p("sock-pjstop");
+  ASSERT_TRUE(p.start("virtual")) << p.host_log();
+  const std::string prog = write_program(p.dir(), "m0.ngc", "G21 G90 G54\nG01 X1 F600\nM00\nG01 X2\nM30\n");
+  ASSERT_TRUE(p.call("run", {{"file", prog}}).contains("result"));
+  json s = p.wait_status([](const json& x) { return x["state"] == "PAUSED"; }, 30);
+  ASSERT_EQ(s["state"], "PAUSED") << s.dump();
+  // A long jog down in Z, stopped while it moves: one stop ends the jog and the program.
+  ASSERT_TRUE(p.call("jog", {{"axis", "Z"}, {"distance", -10.0}, {"feed", 60.0}}).contains("result"));
+  s = p.wait_status([](const json& x) { return x["state"] == "JOGGING"; }, 10);
+  ASSERT_EQ(s["state"], "JOGGING") << s.dump();
+  const json r = p.call("stop");
+  ASSERT_TRUE(r.contains("result")) << r.dump();
+  s = p.wait_status([](const json& x) { return idle(x) && x["last_job"].is_object(); }, 30);
+  ASSERT_EQ(s["state"], "IDLE") << s.dump();
+  EXPECT_NE(s["last_job"]["end"], "completed") << "the rest of the program was flushed: " << s.dump();
+  const double z = pos(s, "commanded", 2);
+  EXPECT_LT(z, 25.0) << "the machine stays where the jog stopped";
+  EXPECT_GT(z, 15.0);
+  EXPECT_NEAR(pos(s, "commanded", 0), 13.5, 1e-6) << "X stayed at the pause point";
+}
+
 // ---------------------------------------------------------------- several clients, subscriptions
 
 TEST(ServiceSocket, SeveralClientsAndSubscriptions) {
