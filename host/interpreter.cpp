@@ -766,16 +766,19 @@ bool Interpreter::nurbs_line(const ParsedLine& l, MoveList& out) {
   return true;
 }
 
+// An error inside a NURBS group: reported once; the group is dropped at its end.
+bool Interpreter::nurbs_fail(const ParsedLine& l, int column, std::string message) {
+  const bool report = !nurbs_.failed;
+  nurbs_.failed = true;
+  if (report) fail(l, column, std::move(message));
+  return false;
+}
+
 // A control point: G5.2: both plane axes and P (the third axis stays); G6.2: K, any of X Y Z
 // (an axis not given keeps its value from the previous point) and R (default 1).
 bool Interpreter::nurbs_point_line(const ParsedLine& l) {
   NurbsGroup& g = nurbs_;
-  auto group_fail = [&](int col, std::string message) {
-    const bool report = !g.failed;
-    g.failed = true;
-    if (report) fail(l, col, std::move(message));
-    return false;
-  };
+  auto group_fail = [&](int col, std::string message) { return nurbs_fail(l, col, std::move(message)); };
   const int first_col = l.column(l.has('X') ? 'X' : l.has('Y') ? 'Y' : l.has('Z') ? 'Z' : g.fanuc ? 'R' : 'P');
   if (static_cast<int>(g.points.size()) >= kMaxNurbsCurvePoints) {
     return group_fail(first_col, "more than " + std::to_string(kMaxNurbsCurvePoints) +
@@ -824,12 +827,7 @@ bool Interpreter::nurbs_point_line(const ParsedLine& l) {
 // G6.2 lines after the first: K with a control point, or K alone (the closing knots).
 bool Interpreter::nurbs_knot(const ParsedLine& l) {
   NurbsGroup& g = nurbs_;
-  auto group_fail = [&](int col, std::string message) {
-    const bool report = !g.failed;
-    g.failed = true;
-    if (report) fail(l, col, std::move(message));
-    return false;
-  };
+  auto group_fail = [&](int col, std::string message) { return nurbs_fail(l, col, std::move(message)); };
   const bool point = axis_words(l) || l.has('R');
   if (!l.has('K')) {
     if (!point) return true;  // an N word alone

@@ -67,6 +67,7 @@ class Interpreter {
   bool check_words(const ParsedLine& l);
   bool nurbs_open(const ParsedLine& l, int motion, MoveList& out);
   bool nurbs_line(const ParsedLine& l, MoveList& out);
+  bool nurbs_fail(const ParsedLine& l, int column, std::string message);
   bool nurbs_point_line(const ParsedLine& l);
   bool nurbs_knot(const ParsedLine& l);
   bool nurbs_close(const ParsedLine& l, MoveList& out);
