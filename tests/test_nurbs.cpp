@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "nurbs.hpp"
+#include "nurbs_circles.hpp"
 #include "nurbs_reader.hpp"
 #include "nurbs_rough.hpp"
 #include "nurbs_tool.hpp"
@@ -20,28 +21,9 @@
 namespace pcnc {
 namespace {
 
-const double kS = 1.0 / std::sqrt(2.0);
-
-NurbsCurve quarter_circle(double r) {
-  NurbsCurve c;
-  c.degree = 2;
-  c.points = {{r, 0, 0}, {r, r, 0}, {0, r, 0}};
-  c.weights = {1, kS, 1};
-  c.knots = {0, 0, 0, 1, 1, 1};
-  return c;
-}
-
-NurbsCurve full_circle(double r, Vec3 center = {0, 0, 0}) {
-  NurbsCurve c;
-  c.degree = 2;
-  const double xy[9][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}};
-  for (int i = 0; i < 9; ++i) {
-    c.points.push_back(center + Vec3{r * xy[i][0], r * xy[i][1], 0.0});
-    c.weights.push_back(i % 2 == 1 ? kS : 1.0);
-  }
-  c.knots = {0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4};
-  return c;
-}
+const double kS = test::kCircleWeight;
+using test::full_circle;
+using test::quarter_circle;
 
 // The control points of ../shared/gcode/nurbs/g5.2/nurbs-xy.ngc (start at X0 Y0, order 3).
 NurbsCurve nurbs_xy() {

@@ -12,13 +12,16 @@
 #include <vector>
 
 #include "nurbs.hpp"
+#include "nurbs_circles.hpp"
 #include "nurbs_interpolator.hpp"
 #include "nurbs_schedule.hpp"
 
 namespace pcnc {
 namespace {
 
-const double kS = 1.0 / std::sqrt(2.0);
+const double kS = test::kCircleWeight;
+using test::full_circle;
+using test::quarter_circle;
 constexpr double kT = 0.0005;
 
 // The desktop mill's limits (configs/desktop-mill.toml) without reading the file.
@@ -30,27 +33,6 @@ NurbsLimits limits(double feed, double delta = 0.001) {
   lim.axis_velocity_mm_s = {100, 100, 50};
   lim.axis_accel_mm_s2 = {2000, 2000, 1000};
   return lim;
-}
-
-NurbsCurve quarter_circle(double r, Vec3 c) {
-  NurbsCurve q;
-  q.degree = 2;
-  q.points = {c + Vec3{r, 0, 0}, c + Vec3{r, r, 0}, c + Vec3{0, r, 0}};
-  q.weights = {1, kS, 1};
-  q.knots = {0, 0, 0, 1, 1, 1};
-  return q;
-}
-
-NurbsCurve full_circle(double r, Vec3 center) {
-  NurbsCurve c;
-  c.degree = 2;
-  const double xy[9][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}};
-  for (int i = 0; i < 9; ++i) {
-    c.points.push_back(center + Vec3{r * xy[i][0], r * xy[i][1], 0.0});
-    c.weights.push_back(i % 2 == 1 ? kS : 1.0);
-  }
-  c.knots = {0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4};
-  return c;
 }
 
 // nurbs-xy.ngc (order 3) scaled up to a few mm, and trident-xy.ngc (order 4, doubled start).

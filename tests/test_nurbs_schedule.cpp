@@ -11,25 +11,16 @@
 
 #include "config.hpp"
 #include "nurbs.hpp"
+#include "nurbs_circles.hpp"
 #include "nurbs_schedule.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc {
 namespace {
 
-const double kS = 1.0 / std::sqrt(2.0);
-
-NurbsCurve full_circle(double r) {
-  NurbsCurve c;
-  c.degree = 2;
-  const double xy[9][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}};
-  for (int i = 0; i < 9; ++i) {
-    c.points.push_back({r * xy[i][0], r * xy[i][1], 0.0});
-    c.weights.push_back(i % 2 == 1 ? kS : 1.0);
-  }
-  c.knots = {0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4};
-  return c;
-}
+const double kS = test::kCircleWeight;
+using test::full_circle;
+using test::quarter_circle;
 
 NurbsCurve line(Vec3 a, Vec3 b) {
   std::vector<Vec3> pts;
