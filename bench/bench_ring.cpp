@@ -37,13 +37,16 @@ pid_t start_producer(const MachineConfig& config, std::uint64_t total, Shared* o
   if (pid != 0) return pid;
   RtLink link(config);
   RingFeeder feeder(link);
-  for (std::uint64_t n = 1; n <= total; ++n) {
-    feeder.push([&](Block& b) {
-      b.line = static_cast<std::uint32_t>(n);
-      b.kind = BlockKind::kLine;
-      b.end = {static_cast<double>(n), 0.0, 0.0};
-      return true;
-    });
+  std::uint64_t n = 0;  // the fill is a stream: each call makes the next block
+  auto fill = [&](Block& b) {
+    if (n >= total) return false;
+    ++n;
+    b.line = static_cast<std::uint32_t>(n);
+    b.kind = BlockKind::kLine;
+    b.end = {static_cast<double>(n), 0.0, 0.0};
+    return true;
+  };
+  while (feeder.push(fill) == FeedResult::kPushed) {
   }
   out->refill = feeder.refill_latency();
   out->pushed = feeder.pushed();

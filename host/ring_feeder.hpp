@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <vector>
 
 #include "latency_histogram.hpp"
 #include "rt_link.hpp"
@@ -27,19 +28,43 @@ class RingFeeder {
   /// program: a longer spin keeps the hand-off off the scheduler's path.
   explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000);
 
-  /// Waits for a free slot, then calls `fill(Block&)` on it in place; `fill` returns false
-  /// when there are no more blocks. The feeder assigns seq = 1, 2, 3, ...
+  /// Puts the next block into the ring. `fill(Block&)` is a stream: each call writes the
+  /// next block and returns true, or returns false when there are no more; the feeder may
+  /// call it several times in one push (staging) and never again after it returned false. With a slot free and nothing staged, the block is
+  /// filled in place. While the ring is full, the feeder fills up to kStageDepth blocks ahead
+  /// into a local staging queue and copies them in as slots free: a slot is then refilled
+  /// by one copy, not by parsing and preprocessing, and short blocks (which the rt finishes
+  /// faster than the host prepares them) draw on the blocks prepared during long ones.
+  /// The feeder assigns seq = 1, 2, 3, ...
   template <typename Fill>
   FeedResult push(Fill&& fill, const std::atomic<bool>* abort = nullptr) {
     auto& ring = link_.shm().motion;
     Block* slot = ring.begin_push();
     const bool waited = slot == nullptr;
     if (waited) {
-      const FeedResult result = wait_for_slot(abort);
-      if (result != FeedResult::kPushed) return result;
+      if (staged_.empty()) staged_.resize(kStageDepth);
+      while (staged_count_ < kStageDepth && !input_ended_ && ring.begin_push() == nullptr) {
+        if (fill(staged_[(staged_head_ + staged_count_) % kStageDepth])) {
+          ++staged_count_;
+        } else {
+          input_ended_ = true;
+        }
+      }
+      if (ring.begin_push() == nullptr) {
+        if (staged_count_ == 0 && input_ended_) return FeedResult::kEndOfInput;
+        const FeedResult result = wait_for_slot(abort);
+        if (result != FeedResult::kPushed) return result;  // staged blocks are kept for the next push
+      }
       slot = ring.begin_push();
     }
-    if (!fill(*slot)) return FeedResult::kEndOfInput;
+    if (staged_count_ > 0) {
+      *slot = staged_[staged_head_];
+      staged_head_ = (staged_head_ + 1) % kStageDepth;
+      --staged_count_;
+    } else if (input_ended_ || !fill(*slot)) {
+      input_ended_ = true;
+      return FeedResult::kEndOfInput;
+    }
     slot->seq = ++seq_;
     ring.commit_push();
     link_.shm().block_published.notify();
@@ -63,6 +88,11 @@ class RingFeeder {
   std::uint64_t spin_ns_;
   std::uint64_t seq_ = 0;
   LatencyHistogram refill_;
+  static constexpr std::size_t kStageDepth = 16;
+  std::vector<Block> staged_;  // blocks prepared while the ring was full, oldest at staged_head_
+  std::size_t staged_head_ = 0;
+  std::size_t staged_count_ = 0;
+  bool input_ended_ = false;  // fill returned false
 };
 
 }  // namespace pcnc

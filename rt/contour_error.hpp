@@ -13,7 +13,8 @@ struct PathDistance {
   double s = 0.0;         // path length of the nearest point on the block, mm
 };
 
-/// Nearest point of `block` (a motion block) to `p`, searched by Newton's method on
+/// Nearest point of `block` (a motion block) to `p`: in closed form for lines and planar
+/// arcs (also the slight spirals of CAM arcs); on helices searched by Newton's method on
 /// (c(s) − p)·t(s) = 0 from `s_guess` (the setpoint's path position is a good guess: the
 /// machine lags behind it by the following error), clamped to [0, length].
 PathDistance distance_to_path(const PreparedBlock& block, const Vec3& p, double s_guess);

@@ -33,6 +33,7 @@ void Executor::set_position(const Vec3& p) {
   after_motion_ = false;
   fresh_ = true;
   has_prev_ = false;
+  exit_valid_ = false;
 }
 
 void Executor::flush(MotionRing& ring) {
@@ -62,6 +63,16 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
     }
     prep_[prepared_] = prepare_block(b, cfg_);
     if (prep_[prepared_].motion) tail_ = b.end;
+    if (prepared_ > 0) {
+      const PreparedBlock& p = prep_[prepared_ - 1];
+      const PreparedBlock& q = prep_[prepared_];
+      double corner = 0.0;
+      if (p.motion && q.motion && junction_flows(p.contouring, p.dir_end, q.dir_start, cos_limit_)) {
+        corner = junction_speed_cap(p.dir_end, q.dir_start, axis_accel_, dt_, f_);
+      }
+      corner_[prepared_ - 1] = corner;
+    }
+    exit_valid_ = false;
     ++expected_seq_;
     ++prepared_;
   }
@@ -72,8 +83,12 @@ void Executor::pop(MotionRing& ring, ExecResult& out) {
   has_prev_ = prep_[0].motion;
   if (has_prev_) prev_ = prep_[0];
   ring.pop();
-  for (std::size_t i = 1; i < prepared_; ++i) prep_[i - 1] = prep_[i];
+  for (std::size_t i = 1; i < prepared_; ++i) {
+    prep_[i - 1] = prep_[i];
+    corner_[i - 1] = corner_[i];
+  }
   --prepared_;
+  exit_valid_ = false;
   ++out.blocks_done;
   s_ = 0.0;
   dwell_ = 0.0;
@@ -85,20 +100,25 @@ double Executor::cap_of(const PreparedBlock& b, const ExecInput& in) const {
   return std::min(b.speed * in.feed_override, b.v_machine);
 }
 
-bool Executor::flows_after(std::size_t i) const {
-  if (i + 1 >= prepared_ || !prep_[i].motion || !prep_[i + 1].motion) return false;
-  if (!junction_flows(prep_[i].contouring, prep_[i].dir_end, prep_[i + 1].dir_start, cos_limit_)) return false;
-  return junction_speed_cap(prep_[i].dir_end, prep_[i + 1].dir_start, axis_accel_, dt_, f_) > 0.0;
-}
+bool Executor::flows_after(std::size_t i) const { return i + 1 < prepared_ && corner_[i] > 0.0; }
 
 double Executor::junction_cap(std::size_t i, const ExecInput& in) const {
   if (!flows_after(i)) return 0.0;
-  const double corner = junction_speed_cap(prep_[i].dir_end, prep_[i + 1].dir_start, axis_accel_, dt_, f_);
-  return std::min({corner, cap_of(prep_[i], in), cap_of(prep_[i + 1], in), prep_[i].v_last, prep_[i + 1].v_first});
+  return std::min({corner_[i], cap_of(prep_[i], in), cap_of(prep_[i + 1], in), prep_[i].v_last, prep_[i + 1].v_first});
+}
+
+double Executor::exit_speed_of_current(const ExecInput& in) const {
+  if (!exit_valid_ || exit_hold_ != in.hold || exit_override_ != in.feed_override) {
+    exit_speed_ = compute_exit_speed(in);
+    exit_hold_ = in.hold;
+    exit_override_ = in.feed_override;
+    exit_valid_ = true;
+  }
+  return exit_speed_;
 }
 
 // Backward pass over the chain of flowing blocks known in the ring; the last one ends at rest.
-double Executor::exit_speed_of_current(const ExecInput& in) const {
+double Executor::compute_exit_speed(const ExecInput& in) const {
   std::size_t e = 0;
   while (flows_after(e)) ++e;
   double v_out = 0.0;

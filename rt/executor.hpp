@@ -99,6 +99,7 @@ class Executor {
   void motion_step(MotionRing& ring, const ExecInput& in, ExecResult& out);
   double cap_of(const PreparedBlock& b, const ExecInput& in) const;
   double exit_speed_of_current(const ExecInput& in) const;
+  double compute_exit_speed(const ExecInput& in) const;
   bool flows_after(std::size_t i) const;                      // geometric: junction i|i+1 flows
   double junction_cap(std::size_t i, const ExecInput& in) const;  // speed cap there (0: stop)
   void hold_still();
@@ -116,6 +117,15 @@ class Executor {
   std::array<double, kAxes> axis_accel_{};
 
   std::array<PreparedBlock, kRingSlots> prep_{};  // prep_[i] describes ring.peek(i)
+  // corner_[i]: the speed cap of the junction between prep_[i] and prep_[i + 1] from the
+  // geometry alone (0: it does not flow), computed once when prep_[i + 1] is prepared.
+  std::array<double, kRingSlots> corner_{};
+  // exit_speed_of_current() depends only on the prepared blocks and the input: it is kept
+  // until a block is prepared or popped, or the hold or the override changes.
+  mutable bool exit_valid_ = false;
+  mutable bool exit_hold_ = false;
+  mutable double exit_override_ = 0.0;
+  mutable double exit_speed_ = 0.0;
   PreparedBlock prev_{};  // the motion block finished last
   bool has_prev_ = false;
   std::size_t prepared_ = 0;

@@ -496,6 +496,12 @@ bool Machine::wants_more_blocks(const MotionRing& ring) const {
   return true;
 }
 
+bool Machine::paused_at_rest() const {
+  const Impl& m = *impl_;
+  return m.st.state == MachineState::kPaused && !m.jog.active() && m.exec.speed() == 0.0 &&
+         m.cmd_vel[0] == 0.0 && m.cmd_vel[1] == 0.0 && m.cmd_vel[2] == 0.0;
+}
+
 const Status& Machine::status() const { return impl_->st; }
 const TraceSample& Machine::trace_sample() const { return impl_->ts; }
 const char* Machine::fault_reason() const { return impl_->fault_reason; }

@@ -56,6 +56,11 @@ class Machine {
   /// the executor actually had nothing to do.
   bool wants_more_blocks(const MotionRing& ring) const;
 
+  /// A paused program standing still (feed hold come to rest, or an M00/M01 reached), no
+  /// jog: nothing moves until a command comes. Under --clock virtual the loop then sleeps
+  /// like an idle machine instead of racing machine time ahead.
+  bool paused_at_rest() const;
+
   const Status& status() const;
   const TraceSample& trace_sample() const;
 

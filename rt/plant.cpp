@@ -21,6 +21,8 @@ AxisPlant::AxisPlant(const AxisConfig& c, double cycle_s, int substeps, double p
       substeps_(std::max(1, substeps)),
       x_(position_mm) {
   e_h_ = std::exp(-(b_ / mass_kg_) * h_);
+  accel_per_n_ = 1000.0 / mass_kg_;
+  lambda_ = b_ / mass_kg_;
 }
 
 double AxisPlant::encoder() const {
@@ -30,8 +32,8 @@ double AxisPlant::encoder() const {
 
 // Exact solution over h for constant net force `force_n` (viscous part included in the ODE).
 void AxisPlant::advance(double force_n, double h) {
-  const double a_force = 1000.0 * force_n / mass_kg_;  // mm/s² from the force
-  const double lambda = b_ / mass_kg_;                 // 1/s
+  const double a_force = accel_per_n_ * force_n;  // mm/s² from the force
+  const double lambda = lambda_;
   if (lambda * h < 1e-12) {
     x_ += v_ * h + 0.5 * a_force * h * h;
     v_ += a_force * h;
@@ -55,16 +57,20 @@ void AxisPlant::substep(double drive_n, double h) {
   const double friction = -std::copysign(fc_, v_);
   const double f = drive_n + friction;
   // Would the velocity cross zero within h? Find the crossing time in closed form.
-  const double a_force = 1000.0 * f / mass_kg_;
-  const double lambda = b_ / mass_kg_;
+  const double a_force = accel_per_n_ * f;
+  const double lambda = lambda_;
   double t_zero = -1.0;
   if (lambda * h < 1e-12) {
     if (a_force != 0.0 && (v_ > 0.0) != (a_force > 0.0)) t_zero = -v_ / a_force;
   } else {
     const double v_inf = a_force / lambda;
     if ((v_ > 0.0 && v_inf < 0.0) || (v_ < 0.0 && v_inf > 0.0)) {
-      // v(t) = v_inf + (v0 - v_inf) e^{-λt} = 0
-      t_zero = std::log((v_ - v_inf) / (-v_inf)) / lambda;
+      // v(t) = v_inf + (v0 - v_inf) e^{-λt} runs monotonically toward v_inf: it crosses zero
+      // within h only if v(h) has left v0's sign; then the crossing is at
+      // t = ln((v0 - v_inf)/(-v_inf))/λ.
+      const double e = h == h_ ? e_h_ : std::exp(-lambda * h);
+      const double v_h = v_inf + (v_ - v_inf) * e;
+      if ((v_ > 0.0) ? v_h <= 0.0 : v_h >= 0.0) t_zero = std::log((v_ - v_inf) / (-v_inf)) / lambda;
     }
   }
   if (t_zero >= 0.0 && t_zero < h) {

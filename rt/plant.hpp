@@ -37,6 +37,8 @@ class AxisPlant {
   double mass_kg_, kf_, imax_, b_, fc_, fg_, res_;
   double h_;       // sub-step, s
   double e_h_;     // exp(-b/m·h), precomputed for whole sub-steps
+  double accel_per_n_;  // 1000/m: mm/s² per newton
+  double lambda_;       // b/m, 1/s
   int substeps_;
   double x_ = 0.0, v_ = 0.0, i_ = 0.0;
   bool blocked_ = false;

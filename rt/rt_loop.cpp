@@ -12,6 +12,7 @@ namespace pcnc {
 
 namespace {
 constexpr std::uint64_t kNsPerS = 1000000000ull;
+constexpr int kVirtualPublishCycles = 8;  // 4 ms of machine time, a few µs of wall time
 
 timespec to_timespec(std::uint64_t ns) {
   timespec t{};
@@ -27,7 +28,8 @@ RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOpti
       options_(options),
       machine_(std::make_unique<Machine>(config)),
       timing_(std::make_unique<CycleTiming>()),
-      host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)) {
+      host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)),
+      summary_period_(std::max(1, static_cast<int>(config.motion.cycle_hz / 10.0))) {
   if (!options_.trace_path.empty()) trace_ = std::make_unique<TraceWriter>(options_.trace_path);
 }
 
@@ -62,6 +64,20 @@ void RtLoop::cycle(std::uint64_t now_ns) {
     }
   }
 
+  if (options_.virtual_clock) {
+    publish_status_virtual(false);
+  } else {
+    publish_status();
+  }
+}
+
+void RtLoop::publish_status_virtual(bool force) {
+  const Status& s = machine_->status();
+  if (!force && ++unpublished_cycles_ < kVirtualPublishCycles && s.state == published_state_ &&
+      s.program_done == published_done_) {
+    return;
+  }
+  if (force && unpublished_cycles_ == 0) return;  // nothing new since the last one
   publish_status();
 }
 
@@ -75,6 +91,9 @@ void RtLoop::publish_status() {
   s.clock_virtual = options_.virtual_clock ? 1 : 0;
   s.ring_fill = static_cast<std::uint8_t>(shm_.motion.size());
   shm_.status.store(s);
+  unpublished_cycles_ = 0;
+  published_state_ = s.state;
+  published_done_ = s.program_done;
 }
 
 std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
@@ -86,35 +105,49 @@ std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
     // has not written yet, wait for the host instead of advancing time, so that replays are
     // deterministic. When the machine is at rest with nothing to do, wait too (10 ms steps)
     // instead of burning a core.
+    // Compute time is measured from the end of one cycle to the end of the next when no
+    // wait came between them: one clock read per cycle, loop overhead included.
+    std::uint64_t last = monotonic_ns();
     while (!stop.load(std::memory_order_relaxed)) {
       if (!shm_.commands.empty()) {
-        take_commands(monotonic_ns());
+        take_commands(last);
         publish_status();  // the host sees its commands taken even before time advances
       }
       const MachineState st = machine_->status().state;
-      const bool at_rest = st != MachineState::kRunning && st != MachineState::kJogging && st != MachineState::kStopping &&
-                           shm_.motion.empty();
+      const bool at_rest = (st != MachineState::kRunning && st != MachineState::kJogging &&
+                            st != MachineState::kStopping && st != MachineState::kPaused && shm_.motion.empty()) ||
+                           machine_->paused_at_rest();
       if (machine_->wants_more_blocks(shm_.motion)) {
+        publish_status_virtual(true);
         shm_.block_published.wait_until(
             [&] {
               return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) ||
                      stop.load(std::memory_order_relaxed);
             },
             0.01, 200000);  // the host is producing: spin up to 200 µs before sleeping
+        last = monotonic_ns();
         // Still waiting for the host (and it is alive): do not advance time.
-        if (machine_->wants_more_blocks(shm_.motion) && host_alive(monotonic_ns())) continue;
+        if (machine_->wants_more_blocks(shm_.motion) && host_alive(last)) continue;
       } else if (at_rest) {
         // Idle: sleep until something arrives, running a cycle now and then so that the
         // plant settles and status and heartbeat stay fresh.
+        publish_status_virtual(true);
+        const bool paused = st == MachineState::kPaused;
         shm_.block_published.wait_until(
-            [&] { return !shm_.commands.empty() || !shm_.motion.empty() || stop.load(std::memory_order_relaxed); }, 0.01);
+            [&] {
+              return !shm_.commands.empty() || (!paused && !shm_.motion.empty()) || stop.load(std::memory_order_relaxed);
+            },
+            0.01);
+        last = monotonic_ns();
         if (!shm_.commands.empty()) continue;  // take them before stepping time
       }
-      const std::uint64_t t0 = monotonic_ns();
-      cycle(t0);
-      timing_->compute.add(static_cast<double>(monotonic_ns() - t0) / 1000.0);
+      cycle(last);
+      const std::uint64_t now = monotonic_ns();
+      timing_->compute.add(static_cast<double>(now - last) / 1000.0);
+      last = now;
       ++cycles;
     }
+    publish_status_virtual(true);
     return cycles;
   }
 

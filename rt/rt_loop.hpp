@@ -37,6 +37,10 @@ class RtLoop {
   void take_commands(std::uint64_t now_ns);
   void cycle(std::uint64_t now_ns);
   void publish_status();
+  // Virtual clock: status is published every kVirtualPublishCycles cycles, whenever the state
+  // changes, and before every wait, instead of every cycle (the host cannot tell the
+  // difference: it reads status between its own blocks, microseconds apart).
+  void publish_status_virtual(bool force);
   bool host_alive(std::uint64_t now_ns) const;
 
   const MachineConfig& config_;
@@ -47,8 +51,11 @@ class RtLoop {
   std::unique_ptr<TraceWriter> trace_;  // set when options.trace_path is given
   std::uint64_t host_timeout_ns_;
   TimingStats timing_summary_{};
-  int summary_period_;
+  int summary_period_;        // cycles between two refreshes of timing_summary_ (0.1 s of machine time)
   int summary_age_ = 0;
+  int unpublished_cycles_ = 0;  // virtual clock: cycles run since status was last published
+  MachineState published_state_ = MachineState::kIdle;
+  std::uint8_t published_done_ = 0;
 };
 
 }  // namespace pcnc

@@ -82,6 +82,48 @@ TEST(ContourError, ArcDistanceIsTheRadialErrorInsideTheSweep) {
   EXPECT_NEAR(distance_to_path(b, below, 3.0).distance, 1.0, 1e-9);
 }
 
+// Planar arcs take the closed form: clockwise and counter-clockwise, short and almost full
+// sweeps, true circles and the slight spirals of CAM arcs (end radius 3 µm off), points
+// inside and outside the circle, off the plane, and beyond the ends, against a dense
+// search along the curve.
+TEST(ContourError, PlanarArcDistanceMatchesADenseSearch) {
+  const MachineConfig cfg = load_config(test::default_config());
+  const Vec3 c{12.5, 12.5, 5.0};
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> frac(0.0, 1.0), off(-0.5, 0.5);
+  for (const double sweep : {0.3, -0.3, 2.0, -2.0, 4.5, -4.5, 6.2, -6.2})
+  for (const double end_dr : {0.0, 0.003}) {
+    Block blk = arc_block(c, 4.0, 1.1, sweep, 0.0);
+    blk.end = {c[0] + (4.0 + end_dr) * std::cos(1.1 + sweep), c[1] + (4.0 + end_dr) * std::sin(1.1 + sweep), c[2]};
+    const PreparedBlock b = prepare_block(blk, cfg);
+    for (int i = 0; i < 60; ++i) {
+      // anywhere around the circle, also beyond the sweep, within half a millimetre of it
+      const double a = 1.1 + frac(rng) * 2.0 * std::numbers::pi;
+      const double r = 4.0 + off(rng);
+      const Vec3 p{c[0] + r * std::cos(a), c[1] + r * std::sin(a), c[2] + 0.2 * off(rng)};
+      double best = 1e9, best_s = 0.0;
+      for (int k = 0; k <= 20000; ++k) {
+        const double s = b.length * k / 20000.0;
+        const double d = norm(evaluate(b, s).p - p);
+        if (d < best) {
+          best = d;
+          best_s = s;
+        }
+      }
+      const PathDistance d = distance_to_path(b, p, frac(rng) * b.length);
+      // never farther than any sampled point (on a spiral, the radial ray is off by
+      // k²·|ρ − r|/(2ρr), k = dr/dθ: here under 1e-5·distance), and no nearer than the
+      // sampling step allows
+      EXPECT_LE(d.distance, best + 1e-12 + 1e-5 * best) << "sweep " << sweep << " angle " << a;
+      EXPECT_GT(d.distance, best - 1e-5) << "sweep " << sweep << " angle " << a;
+      EXPECT_NEAR(norm(evaluate(b, d.s).p - p), d.distance, 1e-9) << "s must name the nearest point";
+      if (best > 1e-3) {
+        EXPECT_NEAR(d.s, best_s, 2e-3 * b.length) << "sweep " << sweep;
+      }
+    }
+  }
+}
+
 TEST(ContourError, HelixDistanceMatchesADenseSearch) {
   const MachineConfig cfg = load_config(test::default_config());
   const PreparedBlock b = prepare_block(arc_block({12.5, 12.5, 5.0}, 3.0, 0.3, 2.5 * std::numbers::pi, 2.0), cfg);

@@ -68,17 +68,22 @@ TEST(RingTwoProcess, MillionBlocksNoLossNoDuplicateNoReorderNoOverwrite) {
       RtLink link(config);
       RingFeeder feeder(link);
       std::mt19937_64 rng(12345);
-      for (std::uint64_t n = 1; n <= total; ++n) {
-        const FeedResult r = feeder.push([&](Block& b) {
-          fill_block(b, n);
-          return true;
-        });
+      std::uint64_t made = 0;  // the fill is a stream: the feeder may call it ahead (staging)
+      auto fill = [&](Block& b) {
+        if (made >= total) return false;
+        fill_block(b, ++made);
+        return true;
+      };
+      for (;;) {
+        const FeedResult r = feeder.push(fill);
+        if (r == FeedResult::kEndOfInput) break;
         if (r != FeedResult::kPushed) {
           code = 3;
           break;
         }
         random_delay(rng);
       }
+      if (code == 0 && feeder.pushed() != total) code = 5;
     } catch (...) {
       code = 4;
     }
