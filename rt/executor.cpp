@@ -259,7 +259,11 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
   const double remaining = b.length - s_;
 
-  const double v_allow = std::min(cap, stop_speed(remaining, v_exit, a, dt_, k_));
+  // A stop at the end of this block, with no junction-restricted cycle left: the exact
+  // discrete braking rule. Otherwise the rule with the margin k for the restricted cycles.
+  const double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
+                                                     : stop_speed(remaining, v_exit, a, dt_, k_);
+  const double v_allow = std::min(cap, v_stop);
   const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
   const double a_step = near_junction ? (1.0 - f_) * a : a;
   double v_new = std::min(v_allow, v_ + a_step * dt_);

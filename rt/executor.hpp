@@ -16,7 +16,9 @@
 //      stops; the chain's last known block ends at rest. A backward pass gives the speed the
 //      current block may have at its end;
 //   2. v_allow = min(block speed × feed override (capped by what the axes allow on the curve),
-//      stop_speed(distance to the end of the current block, its exit speed));
+//      stop_speed(distance to the end of the current block, its exit speed)); when the
+//      block ends in a stop and no junction-restricted cycle is left, stop_speed_exact, the
+//      exact discrete rule (braking starts at the last possible cycle, no creeping tail);
 //   3. v = clamp(v_allow, v − a·dt, v + a·dt), v >= 0; in the cycles around a flowing
 //      junction the path acceleration is limited to (1 − f)·a so that path acceleration plus
 //      the corner's velocity step stays within each axis's acceleration;

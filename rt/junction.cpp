@@ -15,6 +15,21 @@ double stop_speed(double distance_mm, double v_end_mm_s, double a, double dt, do
   return v > 0.0 ? v : 0.0;
 }
 
+double stop_speed_exact(double distance_mm, double a, double dt) {
+  if (!(distance_mm > 0.0) || !(a > 0.0) || !(dt > 0.0)) return 0.0;
+  // Braking from v = (n + φ)·a·dt one a·dt per cycle, moving v·dt in this cycle and each
+  // one after, covers (n + 1)(n/2 + φ)·a·dt² before the speed reaches φ·a·dt < a·dt, and the
+  // last cycle lands (executor.cpp). Solve (n + 1)(n/2 + φ) = q for n (integer) and φ ∈ [0, 1).
+  const double q = distance_mm / (a * dt * dt);
+  double n = std::floor(0.5 * (std::sqrt(8.0 * q + 1.0) - 1.0));
+  if (n < 0.0) n = 0.0;
+  if ((n + 1.0) * (n + 2.0) * 0.5 <= q) n += 1.0;      // rounding of the square root
+  if (n > 0.0 && n * (n + 1.0) * 0.5 > q) n -= 1.0;
+  double phi = q / (n + 1.0) - 0.5 * n;
+  phi = phi < 0.0 ? 0.0 : (phi > 1.0 ? 1.0 : phi);
+  return (n + phi) * a * dt;
+}
+
 double entry_speed(double length_mm, double v_exit_mm_s, double a) {
   return std::sqrt(v_exit_mm_s * v_exit_mm_s + 2.0 * a * (length_mm > 0.0 ? length_mm : 0.0));
 }

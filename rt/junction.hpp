@@ -22,6 +22,13 @@ namespace pcnc {
 /// restricted at flowing junctions (executor.hpp).
 double stop_speed(double distance_mm, double v_end_mm_s, double accel_mm_s2, double dt_s, double k);
 
+/// The exact discrete rule for a stop at rest: the largest v such that moving v·dt this
+/// cycle and then braking by a·dt per cycle (each cycle moving at its new speed, the last
+/// one landing at the end with a speed <= a·dt) covers exactly `distance`. Used for the last
+/// block before a stop when no junction restricts the acceleration; it starts braking
+/// later than stop_speed's margin would, and reaches the end without a slow creeping tail.
+double stop_speed_exact(double distance_mm, double accel_mm_s2, double dt_s);
+
 /// The continuous-time entry speed of a block of `length_mm` that must exit at `v_exit`.
 double entry_speed(double length_mm, double v_exit_mm_s, double accel_mm_s2);
 

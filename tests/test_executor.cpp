@@ -70,6 +70,32 @@ TEST(Junction, StopSpeedBrakesWithinTheDistance) {
   EXPECT_GT(stop_speed(1.0, 10.0, a, dt, 1.0), stop_speed(1.0, 0.0, a, dt, 1.0));
 }
 
+TEST(Junction, ExactStopSpeedBrakesOntoTheDistanceAndNoFaster) {
+  // Moving v0·dt this cycle and then braking by a·dt per cycle covers d exactly, up to a last
+  // landing cycle slower than a·dt; any faster start overshoots.
+  const double a = 2000.0, dt = 0.0005;
+  for (double d : {1e-9, 1e-6, 4.9e-4, 5e-4, 1e-3, 0.01, 0.3, 5.0, 123.4}) {
+    const double v0 = stop_speed_exact(d, a, dt);
+    auto covered = [&](double start) {
+      double v = start, x = start * dt;
+      while (v > a * dt) {
+        v -= a * dt;
+        x += v * dt;
+      }
+      return x;  // then a landing cycle at (d − x)/dt ∈ [0, a·dt] must close the gap
+    };
+    const double x = covered(v0);
+    EXPECT_LE(x, d * (1.0 + 1e-12)) << d;
+    const double v_last = v0 - std::floor(v0 / (a * dt) - 1e-12) * a * dt;  // the speed before landing
+    EXPECT_LE((d - x) / dt, v_last + 1e-9) << "landing is no faster than the cycle before, d " << d;
+    EXPECT_GT(covered(v0 * (1.0 + 1e-6) + 1e-9), d) << "a faster start must overshoot, d " << d;
+    // never slower than the margin rule it replaces
+    EXPECT_GE(v0, stop_speed(d, 0.0, a, dt, 2.0)) << d;
+  }
+  EXPECT_EQ(stop_speed_exact(0.0, a, dt), 0.0);
+  EXPECT_EQ(stop_speed_exact(-1.0, a, dt), 0.0);
+}
+
 TEST(Junction, ContouringAngleAndSpeedCap) {
   const double lim = std::cos(10.0 * std::numbers::pi / 180.0);
   auto dir = [](double deg) {
