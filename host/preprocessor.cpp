@@ -76,15 +76,18 @@ void plan_arc(const Move& m, const MachineConfig& cfg, Block& b) {
   // Velocity: axis a0 moves with v*(r/rho)*|sin|, a1 with v*(r/rho)*|cos|, the normal with v*|pitch|/rho.
   const double s_max = max_abs_sin(theta0, sweep);
   const double c_max = max_abs_cos(theta0, sweep);
-  double speed = m.feed_mm_s;
-  if (s_max > 0.0) speed = std::min(speed, cfg.axes[a0].max_velocity_mm_s * rho / (r * s_max));
-  if (c_max > 0.0) speed = std::min(speed, cfg.axes[a1].max_velocity_mm_s * rho / (r * c_max));
-  if (std::fabs(pitch) > 0.0) speed = std::min(speed, cfg.axes[nk].max_velocity_mm_s * rho / std::fabs(pitch));
+  double v_axes = kInf;  // what the axes allow on this arc, whatever the feed
+  if (s_max > 0.0) v_axes = std::min(v_axes, cfg.axes[a0].max_velocity_mm_s * rho / (r * s_max));
+  if (c_max > 0.0) v_axes = std::min(v_axes, cfg.axes[a1].max_velocity_mm_s * rho / (r * c_max));
+  if (std::fabs(pitch) > 0.0) v_axes = std::min(v_axes, cfg.axes[nk].max_velocity_mm_s * rho / std::fabs(pitch));
   // Centripetal acceleration v^2 * r / rho^2 within a share of the smaller in-plane axis limit.
   const double a_plane = std::min(cfg.axes[a0].max_accel_mm_s2, cfg.axes[a1].max_accel_mm_s2);
-  if (r > 0.0) speed = std::min(speed, std::sqrt(kArcCentripetalShare * a_plane * rho * rho / r));
-  // Tangential acceleration: the remaining share in the plane, the full limit along the normal.
-  double accel = r > 0.0 ? (1.0 - kArcCentripetalShare) * a_plane * rho / r : kInf;
+  if (r > 0.0) v_axes = std::min(v_axes, std::sqrt(kArcCentripetalShare * a_plane * rho * rho / r));
+  const double speed = std::min(m.feed_mm_s, v_axes);
+  // Tangential acceleration: what the plane has left at the block's top speed (feed override
+  // included), shared/arc_limits.hpp; the full limit along the normal.
+  const double v_top = std::min(v_axes, kArcMaxFeedOverride * speed);
+  double accel = r > 0.0 ? arc_tangential_accel(a_plane, r, v_top * r / rho) * rho / r : kInf;
   if (std::fabs(pitch) > 0.0) accel = std::min(accel, cfg.axes[nk].max_accel_mm_s2 * rho / std::fabs(pitch));
   if (!std::isfinite(accel)) accel = 0.0;
   b.speed = speed;

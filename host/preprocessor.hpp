@@ -8,17 +8,17 @@
 //   rapids: the same with F = motion.rapid_speed_mm_s (0: unlimited, i.e. the axis maxima);
 //   arcs: a per-axis bound from the largest velocity component over the swept angles, and the
 //   centripetal acceleration v^2 * r / rho^2 kept within kArcCentripetalShare of the smallest
-//   in-plane axis acceleration; the rest of that acceleration is left for the tangential part.
+//   in-plane axis acceleration; the tangential part gets the rest of that acceleration's
+//   magnitude at the block's top speed (shared/arc_limits.hpp).
 #pragma once
 
+#include "arc_limits.hpp"
 #include "block.hpp"
 #include "config.hpp"
 #include "move.hpp"
 
 namespace pcnc {
 
-/// Share of the smallest in-plane axis acceleration an arc may use for centripetal acceleration.
-constexpr double kArcCentripetalShare = 0.5;
 
 /// The Block for one move (seq left 0: the ring feeder numbers blocks).
 Block make_block(const Move& move, const MachineConfig& config);

@@ -10,11 +10,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "arc_limits.hpp"
+
 namespace pcnc {
 
 class FeedOverride {
  public:
   static constexpr double kMax = 2.0;
+  static_assert(kMax == kArcMaxFeedOverride, "arcs are planned for the largest override");
   /// Returns false (and keeps the old value) for a non-finite request.
   bool set(double fraction) {
     if (!std::isfinite(fraction)) return false;

@@ -1,10 +1,14 @@
 // path.cpp — evaluation and machine caps of lines, arcs and helices (see path.hpp).
 #include "path.hpp"
 
+#include "arc_limits.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+
+#include "arc_limits.hpp"
 
 namespace pcnc {
 
@@ -39,8 +43,9 @@ void line_caps(PreparedBlock& pb, const MachineConfig& cfg) {
   pb.accel = std::min(pb.accel, a);
 }
 
-// Arcs: the in-plane axes see the tangential acceleration plus the centripetal v²/r; each
-// gets half of the smaller plane axis's acceleration, so their sum never exceeds it.
+// Arcs: the in-plane axes see the tangential acceleration plus the centripetal v²/r: the
+// centripetal part gets at most kArcCentripetalShare of the smaller plane axis's
+// acceleration, the tangential part what is left of its magnitude (shared/arc_limits.hpp).
 void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
   const double r_min = std::min(pb.r0, pb.r1);
   const double r_max = std::max(pb.r0, pb.r1);
@@ -52,8 +57,10 @@ void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
   double v = std::numeric_limits<double>::infinity(), a = v;
   if (q > 1e-12) {
     v = std::min(v, v_plane / q);
-    v = std::min(v, std::sqrt(0.5 * a_plane * r_min) / q);
-    a = std::min(a, 0.5 * a_plane / q);
+    v = std::min(v, std::sqrt(kArcCentripetalShare * a_plane * r_min) / q);
+    // tangential: what the plane has left at the top speed this block can run at
+    const double v_top = std::min(v, kArcMaxFeedOverride * pb.speed);
+    a = std::min(a, arc_tangential_accel(a_plane, r_min, v_top * q) / q);
   }
   if (h > 1e-12) {
     v = std::min(v, A[pb.an].max_velocity_mm_s / h);

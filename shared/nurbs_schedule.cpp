@@ -17,6 +17,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // at the full block acceleration) track every decrease of the schedule.
 constexpr double kRampAccelShare = 0.9;
 
+// The tangential acceleration is found at the samples only; between them the tangent and
+// curvature turn a little, and the rt's parameter steps add a little of their own. This share
+// of it keeps every axis within its limit between the samples as well.
+constexpr double kTangentialMargin = 0.9;
+
 struct SampleLimit {
   double speed;
   FeedLimit binding;
@@ -52,14 +57,26 @@ SampleLimit limit_at(const NurbsEval& e, const NurbsLimits& lim) {
   return out;
 }
 
-// Tangential acceleration available everywhere along tangent t.
-double tangential_accel(const Vec3& t, const NurbsLimits& lim) {
+// Tangential acceleration available at a point with unit tangent t and curvature vector k
+// where the speed never exceeds v_top: per axis, |a_t·t_i| + v_top²·|k_i| <= a_i, the
+// centripetal part counted at no more than its share (the speed limit keeps it there).
+double tangential_accel(const Vec3& t, const Vec3& k, double v_top, const NurbsLimits& lim) {
   double a = kInf;
   for (int i = 0; i < kAxes; ++i) {
-    const double ti = std::fabs(t[static_cast<std::size_t>(i)]);
-    if (ti > 0.0) a = std::min(a, (1.0 - lim.normal_accel_share) * lim.axis_accel_mm_s2[static_cast<std::size_t>(i)] / ti);
+    const auto ii = static_cast<std::size_t>(i);
+    const double ti = std::fabs(t[ii]);
+    const double ai = lim.axis_accel_mm_s2[ii];
+    const double centripetal = std::min(v_top * v_top * std::fabs(k[ii]), lim.normal_accel_share * ai);
+    if (ti > 0.0) a = std::min(a, (ai - centripetal) / ti);
   }
-  return a;
+  return kTangentialMargin * a;
+}
+
+// Unit tangent and curvature vector kappa·n = (C'' − (C''·t)t)/|C'|² at a curve point.
+void tangent_and_curvature(const NurbsEval& e, Vec3& t, Vec3& k) {
+  const double sp = norm(e.d1);
+  t = (1.0 / sp) * e.d1;
+  k = (1.0 / (sp * sp)) * (e.d2 - dot(e.d2, t) * t);
 }
 
 // Forward and backward passes: v_{j+1}^2 <= v_j^2 + 2 a ds and the reverse.
@@ -127,7 +144,12 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
     const SampleLimit sl = limit_at(e, lim);
     fs.limit = sl.speed;
     fs.binding = sl.binding;
-    out.accel_mm_s2 = std::min(out.accel_mm_s2, tangential_accel(normalized(e.d1), lim));
+    if (norm(e.d1) > 0.0) {
+      // the schedule holds the feed too: no override runs a NURBS block faster than fs.limit
+      Vec3 t{}, k{};
+      tangent_and_curvature(e, t, k);
+      out.accel_mm_s2 = std::min(out.accel_mm_s2, tangential_accel(t, k, sl.speed, lim));
+    }
     if (std::find(corners.begin(), corners.end(), fs.u) != corners.end()) {
       fs.limit = 0.0;
       fs.binding = FeedLimit::kCorner;

@@ -117,8 +117,9 @@ TEST(Preprocessor, QuarterArcGeometryAndTangents) {
   EXPECT_NEAR(b.arc.angular_speed, 2, 1e-12);  // 20 mm/s on r = 10
   EXPECT_NEAR(b.dir_start[1], 1, 1e-12);
   EXPECT_NEAR(b.dir_end[0], -1, 1e-12);
-  // tangential acceleration: half of the smaller in-plane limit (1500), times rho/r = 1
-  EXPECT_NEAR(b.accel, (1 - kArcCentripetalShare) * 1500, 1e-9);
+  // tangential acceleration: what the smaller in-plane limit (1500) leaves beside the
+  // centripetal v²/r at the top speed, twice the feed (the largest override): 40²/10
+  EXPECT_NEAR(b.accel, std::sqrt(1500.0 * 1500.0 - 160.0 * 160.0), 1e-9);
   EXPECT_NEAR(b.arc.angular_accel, b.accel / 10, 1e-12);
   const double stop = 2.0 * 2.0 / (2 * b.arc.angular_accel);
   EXPECT_NEAR(b.arc.decel_start_angle, kPi / 2 - stop, 1e-12);
@@ -129,6 +130,8 @@ TEST(Preprocessor, ArcSpeedLimitedByCentripetalAcceleration) {
   const Block b = make_block(arc({1, 0, 0}, {-1, 0, 0}, {0, 0, 0}, 1, kPi, 2, 1000), limits());
   EXPECT_NEAR(b.speed, std::sqrt(750.0), 1e-9);
   EXPECT_LE(b.speed * b.speed / 1.0, kArcCentripetalShare * 1500 + 1e-9);
+  // at that top speed the tangential part gets what the centripetal part leaves
+  EXPECT_NEAR(b.accel, std::sqrt(1 - kArcCentripetalShare * kArcCentripetalShare) * 1500, 1e-9);
 }
 
 TEST(Preprocessor, ArcSpeedLimitedByTheAxisThatPeaks) {
@@ -170,8 +173,9 @@ TEST(Preprocessor, ArcInG18PlaneUsesZAndX) {
   EXPECT_NEAR(b.arc.start_angle, 0, 1e-12);
   EXPECT_NEAR(b.dir_start[0], 1, 1e-12);  // moving toward +X first
   EXPECT_NEAR(b.dir_end[2], -1, 1e-12);   // then down in Z
-  // in-plane axes are Z (1000) and X (2000): tangential accel from the smaller one
-  EXPECT_NEAR(b.accel, (1 - kArcCentripetalShare) * 1000, 1e-9);
+  // in-plane axes are Z (1000) and X (2000): tangential accel from the smaller one, beside
+  // the centripetal (2·10)²/10 at the top speed
+  EXPECT_NEAR(b.accel, std::sqrt(1000.0 * 1000.0 - 40.0 * 40.0), 1e-9);
 }
 
 TEST(Preprocessor, MaxAbsTrigOverSweptAngles) {
