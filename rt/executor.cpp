@@ -15,6 +15,7 @@ Executor::Executor(const MachineConfig& config) : cfg_(config), dt_(config.cycle
   f_ = std::clamp(config.motion.junction_velocity_step_fraction, 0.0, 1.0);
   k_ = 1.0 + 2.0 * f_;
   cos_limit_ = std::cos(config.motion.contouring_angle_deg * std::numbers::pi / 180.0);
+  corner_tolerance_ = config.motion.corner_tolerance_mm;
   for (int i = 0; i < kAxes; ++i) axis_accel_[i] = config.axes[i].max_accel_mm_s2;
   Vec3 home{};
   for (int i = 0; i < kAxes; ++i) home[i] = config.axes[i].home_mm;
@@ -69,6 +70,9 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
       double corner = 0.0;
       if (p.motion && q.motion && junction_flows(p.contouring, p.dir_end, q.dir_start, cos_limit_)) {
         corner = junction_speed_cap(p.dir_end, q.dir_start, axis_accel_, dt_, f_);
+      }
+      if (p.motion && q.motion && p.contouring && corner_tolerance_ > 0.0) {
+        corner = std::max(corner, junction_deviation_speed(p.dir_end, q.dir_start, axis_accel_, corner_tolerance_));
       }
       corner_[prepared_ - 1] = corner;
     }

@@ -116,6 +116,7 @@ class Executor {
   double f_;          // junction velocity-step fraction, clamped to [0, 1]
   double k_;          // stop_speed margin
   double cos_limit_;  // cos(contouring angle)
+  double corner_tolerance_;  // mm, motion.corner_tolerance_mm (0: off)
   std::array<double, kAxes> axis_accel_{};
 
   std::array<PreparedBlock, kRingSlots> prep_{};  // prep_[i] describes ring.peek(i)

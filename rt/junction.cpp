@@ -50,4 +50,22 @@ double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std:
   return cap;
 }
 
+double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
+                                double tolerance_mm) {
+  if (!(tolerance_mm > 0.0)) return 0.0;
+  const double cos_theta = -dot(dir_end, dir_start);  // θ: the angle the corner encloses
+  if (cos_theta <= -1.0 + 1e-12) return std::numeric_limits<double>::infinity();  // straight on
+  if (cos_theta >= 1.0 - 1e-12) return 0.0;                                        // reversal
+  const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
+  const double radius = tolerance_mm * sin_half / (1.0 - sin_half);
+  const Vec3 change = dir_start - dir_end;
+  const double n = norm(change);
+  double a = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kAxes; ++i) {
+    const double ui = std::abs(change[i]) / n;
+    if (ui > 1e-12) a = std::fmin(a, axis_accel[i] / ui);
+  }
+  return std::sqrt(a * radius);
+}
+
 }  // namespace pcnc

@@ -42,4 +42,13 @@ bool junction_flows(bool contouring, const Vec3& dir_end, const Vec3& dir_start,
 double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
                           double dt_s, double fraction);
 
+/// Junction-deviation speed (grbl, Klipper): the speed at which a virtual arc tangent to
+/// both directions, passing within `tolerance_mm` of the corner, would be run at the
+/// acceleration the axes allow along the direction of the velocity change:
+///   R = δ·sin(θ/2)/(1 − sin(θ/2)),  θ the angle between −dir_end and dir_start,
+///   a_j = min_i a_i/|u_i|,  u = normalized(dir_start − dir_end),  v = sqrt(a_j·R).
+/// +infinity for a straight junction, 0 for a reversal or a tolerance of 0.
+double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
+                                double tolerance_mm);
+
 }  // namespace pcnc

@@ -157,6 +157,7 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     m.number("contouring_angle_deg", c.motion.contouring_angle_deg, 0.0, 90.0);
     m.boolean("contouring_default", c.motion.contouring_default);
     m.number("junction_velocity_step_fraction", c.motion.junction_velocity_step_fraction, 0.0, 100.0);
+    m.number("corner_tolerance_mm", c.motion.corner_tolerance_mm, 0.0, 1.0);
     m.number("rapid_speed_mm_s", c.motion.rapid_speed_mm_s, 0.0, 1e5);
     m.number("jog_accel_fraction", c.motion.jog_accel_fraction, 0.01, 1.0);
     m.number("subsample_steps", c.motion.subsample_steps, 1.0, 1000.0);

@@ -48,6 +48,12 @@ struct MotionConfig {
   // Junction speed cap under contouring: the velocity vector may jump by at most this
   // fraction of the smallest axis acceleration times one cycle period.
   double junction_velocity_step_fraction = 1.0;
+  // Corner tolerance under M21 (0: off, the seed's rule alone). When > 0, every junction may
+  // also be passed at the junction-deviation speed of a virtual arc that stays within this
+  // distance of the corner (grbl's and Klipper's rule; rt/junction.hpp), corners sharper
+  // than the contouring angle included. The setpoint's velocity then steps at the corner and
+  // the servo rounds it: the run report's contour error shows by how much.
+  double corner_tolerance_mm = 0.0;
   double rapid_speed_mm_s = 0.0;        // 0: each axis's max velocity (projected on the move)
   double jog_accel_fraction = 1.0;      // jogs use this fraction of each axis's acceleration
   double subsample_steps = 8.0;         // plant integration sub-steps per cycle (if needed)

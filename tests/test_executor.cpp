@@ -96,6 +96,26 @@ TEST(Junction, ExactStopSpeedBrakesOntoTheDistanceAndNoFaster) {
   EXPECT_EQ(stop_speed_exact(-1.0, a, dt), 0.0);
 }
 
+TEST(Junction, JunctionDeviationSpeedFollowsTheVirtualArc) {
+  const std::array<double, kAxes> a{500.0, 500.0, 200.0};
+  // 90° from −Z to +X: the virtual arc has R = δ·sin45°/(1 − sin45°); the velocity change
+  // points along (1, 0, 1)/√2, where the axes allow min(500, 200)·√2.
+  const double r = 0.01 * std::sqrt(0.5) / (1.0 - std::sqrt(0.5));
+  const double v90 = junction_deviation_speed({0, 0, -1}, {1, 0, 0}, a, 0.01);
+  EXPECT_NEAR(v90, std::sqrt(200.0 * std::sqrt(2.0) * r), 1e-12);
+  EXPECT_NEAR(v90, 2.613, 1e-3);
+  // XY corners use the X/Y limits; a shallower turn is faster; more tolerance is faster
+  const double vxy = junction_deviation_speed({1, 0, 0}, {0, 1, 0}, a, 0.01);
+  EXPECT_NEAR(vxy, std::sqrt(500.0 * std::sqrt(2.0) * r), 1e-12);
+  const Vec3 d30 = {std::cos(0.5), std::sin(0.5), 0.0};
+  EXPECT_GT(junction_deviation_speed({1, 0, 0}, d30, a, 0.01), vxy);
+  EXPECT_GT(junction_deviation_speed({1, 0, 0}, {0, 1, 0}, a, 0.02), vxy);
+  // straight on: unlimited; a reversal or no tolerance: a stop
+  EXPECT_TRUE(std::isinf(junction_deviation_speed({1, 0, 0}, {1, 0, 0}, a, 0.01)));
+  EXPECT_EQ(junction_deviation_speed({1, 0, 0}, {-1, 0, 0}, a, 0.01), 0.0);
+  EXPECT_EQ(junction_deviation_speed({1, 0, 0}, {0, 1, 0}, a, 0.0), 0.0);
+}
+
 TEST(Junction, ContouringAngleAndSpeedCap) {
   const double lim = std::cos(10.0 * std::numbers::pi / 180.0);
   auto dir = [](double deg) {

@@ -12,6 +12,7 @@
 #include <new>
 #include <numbers>
 
+#include "junction.hpp"
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
 #include "nurbs.hpp"
@@ -92,6 +93,45 @@ TEST(Machine, SquareWithM21StillStopsAt90Degrees) {
   EXPECT_EQ(s.junction_stops, 4u);
   EXPECT_EQ(rests_between_motion(run.records(), 0, run.records().size()), 4);
   EXPECT_EQ(run.check_setpoint_limits(), "");
+}
+
+// With a corner tolerance, M21 passes the square's corners at the junction-deviation speed
+// instead of stopping: no rest cycle at the three corners, the speed there is above zero and
+// no higher than the rule allows, the square ends where it began, and it takes less time.
+TEST(Machine, SquareWithACornerTolerancePassesTheCornersAtTheDeviationSpeed) {
+  MachineConfig c = cfg();
+  c.motion.corner_tolerance_mm = 0.01;
+  MachineRunner run(c);
+  run.start(test::square_program(c, {5, 5, 20}, 10.0, 25.0, true));
+  const std::size_t cycles = run.run_until_done();
+  const Status& s = run.status();
+  ASSERT_EQ(s.program_done, 1) << run.machine().fault_reason();
+  // the rapid's corner into the first side is under M21 too: all four corners flow
+  EXPECT_EQ(s.junction_stops, 0u);
+  EXPECT_EQ(s.junction_flows, 4u);
+  const std::array<double, kAxes> a{c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2, c.axes[2].max_accel_mm_s2};
+  const double v_corner = junction_deviation_speed({1, 0, 0}, {0, 1, 0}, a, 0.01);
+  // the speed in the cycles on either side of the three corners between the sides (lines
+  // 2|3, 3|4, 4|5)
+  const auto& rec = run.records();
+  int corners = 0;
+  for (std::size_t i = 1; i < rec.size(); ++i) {
+    if (rec[i].line == rec[i - 1].line || rec[i - 1].line < 2 || rec[i - 1].line > 4) continue;
+    ++corners;
+    for (const double v : {rec[i - 1].speed, rec[i].speed}) {
+      EXPECT_GT(v, 0.5 * v_corner) << "line " << rec[i - 1].line;
+      EXPECT_LE(v, v_corner + a[0] * run.dt() + 1e-9) << "line " << rec[i - 1].line;
+    }
+  }
+  EXPECT_EQ(corners, 3);
+  EXPECT_EQ(run.check_setpoint_limits(100.0), "") << "velocity and travel stay within the limits";
+  EXPECT_NEAR(s.commanded[0], 5.0, 1e-12);
+  EXPECT_NEAR(s.commanded[1], 5.0, 1e-12);
+  // the corners cost the servo a little contour accuracy, far less than the tolerance
+  EXPECT_LT(s.max_contour_error, 0.01);
+  MachineRunner stops(cfg());
+  stops.start(test::square_program(cfg(), {5, 5, 20}, 10.0, 25.0, true));
+  EXPECT_LT(cycles, stops.run_until_done());
 }
 
 double run_polygon(bool contouring, Status* out, std::string* limits, int* rests) {
