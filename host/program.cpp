@@ -13,6 +13,7 @@
 #include "parser.hpp"
 #include "preflight.hpp"
 #include "preprocessor.hpp"
+#include "segment_merge.hpp"
 
 namespace pcnc {
 namespace {
@@ -224,11 +225,23 @@ CheckResult check_program_text(std::string_view text, const std::string& name, c
 
 struct BlockStream::Impl {
   Impl(std::unique_ptr<LineReader> r, const std::string& name, const MachineConfig& c, const JobFrame& frame)
-      : reader(std::move(r)), config(c), sink(name), source(*reader, config, frame, sink) {}
+      : reader(std::move(r)),
+        config(c),
+        sink(name),
+        source(*reader, config, frame, sink),
+        merger(c.motion.corner_tolerance_mm),
+        pull([this](Move& m) {
+          do {
+            if (!source.next(m)) return false;
+          } while (is_null_move(m));
+          return true;
+        }) {}
   std::unique_ptr<LineReader> reader;
   MachineConfig config;  // a copy: the stream may outlive the caller's config (or a temporary)
   DiagnosticSink sink;
   MoveSource source;
+  SegmentMerger merger;  // runs of collinear G1 moves under M21 -> one line (tolerance 0: off)
+  std::function<bool(Move&)> pull;  // the interpreter's moves without the null ones
   std::vector<Block> nurbs;  // the blocks of the NURBS move being streamed (one curve at a time)
   std::size_t nurbs_next = 0;
 };
@@ -253,9 +266,7 @@ bool BlockStream::next(Block& out) {
     return true;
   }
   Move m;
-  do {
-    if (!impl_->source.next(m)) return false;
-  } while (is_null_move(m));
+  if (!impl_->merger.next(impl_->pull, m)) return false;
   if (impl_->sink.has_errors()) {
     const std::vector<Diagnostic> d = impl_->sink.take();
     throw std::runtime_error(format_diagnostic(d.front()) + " (the program changed since it was checked?)");

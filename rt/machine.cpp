@@ -345,7 +345,10 @@ void Machine::Impl::run_program(MotionRing& ring) {
     st.path_speed = 0.0;
   }
   if (r.starved && st.state == MachineState::kRunning) {
-    if (st.program_active) {
+    // An underrun is the ring running dry in the middle of a program; before its first
+    // block has arrived (the host was descheduled between the start command and the first
+    // block) nothing has moved yet, and nothing was waiting on the path.
+    if (st.program_active && st.blocks_done > 0) {
       ++st.underruns;
     } else {
       st.state = MachineState::kIdle;  // blocks without a program start ran out

@@ -382,14 +382,25 @@ TEST(Machine, UnderrunsAreCountedWhenTheHostIsSlow) {
   MachineConfig c = cfg();
   MachineRunner run(c);
   run.set_feeding(false);
-  run.start(test::square_program(c, {5, 5, 20}, 10.0, 25.0, false));
+  run.start(test::polygon_circle_program(c, {12.5, 12.5, 20}, 5.0, 36, 25.0, false));
   EXPECT_TRUE(run.machine().wants_more_blocks(run.ring()));
+  // waiting for the program's first block is not an underrun: nothing has moved yet
   run.run(50);
-  EXPECT_EQ(run.status().underruns, 50u);
+  EXPECT_EQ(run.status().underruns, 0u);
+  // the host falls silent after the first two blocks: every cycle that finds the ring dry
+  // in the middle of the program is one
+  run.set_feeding(true);
+  run.run_while([](const Status& s) { return s.blocks_done < 2; });
+  run.set_feeding(false);
+  run.run_while([](const Status& s) { return s.underruns == 0; }, 200000);
+  ASSERT_EQ(run.status().underruns, 1u);
+  run.run(50);
+  EXPECT_EQ(run.status().underruns, 51u);
+  EXPECT_EQ(run.status().state, MachineState::kRunning);
   run.set_feeding(true);
   run.run_until_done();
   EXPECT_EQ(run.status().program_done, 1);
-  EXPECT_EQ(run.status().underruns, 50u);
+  EXPECT_EQ(run.status().underruns, 51u);
   EXPECT_FALSE(run.machine().wants_more_blocks(run.ring()));
   EXPECT_EQ(run.check_setpoint_limits(), "");
 }
