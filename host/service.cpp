@@ -520,17 +520,17 @@ struct Service::Impl {
   Outcome do_run(ClientId client, const json& id, const json& params, std::shared_ptr<RtLink> l, const Status& st) {
     auto p = rpc::check_run_params(params);
     if (!p.ok()) return Outcome::fail(p.error);
+    if (p.value->file.front() != '/') {
+      return Outcome::fail(rpc::Error{rpc::kInvalidParams, "parameter 'file' of run must be an absolute path (the service's working "
+                                                         "directory is not the client's); pcnc ctl run makes it absolute",
+                                      nullptr});
+    }
     if (job_active.load()) return Outcome::fail(refused("a program is already running; stop it first"));
     if (st.state != MachineState::kIdle) {
       std::string why = std::string("the machine is ") + to_string(st.state) + ", not IDLE";
       if (st.state == MachineState::kHostLost) why += ": resume or stop the program the lost host was running first";
       if (st.state == MachineState::kFault || st.state == MachineState::kEstop) why += ": reset first";
       return Outcome::fail(refused(why));
-    }
-    if (p.value->file.front() != '/') {
-      return Outcome::fail(rpc::Error{rpc::kInvalidParams, "parameter 'file' of run must be an absolute path (the service's working "
-                                                         "directory is not the client's); pcnc ctl run makes it absolute",
-                                      nullptr});
     }
     MachineConfig job_config = config;  // set_offset may change the service's copy meanwhile
     start_worker([this, client, id, rp = *p.value, l, job_config, start = st.commanded] {
@@ -556,12 +556,17 @@ struct Service::Impl {
       for (const auto& d : check.diagnostics) errors += d.severity == Diagnostic::Severity::kError;
       json data = {{"file", rp.file}, {"errors", diagnostics_json(check, Diagnostic::Severity::kError)}};
       spdlog::warn("run {} refused: preflight found {} error(s)", rp.file, errors);
+      {
+        std::lock_guard<std::mutex> lock(job_mutex);
+        job_info = json::object();
+      }
+      // No job ran: free the service before the reply, so that a client's next run right
+      // after it is not refused as "already running".
+      job_active = false;
       post_reply(client, id,
                  Outcome::fail(rpc::Error{rpc::kPreflightFailed,
                                           rp.file + ": preflight found " + std::to_string(errors) + " error(s); nothing was moved",
                                           data}));
-      std::lock_guard<std::mutex> lock(job_mutex);
-      job_info = json::object();
       return;
     }
     JobJournal jj;
@@ -660,6 +665,7 @@ struct Service::Impl {
   void resume_job(ClientId client, const json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg, JobJournal jj) {
     auto fail = [&](std::string why) {
       spdlog::warn("resume refused: {}", why);
+      job_active = false;  // nothing runs: free the service before the reply (see run_job)
       post_reply(client, id, Outcome::fail(refused("cannot resume: " + why + "; use stop to abandon the program")));
     };
     std::uint64_t size = 0;
