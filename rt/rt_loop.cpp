@@ -151,11 +151,22 @@ std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
     return cycles;
   }
 
+  // Sleep to `spin` before the deadline, then spin to it (process.rt_spin_us; never the
+  // whole period).
+  const std::uint64_t spin_ns =
+      std::min(static_cast<std::uint64_t>(config_.process.rt_spin_us * 1000.0), period_ns * 9 / 10);
   std::uint64_t next = monotonic_ns() + period_ns;
   while (!stop.load(std::memory_order_relaxed)) {
-    const timespec deadline = to_timespec(next);
+    const timespec deadline = to_timespec(next - spin_ns);
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
       if (stop.load(std::memory_order_relaxed)) return cycles;
+    }
+    if (spin_ns > 0) {
+      while (monotonic_ns() < next) {
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
+      }
     }
     const std::uint64_t woke = monotonic_ns();
     const std::uint64_t late = woke > next ? woke - next : 0;

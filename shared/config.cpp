@@ -185,6 +185,7 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     p.number("rt_timeout_s", c.process.rt_timeout_s, 0.005, 60.0);
     p.number("jog_deadman_s", c.process.jog_deadman_s, 0.01, 60.0);
     p.integer("rt_priority", c.process.rt_priority, 1, 99);
+    p.number("rt_spin_us", c.process.rt_spin_us, 0.0, 1e6);
     p.finish();
     if (c.process.shm_name.empty() || c.process.shm_name[0] != '/' ||
         c.process.shm_name.find('/', 1) != std::string::npos || c.process.shm_name.size() > 200) {

@@ -80,6 +80,10 @@ struct ProcessConfig {
   double rt_timeout_s = 0.1;       // host: rt heartbeat older than this -> rt lost
   double jog_deadman_s = 0.5;      // continuous jog stops without a keep-alive this long
   int rt_priority = 80;            // SCHED_FIFO priority asked for
+  // Real clock: the rt sleeps until this long before each deadline and spins the rest, so
+  // that the wake-up does not pay the idle CPU's exit latency (a virtual machine's idle vCPU
+  // can take milliseconds to wake). Costs this fraction of a core: spin / period. 0: sleep.
+  double rt_spin_us = 0.0;
 };
 
 struct MachineConfig {

@@ -93,6 +93,10 @@ TEST(Config, OutOfRangeAndWrongTypeAreErrors) {
   EXPECT_THROW(parse_config("[axis.x]\ntravel_min_mm = 10.0\ntravel_max_mm = 5.0\n", "t"), ConfigError);
   EXPECT_THROW(parse_config("[process]\nshm_name = \"no-slash\"\n", "t"), ConfigError);
   EXPECT_THROW(parse_config("[motion\n", "t"), ConfigError);
+  EXPECT_THROW(parse_config("[motion]\ncorner_tolerance_mm = -0.01\n", "t"), ConfigError);
+  EXPECT_THROW(parse_config("[process]\nrt_spin_us = -5.0\n", "t"), ConfigError);
+  EXPECT_EQ(parse_config("[motion]\ncorner_tolerance_mm = 0.01\n", "t").motion.corner_tolerance_mm, 0.01);
+  EXPECT_EQ(parse_config("[process]\nrt_spin_us = 200.0\n", "t").process.rt_spin_us, 200.0);
   EXPECT_NO_THROW(parse_config("", "empty"));
 }
 
