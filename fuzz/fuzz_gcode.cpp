@@ -1,6 +1,8 @@
 // fuzz_gcode.cpp — libFuzzer entry: any bytes as a G-code program through check_program_text
-// and, when the check passes, the whole BlockStream. Crashes, sanitizer reports and a block
-// with a non-finite number or a speed above an axis limit are failures.
+// and, when the check passes, the whole BlockStream (half the inputs with a corner tolerance,
+// which turns on merging of collinear segments). Crashes, sanitizer reports, a block with a
+// non-finite number or a speed above an axis limit, and motion blocks that do not chain
+// (each starting where the previous one ended) are failures.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -35,10 +37,23 @@ pcnc::MachineConfig make_config() {
   return c;
 }
 
+pcnc::MachineConfig make_merging_config() {
+  pcnc::MachineConfig c = make_config();
+  c.motion.corner_tolerance_mm = 0.01;
+  return c;
+}
+
+bool is_motion(pcnc::BlockKind k) {
+  return k == pcnc::BlockKind::kLine || k == pcnc::BlockKind::kRapid || k == pcnc::BlockKind::kArc ||
+         k == pcnc::BlockKind::kNurbs;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const pcnc::MachineConfig config = make_config();
+  static const pcnc::MachineConfig plain = make_config();
+  static const pcnc::MachineConfig merging = make_merging_config();
+  const pcnc::MachineConfig& config = size > 2 && (data[2] & 1) ? merging : plain;
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   pcnc::JobOptions options;
   options.fit = size > 0 && (data[0] & 1);  // half the inputs with --fit
@@ -47,9 +62,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!r.ok) return 0;
   pcnc::BlockStream stream(pcnc::BlockStream::FromText{}, text, "fuzz.ngc", config, options, r.transform);
   pcnc::Block b;
-  bool ended = false;
+  bool ended = false, moved = false;
+  pcnc::Vec3 last{};
   while (stream.next(b)) {
     check_block(b, config);
+    if (is_motion(b.kind)) {
+      if (moved && std::hypot(b.start[0] - last[0], b.start[1] - last[1], b.start[2] - last[2]) > 1e-9) __builtin_trap();
+      last = b.end;
+      moved = true;
+    }
     ended = b.kind == pcnc::BlockKind::kEnd;
   }
   if (!ended) __builtin_trap();  // every stream ends with an End block
