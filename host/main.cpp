@@ -132,6 +132,7 @@ int main(int argc, char** argv) {
     pcnc::JobRunner runner(*link, config);
     pcnc::RunReport report;
     report.program = run_file;
+    report.corner_tolerance_mm = config.motion.corner_tolerance_mm;
     std::function<void(const pcnc::JobProgress&)> on_progress;
     if (progress_fd >= 0) {
       signal(SIGPIPE, SIG_IGN);  // the progress reader may go away before we do

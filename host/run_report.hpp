@@ -12,6 +12,7 @@ struct RunReport {
   std::string program;
   CheckResult check;
   JobResult job;
+  double corner_tolerance_mm = 0.0;  // motion.corner_tolerance_mm of the run (0: off)
 };
 
 /// Plain text for the terminal.

@@ -112,6 +112,7 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.clock = r.job.final_status.clock_virtual ? "virtual" : "real";
   s.contouring_at_start = contouring_at_start;
   s.contouring_angle_deg = config.motion.contouring_angle_deg;
+  s.corner_tolerance_mm = config.motion.corner_tolerance_mm;
   s.cycle_hz = config.motion.cycle_hz;
   s.travel_min = config.travel_min();
   s.travel_max = config.travel_max();
@@ -146,6 +147,7 @@ nlohmann::json to_json(const RunSummary& s) {
               {"clock", s.clock},
               {"contouring_at_start", s.contouring_at_start},
               {"contouring_angle_deg", s.contouring_angle_deg},
+              {"corner_tolerance_mm", s.corner_tolerance_mm},
               {"cycle_hz", s.cycle_hz},
               {"travel_min", s.travel_min},
               {"travel_max", s.travel_max},
@@ -182,6 +184,7 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.clock = j.at("clock").get<std::string>();
   s.contouring_at_start = j.at("contouring_at_start").get<bool>();
   s.contouring_angle_deg = j.at("contouring_angle_deg").get<double>();
+  s.corner_tolerance_mm = j.value("corner_tolerance_mm", 0.0);  // absent in summaries before it existed
   s.cycle_hz = j.at("cycle_hz").get<double>();
   s.travel_min = j.at("travel_min").get<Vec3>();
   s.travel_max = j.at("travel_max").get<Vec3>();

@@ -24,6 +24,7 @@ struct RunSummary {
   std::string clock;          // "real" | "virtual"
   bool contouring_at_start = false;
   double contouring_angle_deg = 0.0;
+  double corner_tolerance_mm = 0.0;  // motion.corner_tolerance_mm (0: corners stop, nothing merged)
   double cycle_hz = 0.0;
   Vec3 travel_min{}, travel_max{};
 

@@ -487,7 +487,12 @@ std::string render_report_html(const ReportPage& page) {
     r.push_back({"junctions", num("junction-flows", std::to_string(st.junction_flows)) + " passed without stopping, " +
                                   num("junction-stops", std::to_string(st.junction_stops)) + " stops",
                  std::string("contouring ") + (s.contouring_at_start ? "on (M21)" : "off (M22)") + " at start, angle " +
-                     fixed(s.contouring_angle_deg, 1) + "°; M21/M22 in the program override"});
+                     fixed(s.contouring_angle_deg, 1) + "°; M21/M22 in the program override" +
+                     (s.corner_tolerance_mm > 0.0
+                          ? "; corner tolerance " + num("corner-tolerance", fixed(s.corner_tolerance_mm * 1000.0, 1)) +
+                                " µm: under M21 corners are passed at the junction-deviation speed and runs of collinear "
+                                "G1 moves are merged into one block"
+                          : std::string())});
     groups.push_back({"Program", r});
   }
   // accuracy
