@@ -30,8 +30,9 @@ class RingFeeder {
 
   /// Puts the next block into the ring. `fill(Block&)` is a stream: each call writes the
   /// next block and returns true, or returns false when there are no more; the feeder may
-  /// call it several times in one push (staging) and never again after it returned false. With a slot free and nothing staged, the block is
-  /// filled in place. While the ring is full, the feeder fills up to kStageDepth blocks ahead
+  /// call it several times in one push (staging) and never again after it returned false.
+  /// With a slot free and nothing staged, the block is filled in place. While the ring is
+  /// full, the feeder fills up to kStageDepth blocks ahead
   /// into a local staging queue and copies them in as slots free: a slot is then refilled
   /// by one copy, not by parsing and preprocessing, and short blocks (which the rt finishes
   /// faster than the host prepares them) draw on the blocks prepared during long ones.

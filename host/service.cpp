@@ -218,8 +218,8 @@ struct Service::Impl {
       std::lock_guard<std::mutex> lock(job_mutex);
       j["job"] = job_info;
       j["last_job"] = last_job;
+      j["job"]["active"] = job_active.load();
     }
-    j["job"]["active"] = job_active.load();
     json offsets = json::object();
     for (int i = 0; i < 6; ++i) offsets[rpc::work_offset_name(i)] = rpc::vec3_to_json(config.gcode.work_offsets[static_cast<std::size_t>(i)]);
     j["work_offsets"] = offsets;
@@ -512,9 +512,20 @@ struct Service::Impl {
       } catch (const std::exception& e) {
         spdlog::error("job worker: {}", e.what());
       }
-      job_active = false;
+      job_active = false;  // after an exception; normally end_job() already did
     });
     return true;
+  }
+
+  // The job is over as far as any client can tell: its record (the last job, when one ran)
+  // and "not active" change together under job_mutex, before any reply or event says so, so
+  // that a client's next run is never refused as "already running". A new worker may start
+  // at once: start_worker() joins this thread first.
+  void end_job(const json* last) {
+    std::lock_guard<std::mutex> lock(job_mutex);
+    if (last) last_job = *last;
+    job_info = json::object();
+    job_active = false;
   }
 
   Outcome do_run(ClientId client, const json& id, const json& params, std::shared_ptr<RtLink> l, const Status& st) {
@@ -556,13 +567,7 @@ struct Service::Impl {
       for (const auto& d : check.diagnostics) errors += d.severity == Diagnostic::Severity::kError;
       json data = {{"file", rp.file}, {"errors", diagnostics_json(check, Diagnostic::Severity::kError)}};
       spdlog::warn("run {} refused: preflight found {} error(s)", rp.file, errors);
-      {
-        std::lock_guard<std::mutex> lock(job_mutex);
-        job_info = json::object();
-      }
-      // No job ran: free the service before the reply, so that a client's next run right
-      // after it is not refused as "already running".
-      job_active = false;
+      end_job(nullptr);  // no job ran
       post_reply(client, id,
                  Outcome::fail(rpc::Error{rpc::kPreflightFailed,
                                           rp.file + ": preflight found " + std::to_string(errors) + " error(s); nothing was moved",
@@ -616,9 +621,8 @@ struct Service::Impl {
       server->post([this, file] { broadcast_event(json{{"event", "program_started"}, {"file", file}}); });
     });
     const JobResult r = body(runner);
-    if (!replied) post_reply(client, id, Outcome::fail(refused(r.message)));
     const bool host_lost = r.final_status.state == MachineState::kHostLost;
-    if (!host_lost) remove_journal(journal);
+    if (!host_lost) remove_journal(journal);  // before end_job: a next job writes its own
     json end = {{"file", file},
                 {"end", to_string(r.end)},
                 {"message", r.message},
@@ -634,11 +638,8 @@ struct Service::Impl {
     } else {
       spdlog::warn("program {} ended: {}: {}", file, to_string(r.end), r.message);
     }
-    {
-      std::lock_guard<std::mutex> lock(job_mutex);
-      last_job = end;
-      job_info = json::object();
-    }
+    end_job(&end);
+    if (!replied) post_reply(client, id, Outcome::fail(refused(r.message)));
     json ev = end;
     ev["event"] = "program_end";
     server->post([this, ev] { broadcast_event(ev); });
@@ -665,7 +666,7 @@ struct Service::Impl {
   void resume_job(ClientId client, const json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg, JobJournal jj) {
     auto fail = [&](std::string why) {
       spdlog::warn("resume refused: {}", why);
-      job_active = false;  // nothing runs: free the service before the reply (see run_job)
+      end_job(nullptr);  // nothing runs
       post_reply(client, id, Outcome::fail(refused("cannot resume: " + why + "; use stop to abandon the program")));
     };
     std::uint64_t size = 0;

@@ -14,9 +14,11 @@ namespace pcnc {
 Executor::Executor(const MachineConfig& config) : cfg_(config), dt_(config.cycle_period_s()) {
   f_ = std::clamp(config.motion.junction_velocity_step_fraction, 0.0, 1.0);
   k_ = 1.0 + 2.0 * f_;
-  cos_limit_ = std::cos(config.motion.contouring_angle_deg * std::numbers::pi / 180.0);
-  corner_tolerance_ = config.motion.corner_tolerance_mm;
-  for (int i = 0; i < kAxes; ++i) axis_accel_[i] = config.axes[i].max_accel_mm_s2;
+  junction_.cos_limit = std::cos(config.motion.contouring_angle_deg * std::numbers::pi / 180.0);
+  junction_.step_fraction = f_;
+  junction_.corner_tolerance_mm = config.motion.corner_tolerance_mm;
+  junction_.dt = dt_;
+  for (int i = 0; i < kAxes; ++i) junction_.axis_accel[i] = config.axes[i].max_accel_mm_s2;
   Vec3 home{};
   for (int i = 0; i < kAxes; ++i) home[i] = config.axes[i].home_mm;
   set_position(home);
@@ -67,14 +69,7 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
     if (prepared_ > 0) {
       const PreparedBlock& p = prep_[prepared_ - 1];
       const PreparedBlock& q = prep_[prepared_];
-      double corner = 0.0;
-      if (p.motion && q.motion && junction_flows(p.contouring, p.dir_end, q.dir_start, cos_limit_)) {
-        corner = junction_speed_cap(p.dir_end, q.dir_start, axis_accel_, dt_, f_);
-      }
-      if (p.motion && q.motion && p.contouring && corner_tolerance_ > 0.0) {
-        corner = std::max(corner, junction_deviation_speed(p.dir_end, q.dir_start, axis_accel_, corner_tolerance_));
-      }
-      corner_[prepared_ - 1] = corner;
+      corner_[prepared_ - 1] = p.motion && q.motion ? corner_speed(p.contouring, p.dir_end, q.dir_start, junction_) : 0.0;
     }
     exit_valid_ = false;
     ++expected_seq_;
@@ -111,7 +106,7 @@ double Executor::junction_cap(std::size_t i, const ExecInput& in) const {
   return std::min({corner_[i], cap_of(prep_[i], in), cap_of(prep_[i + 1], in), prep_[i].v_last, prep_[i + 1].v_first});
 }
 
-double Executor::exit_speed_of_current(const ExecInput& in) const {
+double Executor::exit_speed_of_current(const ExecInput& in) {
   if (!exit_valid_ || exit_hold_ != in.hold || exit_override_ != in.feed_override) {
     exit_speed_ = compute_exit_speed(in);
     exit_hold_ = in.hold;

@@ -38,6 +38,7 @@
 
 #include "block.hpp"
 #include "config.hpp"
+#include "junction.hpp"
 #include "machine.hpp"
 #include "nurbs.hpp"
 #include "path.hpp"
@@ -100,7 +101,7 @@ class Executor {
   void pop(MotionRing& ring, ExecResult& out);
   void motion_step(MotionRing& ring, const ExecInput& in, ExecResult& out);
   double cap_of(const PreparedBlock& b, const ExecInput& in) const;
-  double exit_speed_of_current(const ExecInput& in) const;
+  double exit_speed_of_current(const ExecInput& in);
   double compute_exit_speed(const ExecInput& in) const;
   bool flows_after(std::size_t i) const;                      // geometric: junction i|i+1 flows
   double junction_cap(std::size_t i, const ExecInput& in) const;  // speed cap there (0: stop)
@@ -113,11 +114,9 @@ class Executor {
 
   MachineConfig cfg_;
   double dt_;
-  double f_;          // junction velocity-step fraction, clamped to [0, 1]
-  double k_;          // stop_speed margin
-  double cos_limit_;  // cos(contouring angle)
-  double corner_tolerance_;  // mm, motion.corner_tolerance_mm (0: off)
-  std::array<double, kAxes> axis_accel_{};
+  double f_;               // junction velocity-step fraction, clamped to [0, 1]
+  double k_;               // stop_speed margin
+  JunctionRules junction_;  // contouring angle, step fraction, corner tolerance, axis limits
 
   std::array<PreparedBlock, kRingSlots> prep_{};  // prep_[i] describes ring.peek(i)
   // corner_[i]: the speed cap of the junction between prep_[i] and prep_[i + 1] from the
@@ -125,10 +124,10 @@ class Executor {
   std::array<double, kRingSlots> corner_{};
   // exit_speed_of_current() depends only on the prepared blocks and the input: it is kept
   // until a block is prepared or popped, or the hold or the override changes.
-  mutable bool exit_valid_ = false;
-  mutable bool exit_hold_ = false;
-  mutable double exit_override_ = 0.0;
-  mutable double exit_speed_ = 0.0;
+  bool exit_valid_ = false;
+  bool exit_hold_ = false;
+  double exit_override_ = 0.0;
+  double exit_speed_ = 0.0;
   PreparedBlock prev_{};  // the motion block finished last
   bool has_prev_ = false;
   std::size_t prepared_ = 0;

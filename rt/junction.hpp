@@ -42,6 +42,22 @@ bool junction_flows(bool contouring, const Vec3& dir_end, const Vec3& dir_start,
 double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
                           double dt_s, double fraction);
 
+/// The rules a junction is judged by, from the config.
+struct JunctionRules {
+  double cos_limit = 1.0;             // cos(contouring angle)
+  double step_fraction = 0.0;         // junction_velocity_step_fraction, in [0, 1]
+  double corner_tolerance_mm = 0.0;   // 0: off
+  double dt = 0.0;                    // cycle period, s
+  std::array<double, kAxes> axis_accel{};
+};
+
+/// The speed cap of the junction between a motion block ending with `dir_end` (M21 on it:
+/// `contouring`) and the next starting with `dir_start`, from the geometry alone; 0 means
+/// it stops. Under M21 a turn under the contouring angle flows with junction_speed_cap;
+/// with a corner tolerance every junction may also flow at junction_deviation_speed; the
+/// larger cap applies.
+double corner_speed(bool contouring, const Vec3& dir_end, const Vec3& dir_start, const JunctionRules& rules);
+
 /// Junction-deviation speed (grbl, Klipper): the speed at which a virtual arc tangent to
 /// both directions, passing within `tolerance_mm` of the corner, would be run at the
 /// acceleration the axes allow along the direction of the velocity change:

@@ -1,8 +1,6 @@
 // path.cpp — evaluation and machine caps of lines, arcs and helices (see path.hpp).
 #include "path.hpp"
 
-#include "arc_limits.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -20,9 +20,9 @@ AxisPlant::AxisPlant(const AxisConfig& c, double cycle_s, int substeps, double p
       h_(cycle_s / std::max(1, substeps)),
       substeps_(std::max(1, substeps)),
       x_(position_mm) {
-  e_h_ = std::exp(-(b_ / mass_kg_) * h_);
   accel_per_n_ = 1000.0 / mass_kg_;
   lambda_ = b_ / mass_kg_;
+  e_h_ = std::exp(-lambda_ * h_);
 }
 
 double AxisPlant::encoder() const {

@@ -25,19 +25,27 @@ constexpr double kTangentialMargin = 0.9;
 struct SampleLimit {
   double speed;
   FeedLimit binding;
+  bool has_tangent = false;  // C' does not vanish here: t and k are set
+  Vec3 t{}, k{};             // unit tangent, curvature vector
 };
 
 // Speed limit at one curve point from its derivatives.
 SampleLimit limit_at(const NurbsEval& e, const NurbsLimits& lim) {
   SampleLimit out{lim.feed_mm_s, FeedLimit::kFeed};
   auto take = [&out](double v, FeedLimit why) {
-    if (v < out.speed) out = {v, why};
+    if (v < out.speed) {
+      out.speed = v;
+      out.binding = why;
+    }
   };
   const double sp = norm(e.d1);
   if (!(sp > 0.0)) return out;
   const Vec3 t = (1.0 / sp) * e.d1;
   // Curvature vector kappa * n = (C'' - (C''.t) t) / |C'|^2.
   const Vec3 k = (1.0 / (sp * sp)) * (e.d2 - dot(e.d2, t) * t);
+  out.has_tangent = true;
+  out.t = t;
+  out.k = k;
   const double kappa = norm(k);
   for (int i = 0; i < kAxes; ++i) {
     const double ti = std::fabs(t[static_cast<std::size_t>(i)]);
@@ -70,13 +78,6 @@ double tangential_accel(const Vec3& t, const Vec3& k, double v_top, const NurbsL
     if (ti > 0.0) a = std::min(a, (ai - centripetal) / ti);
   }
   return kTangentialMargin * a;
-}
-
-// Unit tangent and curvature vector kappa·n = (C'' − (C''·t)t)/|C'|² at a curve point.
-void tangent_and_curvature(const NurbsEval& e, Vec3& t, Vec3& k) {
-  const double sp = norm(e.d1);
-  t = (1.0 / sp) * e.d1;
-  k = (1.0 / (sp * sp)) * (e.d2 - dot(e.d2, t) * t);
 }
 
 // Forward and backward passes: v_{j+1}^2 <= v_j^2 + 2 a ds and the reverse.
@@ -144,11 +145,9 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
     const SampleLimit sl = limit_at(e, lim);
     fs.limit = sl.speed;
     fs.binding = sl.binding;
-    if (norm(e.d1) > 0.0) {
+    if (sl.has_tangent) {
       // the schedule holds the feed too: no override runs a NURBS block faster than fs.limit
-      Vec3 t{}, k{};
-      tangent_and_curvature(e, t, k);
-      out.accel_mm_s2 = std::min(out.accel_mm_s2, tangential_accel(t, k, sl.speed, lim));
+      out.accel_mm_s2 = std::min(out.accel_mm_s2, tangential_accel(sl.t, sl.k, sl.speed, lim));
     }
     if (std::find(corners.begin(), corners.end(), fs.u) != corners.end()) {
       fs.limit = 0.0;

@@ -116,6 +116,27 @@ TEST(Junction, JunctionDeviationSpeedFollowsTheVirtualArc) {
   EXPECT_EQ(junction_deviation_speed({1, 0, 0}, {0, 1, 0}, a, 0.0), 0.0);
 }
 
+TEST(Junction, CornerSpeedTakesTheLargerOfTheTwoRules) {
+  JunctionRules r;
+  r.cos_limit = std::cos(10.0 * std::numbers::pi / 180.0);
+  r.step_fraction = 0.5;
+  r.dt = 0.0005;
+  r.axis_accel = {500.0, 500.0, 200.0};
+  const Vec3 x{1, 0, 0}, y{0, 1, 0}, small{std::cos(0.05), std::sin(0.05), 0.0};
+  // the seed's rule alone: a small turn flows at the velocity-step cap, a 90° corner stops
+  EXPECT_DOUBLE_EQ(corner_speed(true, x, small, r), junction_speed_cap(x, small, r.axis_accel, r.dt, 0.5));
+  EXPECT_EQ(corner_speed(true, x, y, r), 0.0);
+  // with a corner tolerance both flow, each at the larger cap
+  r.corner_tolerance_mm = 0.01;
+  EXPECT_DOUBLE_EQ(corner_speed(true, x, y, r), junction_deviation_speed(x, y, r.axis_accel, 0.01));
+  EXPECT_DOUBLE_EQ(corner_speed(true, x, small, r), std::max(junction_speed_cap(x, small, r.axis_accel, r.dt, 0.5),
+                                                            junction_deviation_speed(x, small, r.axis_accel, 0.01)));
+  EXPECT_GT(corner_speed(true, x, small, r), junction_speed_cap(x, small, r.axis_accel, r.dt, 0.5));
+  // M22: every junction stops
+  EXPECT_EQ(corner_speed(false, x, small, r), 0.0);
+  EXPECT_EQ(corner_speed(false, x, y, r), 0.0);
+}
+
 TEST(Junction, ContouringAngleAndSpeedCap) {
   const double lim = std::cos(10.0 * std::numbers::pi / 180.0);
   auto dir = [](double deg) {
