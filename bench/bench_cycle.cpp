@@ -18,8 +18,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "config.hpp"
-#include "machine.hpp"
+#include "config/config.hpp"
+#include "loop/machine.hpp"
 
 using namespace pcnc;
 

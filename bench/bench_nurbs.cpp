@@ -13,9 +13,9 @@
 #include <random>
 #include <vector>
 
-#include "nurbs.hpp"
-#include "nurbs_interpolator.hpp"
-#include "nurbs_schedule.hpp"
+#include "geometry/nurbs.hpp"
+#include "geometry/nurbs_interpolator.hpp"
+#include "gcode/nurbs_schedule.hpp"
 
 using namespace pcnc;
 using Clock = std::chrono::steady_clock;

@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "config.hpp"
-#include "machine.hpp"
-#include "program.hpp"
+#include "config/config.hpp"
+#include "loop/machine.hpp"
+#include "gcode/program.hpp"
 
 using namespace pcnc;
 using Clock = std::chrono::steady_clock;

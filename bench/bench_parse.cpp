@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "config.hpp"
-#include "program.hpp"
+#include "config/config.hpp"
+#include "gcode/program.hpp"
 
 namespace fs = std::filesystem;
 

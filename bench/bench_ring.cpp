@@ -13,8 +13,8 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
-#include "ring_feeder.hpp"
-#include "segment.hpp"
+#include "service/ring_feeder.hpp"
+#include "ipc/segment.hpp"
 
 using namespace pcnc;
 

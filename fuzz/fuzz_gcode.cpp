@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "config.hpp"
-#include "program.hpp"
+#include "config/config.hpp"
+#include "gcode/program.hpp"
 
 namespace {
 

@@ -15,14 +15,14 @@
 #include <functional>
 #include <sstream>
 
-#include "config.hpp"
-#include "job_runner.hpp"
-#include "program.hpp"
-#include "progress_update.hpp"
-#include "run_report.hpp"
-#include "run_summary.hpp"
-#include "rt_link.hpp"
-#include "service.hpp"
+#include "config/config.hpp"
+#include "service/job_runner.hpp"
+#include "gcode/program.hpp"
+#include "service/progress_update.hpp"
+#include "report/run_report.hpp"
+#include "report/run_summary.hpp"
+#include "service/rt_link.hpp"
+#include "service/service.hpp"
 
 namespace {
 std::atomic<bool> g_interrupt{false};

@@ -12,9 +12,9 @@
 #include <cerrno>
 #include <cstring>
 
-#include "config.hpp"
-#include "rt_loop.hpp"
-#include "segment.hpp"
+#include "config/config.hpp"
+#include "loop/rt_loop.hpp"
+#include "ipc/segment.hpp"
 
 namespace {
 std::atomic<bool> g_stop{false};

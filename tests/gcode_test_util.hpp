@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "config.hpp"
-#include "program.hpp"
+#include "config/config.hpp"
+#include "gcode/program.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc::test {

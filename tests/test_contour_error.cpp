@@ -6,8 +6,8 @@
 #include <numbers>
 #include <random>
 
-#include "config.hpp"
-#include "contour_error.hpp"
+#include "config/config.hpp"
+#include "motion/contour_error.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc {

@@ -16,7 +16,7 @@
 
 #include "check.hpp"
 #include "gcode_test_util.hpp"
-#include "safety.hpp"
+#include "loop/safety.hpp"
 
 namespace pcnc {
 namespace {

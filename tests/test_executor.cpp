@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "executor.hpp"
-#include "junction.hpp"
+#include "motion/executor.hpp"
+#include "motion/junction.hpp"
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
 

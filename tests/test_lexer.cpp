@@ -6,7 +6,7 @@
 #include <random>
 #include <string>
 
-#include "lexer.hpp"
+#include "gcode/lexer.hpp"
 
 namespace pcnc {
 namespace {

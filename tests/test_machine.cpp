@@ -12,11 +12,11 @@
 #include <new>
 #include <numbers>
 
-#include "junction.hpp"
+#include "motion/junction.hpp"
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
-#include "nurbs.hpp"
-#include "nurbs_schedule.hpp"
+#include "geometry/nurbs.hpp"
+#include "gcode/nurbs_schedule.hpp"
 
 // ---- allocation counter: replaces global operator new for this test executable -----------
 namespace {

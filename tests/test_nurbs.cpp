@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "nurbs.hpp"
+#include "geometry/nurbs.hpp"
 #include "nurbs_circles.hpp"
-#include "nurbs_reader.hpp"
-#include "nurbs_rough.hpp"
+#include "gcode/nurbs_reader.hpp"
+#include "gcode/nurbs_rough.hpp"
 #include "nurbs_tool.hpp"
 #include "test_paths.hpp"
 

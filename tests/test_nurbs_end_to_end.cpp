@@ -19,8 +19,8 @@
 #include "gcode_test_util.hpp"
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
-#include "nurbs.hpp"
-#include "program.hpp"
+#include "geometry/nurbs.hpp"
+#include "gcode/program.hpp"
 
 namespace pcnc {
 namespace {

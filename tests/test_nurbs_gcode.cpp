@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "gcode_test_util.hpp"
-#include "nurbs.hpp"
-#include "nurbs_move.hpp"
+#include "geometry/nurbs.hpp"
+#include "gcode/nurbs_move.hpp"
 
 namespace pcnc {
 namespace {

@@ -11,10 +11,10 @@
 #include <random>
 #include <vector>
 
-#include "nurbs.hpp"
+#include "geometry/nurbs.hpp"
 #include "nurbs_circles.hpp"
-#include "nurbs_interpolator.hpp"
-#include "nurbs_schedule.hpp"
+#include "geometry/nurbs_interpolator.hpp"
+#include "gcode/nurbs_schedule.hpp"
 
 namespace pcnc {
 namespace {

@@ -9,10 +9,10 @@
 #include <random>
 #include <vector>
 
-#include "config.hpp"
-#include "nurbs.hpp"
+#include "config/config.hpp"
+#include "geometry/nurbs.hpp"
 #include "nurbs_circles.hpp"
-#include "nurbs_schedule.hpp"
+#include "gcode/nurbs_schedule.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc {

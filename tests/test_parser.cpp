@@ -1,7 +1,7 @@
 // test_parser.cpp — modal-group sorting: one word per group and per letter, known codes only.
 #include <gtest/gtest.h>
 
-#include "parser.hpp"
+#include "gcode/parser.hpp"
 
 namespace pcnc {
 namespace {

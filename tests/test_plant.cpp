@@ -6,7 +6,7 @@
 
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
-#include "plant.hpp"
+#include "drive/plant.hpp"
 
 namespace pcnc {
 namespace {

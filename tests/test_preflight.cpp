@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "gcode_test_util.hpp"
-#include "preflight.hpp"
+#include "gcode/preflight.hpp"
 
 namespace pcnc {
 namespace {

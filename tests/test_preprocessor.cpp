@@ -6,8 +6,8 @@
 #include <cstddef>
 #include <cstring>
 
-#include "config.hpp"
-#include "preprocessor.hpp"
+#include "config/config.hpp"
+#include "gcode/preprocessor.hpp"
 
 namespace pcnc {
 namespace {

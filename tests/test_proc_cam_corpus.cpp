@@ -18,11 +18,11 @@
 #include <map>
 #include <regex>
 
-#include "config.hpp"
-#include "path.hpp"
-#include "program.hpp"
-#include "report_html.hpp"
-#include "run_summary.hpp"
+#include "config/config.hpp"
+#include "motion/path.hpp"
+#include "gcode/program.hpp"
+#include "report/report_html.hpp"
+#include "report/run_summary.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 

@@ -18,9 +18,9 @@
 #include <sstream>
 #include <thread>
 
-#include "config.hpp"
-#include "rpc.hpp"
-#include "segment.hpp"
+#include "config/config.hpp"
+#include "service/rpc.hpp"
+#include "ipc/segment.hpp"
 #include "service_procs.hpp"
 #include "test_paths.hpp"
 

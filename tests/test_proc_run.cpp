@@ -10,7 +10,7 @@
 #include <regex>
 #include <thread>
 
-#include "segment.hpp"
+#include "ipc/segment.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 

@@ -17,8 +17,8 @@
 #include <memory>
 #include <thread>
 
-#include "config.hpp"
-#include "rpc.hpp"
+#include "config/config.hpp"
+#include "service/rpc.hpp"
 #include "service_procs.hpp"
 #include "test_paths.hpp"
 

@@ -13,12 +13,12 @@
 #include <regex>
 
 #include "progress.hpp"
-#include "report_html.hpp"
-#include "run_report.hpp"
-#include "run_summary.hpp"
+#include "report/report_html.hpp"
+#include "report/run_report.hpp"
+#include "report/run_summary.hpp"
 #include "subprocess.hpp"
-#include "trace_reader.hpp"
-#include "trace_writer.hpp"
+#include "report/trace_reader.hpp"
+#include "loop/trace_writer.hpp"
 
 namespace pcnc {
 namespace {

@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <random>
 
-#include "ring_feeder.hpp"
-#include "segment.hpp"
+#include "service/ring_feeder.hpp"
+#include "ipc/segment.hpp"
 
 namespace pcnc {
 namespace {

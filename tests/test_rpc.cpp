@@ -6,12 +6,12 @@
 #include <cmath>
 #include <numbers>
 
-#include "config.hpp"
-#include "job_journal.hpp"
-#include "move.hpp"
-#include "preprocessor.hpp"
-#include "resume.hpp"
-#include "rpc.hpp"
+#include "config/config.hpp"
+#include "service/job_journal.hpp"
+#include "gcode/move.hpp"
+#include "gcode/preprocessor.hpp"
+#include "service/resume.hpp"
+#include "service/rpc.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 

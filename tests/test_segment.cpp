@@ -9,7 +9,7 @@
 
 #include <cstring>
 
-#include "segment.hpp"
+#include "ipc/segment.hpp"
 
 namespace pcnc {
 namespace {

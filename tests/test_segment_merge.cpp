@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "program.hpp"
-#include "segment_merge.hpp"
+#include "gcode/program.hpp"
+#include "gcode/segment_merge.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc {

@@ -6,8 +6,8 @@
 #include <numbers>
 
 #include "machine_runner.hpp"
-#include "plant.hpp"
-#include "servo_pid.hpp"
+#include "drive/plant.hpp"
+#include "drive/servo_pid.hpp"
 
 namespace pcnc {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <thread>
 
-#include "config.hpp"
-#include "segment.hpp"
+#include "config/config.hpp"
+#include "ipc/segment.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc {

@@ -10,7 +10,7 @@
 
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
-#include "trace_writer.hpp"
+#include "loop/trace_writer.hpp"
 
 namespace pcnc {
 namespace {

@@ -7,8 +7,8 @@
 #include <iostream>
 #include <memory>
 
-#include "config.hpp"
-#include "program.hpp"
+#include "config/config.hpp"
+#include "gcode/program.hpp"
 
 namespace pcnc {
 namespace {

@@ -18,7 +18,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "config.hpp"
+#include "config/config.hpp"
 
 namespace pcnc {
 

@@ -8,10 +8,10 @@
 #include <iostream>
 #include <ostream>
 
-#include "config.hpp"
-#include "nurbs.hpp"
-#include "nurbs_reader.hpp"
-#include "nurbs_rough.hpp"
+#include "config/config.hpp"
+#include "geometry/nurbs.hpp"
+#include "gcode/nurbs_reader.hpp"
+#include "gcode/nurbs_rough.hpp"
 
 namespace pcnc {
 namespace {

@@ -9,11 +9,11 @@
 
 #include "check.hpp"
 #include "ctl.hpp"
-#include "config.hpp"
+#include "config/config.hpp"
 #include "launcher.hpp"
 #include "nurbs_tool.hpp"
 #include "progress.hpp"
-#include "report_html.hpp"
+#include "report/report_html.hpp"
 #include "serve.hpp"
 
 int main(int argc, char** argv) {

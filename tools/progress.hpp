@@ -14,7 +14,7 @@
 #include <string>
 #include <string_view>
 
-#include "progress_update.hpp"  // the pipe line format (ProgressUpdate)
+#include "service/progress_update.hpp"  // the pipe line format (ProgressUpdate)
 
 namespace pcnc {
 

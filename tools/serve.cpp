@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "config.hpp"
+#include "config/config.hpp"
 #include "launcher.hpp"
 
 namespace pcnc {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "machine.hpp"
+#include "loop/machine.hpp"
 
 namespace pcnc::test {
 

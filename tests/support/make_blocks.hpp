@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "block.hpp"
-#include "config.hpp"
+#include "ipc/block.hpp"
+#include "config/config.hpp"
 
 namespace pcnc::test {
 

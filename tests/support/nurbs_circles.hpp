@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "nurbs.hpp"
+#include "geometry/nurbs.hpp"
 
 namespace pcnc::test {
 

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <thread>
 
-#include "segment.hpp"
+#include "ipc/segment.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc::test {

@@ -1,0 +1,121 @@
+// line_reader.cpp — chunked, allocation-free line splitting over read(2).
+#include "gcode/line_reader.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+namespace pcnc {
+
+LineReader::LineReader(const std::string& path) {
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd_ < 0) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd_, &st) == 0) {
+    if (S_ISDIR(st.st_mode)) {
+      ::close(fd_);
+      fd_ = -1;
+      throw std::runtime_error(path + ": is a directory, expected a G-code file");
+    }
+    total_ = static_cast<std::uint64_t>(st.st_size);
+  }
+  buf_.resize(kChunk + kMaxLine);
+}
+
+LineReader::LineReader(FromText, std::string_view text) : text_(text), from_text_(true), total_(text.size()) {}
+
+LineReader::~LineReader() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+bool LineReader::fill() {
+  if (eof_) return false;
+  if (begin_ > 0) {  // move the partial line to the front
+    std::memmove(buf_.data(), buf_.data() + begin_, end_ - begin_);
+    end_ -= begin_;
+    begin_ = 0;
+  }
+  if (end_ == buf_.size()) return false;  // full: caller handles the long line
+  while (true) {
+    const ssize_t n = ::read(fd_, buf_.data() + end_, buf_.size() - end_);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      eof_ = true;
+      return false;
+    }
+    end_ += static_cast<std::size_t>(n);
+    return true;
+  }
+}
+
+bool LineReader::next(std::string_view& line, bool& too_long) {
+  too_long = false;
+  if (from_text_) {
+    if (text_.empty()) return false;
+    const std::size_t nl = text_.find('\n');
+    std::string_view l = nl == std::string_view::npos ? text_ : text_.substr(0, nl);
+    const std::size_t used = nl == std::string_view::npos ? text_.size() : nl + 1;
+    text_.remove_prefix(used);
+    consumed_ += used;
+    if (l.size() > kMaxLine) {
+      l = l.substr(0, kMaxLine);
+      too_long = true;
+    }
+    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    line = l;
+    ++line_no_;
+    return true;
+  }
+  while (true) {
+    const char* data = buf_.data();
+    const void* hit = std::memchr(data + begin_, '\n', end_ - begin_);
+    if (hit) {
+      const std::size_t nl = static_cast<std::size_t>(static_cast<const char*>(hit) - data);
+      std::string_view l(data + begin_, nl - begin_);
+      consumed_ += nl + 1 - begin_;
+      begin_ = nl + 1;
+      if (skipping_) {  // tail of an over-long line: drop it
+        skipping_ = false;
+        continue;
+      }
+      if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+      line = l;
+      ++line_no_;
+      return true;
+    }
+    if (end_ - begin_ >= kMaxLine) {  // no newline within kMaxLine: cut the line
+      std::string_view l(data + begin_, kMaxLine);
+      consumed_ += end_ - begin_;
+      begin_ = end_;
+      if (skipping_) continue;
+      skipping_ = true;
+      line = l;
+      too_long = true;
+      ++line_no_;
+      // the view stays valid until the next call (fill() moves data only then)
+      return true;
+    }
+    if (!fill()) {
+      if (end_ > begin_) {  // last line without '\n'
+        std::string_view l(data + begin_, end_ - begin_);
+        consumed_ += end_ - begin_;
+        begin_ = end_;
+        if (skipping_) {
+          skipping_ = false;
+          return false;
+        }
+        if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+        line = l;
+        ++line_no_;
+        return true;
+      }
+      return false;
+    }
+  }
+}
+
+}  // namespace pcnc

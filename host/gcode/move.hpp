@@ -1,0 +1,59 @@
+// move.hpp — what the interpreter hands the preprocessor: one move in machine coordinates (mm).
+//
+// The interpreter has already applied units (G20/G21), distance mode (G90/G91), the work offset
+// (G54-G59 or --offset) and the --fit scale, and resolved arcs (I/J/K or R form) to a center,
+// radius and signed sweep. The preprocessor turns a Move into a ring Block; a NURBS move
+// (G5.2/G6.2) carries its whole curve and becomes one or more blocks (host/nurbs_move.hpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+enum class MoveKind : std::uint8_t { kRapid, kLine, kArc, kDwell, kPause, kEnd, kNurbs };
+
+struct NurbsCurve;
+
+struct Move {
+  MoveKind kind = MoveKind::kLine;
+  int line = 0;                // source line (1-based)
+  int column = 0;              // column of the word that caused it (motion G word or first axis word)
+  Vec3 start{};                // mm, machine coordinates
+  Vec3 end{};                  // mm, machine coordinates
+  double feed_mm_s = 0.0;      // programmed feed (already clamped to the machine maximum); 0 for rapids
+  bool contouring = false;     // M21 state (G64 on, G61 off) for this move
+  bool optional_stop = false;  // kPause from M01
+  bool machine_frame = false;  // G53 or G28: given in machine coordinates, not moved by --fit
+  std::uint8_t known = 7;      // axes whose end coordinate the program has set so far (bit per axis)
+  double dwell_s = 0.0;        // kDwell
+
+  // kArc: center on the start point's level along the normal axis, radius (start radius),
+  // signed sweep (> 0 counter-clockwise seen from +normal), normal axis 2 = Z (G17),
+  // 1 = Y (G18), 0 = X (G19). The helix is end[normal] - start[normal].
+  Vec3 center{};
+  double radius = 0.0;
+  double sweep = 0.0;
+  int normal_axis = 2;
+
+  // kNurbs: the validated curve in machine coordinates (first control point = start, last =
+  // end), shared so that copying a Move stays cheap; feed_mm_s is its programmed feed.
+  std::shared_ptr<const NurbsCurve> nurbs;
+};
+
+/// A straight move without displacement: checked (it may move under another transform) but
+/// never sent to the machine.
+bool is_null_move(const Move& m);
+
+/// The two axes of the arc plane in angle order: angles run from plane_axes(n)[0] toward
+/// plane_axes(n)[1] (G17: X->Y, G18: Z->X, G19: Y->Z).
+inline constexpr std::array<int, 2> plane_axes(int normal_axis) {
+  return normal_axis == 2   ? std::array<int, 2>{0, 1}
+         : normal_axis == 1 ? std::array<int, 2>{2, 0}
+                            : std::array<int, 2>{1, 2};
+}
+
+}  // namespace pcnc

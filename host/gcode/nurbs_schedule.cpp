@@ -1,0 +1,332 @@
+// nurbs_schedule.cpp — dense NURBS feed schedule, its cut into block schedules, and the
+// NURBS move turned into ring blocks. See nurbs_schedule.hpp.
+#include "gcode/nurbs_schedule.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pcnc {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The schedule's own ramps use this share of the block acceleration. The rt interpolates the
+// schedule linearly in u, not in arc length, so between two points its slope can be a little
+// steeper than the ramp it was planned with; the margin lets the follower (which accelerates
+// at the full block acceleration) track every decrease of the schedule.
+constexpr double kRampAccelShare = 0.9;
+
+// The tangential acceleration is found at the samples only; between them the tangent and
+// curvature turn a little, and the rt's parameter steps add a little of their own. This share
+// of it keeps every axis within its limit between the samples as well.
+constexpr double kTangentialMargin = 0.9;
+
+struct SampleLimit {
+  double speed;
+  FeedLimit binding;
+  bool has_tangent = false;  // C' does not vanish here: t and k are set
+  Vec3 t{}, k{};             // unit tangent, curvature vector
+};
+
+// Speed limit at one curve point from its derivatives.
+SampleLimit limit_at(const NurbsEval& e, const NurbsLimits& lim) {
+  SampleLimit out{lim.feed_mm_s, FeedLimit::kFeed};
+  auto take = [&out](double v, FeedLimit why) {
+    if (v < out.speed) {
+      out.speed = v;
+      out.binding = why;
+    }
+  };
+  const double sp = norm(e.d1);
+  if (!(sp > 0.0)) return out;
+  const Vec3 t = (1.0 / sp) * e.d1;
+  // Curvature vector kappa * n = (C'' - (C''.t) t) / |C'|^2.
+  const Vec3 k = (1.0 / (sp * sp)) * (e.d2 - dot(e.d2, t) * t);
+  out.has_tangent = true;
+  out.t = t;
+  out.k = k;
+  const double kappa = norm(k);
+  for (int i = 0; i < kAxes; ++i) {
+    const double ti = std::fabs(t[static_cast<std::size_t>(i)]);
+    if (ti > 0.0) take(lim.axis_velocity_mm_s[static_cast<std::size_t>(i)] / ti, FeedLimit::kAxisVelocity);
+    const double ki = std::fabs(k[static_cast<std::size_t>(i)]);
+    if (ki > 0.0) {
+      take(std::sqrt(lim.normal_accel_share * lim.axis_accel_mm_s2[static_cast<std::size_t>(i)] / ki),
+           FeedLimit::kCentripetal);
+    }
+  }
+  if (kappa > 0.0) {
+    const double rho = 1.0 / kappa;
+    const double d = lim.chord_tolerance_mm;
+    const double arg = std::max(2.0 * rho * d - d * d, d * d);
+    take(2.0 / lim.period_s * std::sqrt(arg), FeedLimit::kChord);
+  }
+  return out;
+}
+
+// Tangential acceleration available at a point with unit tangent t and curvature vector k
+// where the speed never exceeds v_top: per axis, |a_t·t_i| + v_top²·|k_i| <= a_i, the
+// centripetal part counted at no more than its share (the speed limit keeps it there).
+double tangential_accel(const Vec3& t, const Vec3& k, double v_top, const NurbsLimits& lim) {
+  double a = kInf;
+  for (int i = 0; i < kAxes; ++i) {
+    const auto ii = static_cast<std::size_t>(i);
+    const double ti = std::fabs(t[ii]);
+    const double ai = lim.axis_accel_mm_s2[ii];
+    const double centripetal = std::min(v_top * v_top * std::fabs(k[ii]), lim.normal_accel_share * ai);
+    if (ti > 0.0) a = std::min(a, (ai - centripetal) / ti);
+  }
+  return kTangentialMargin * a;
+}
+
+// Forward and backward passes: v_{j+1}^2 <= v_j^2 + 2 a ds and the reverse.
+template <typename GetS, typename Speed>
+void accel_passes(std::size_t n, GetS s_of, Speed& v, double a, double v_start, double v_end) {
+  if (n == 0) return;
+  v[0] = std::min(v[0], v_start);
+  for (std::size_t j = 1; j < n; ++j) v[j] = std::min(v[j], std::sqrt(v[j - 1] * v[j - 1] + 2.0 * a * (s_of(j) - s_of(j - 1))));
+  v[n - 1] = std::min(v[n - 1], v_end);
+  for (std::size_t j = n - 1; j-- > 0;) v[j] = std::min(v[j], std::sqrt(v[j + 1] * v[j + 1] + 2.0 * a * (s_of(j + 1) - s_of(j))));
+}
+
+}  // namespace
+
+NurbsLimits nurbs_limits(const MachineConfig& config, double feed_mm_s) {
+  NurbsLimits lim;
+  lim.feed_mm_s = feed_mm_s;
+  lim.period_s = config.cycle_period_s();
+  lim.chord_tolerance_mm = config.gcode.nurbs_chord_tolerance_mm;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
+    lim.axis_velocity_mm_s[i] = config.axes[i].max_velocity_mm_s;
+    lim.axis_accel_mm_s2[i] = config.axes[i].max_accel_mm_s2;
+  }
+  return lim;
+}
+
+const char* to_string(FeedLimit limit) {
+  switch (limit) {
+    case FeedLimit::kFeed: return "feed";
+    case FeedLimit::kChord: return "chord error";
+    case FeedLimit::kCentripetal: return "centripetal acceleration";
+    case FeedLimit::kAxisVelocity: return "axis velocity";
+    case FeedLimit::kCorner: return "corner";
+  }
+  return "?";
+}
+
+FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, double v_start, double v_end) {
+  FeedSchedule out;
+  const NurbsView v = curve.view();
+  const std::vector<double> corners = corner_knots(curve);
+  const int per_span = std::max(2, lim.samples_per_span);
+  // Sample parameters: every distinct knot of the domain and per_span-1 points inside each span.
+  std::vector<double> us;
+  for (int i = v.degree; i < v.count; ++i) {
+    const double a = v.knots[i];
+    const double b = v.knots[i + 1];
+    if (!(b > a)) continue;
+    for (int k = 0; k < per_span; ++k) us.push_back(a + (b - a) * k / per_span);
+  }
+  us.push_back(v.u_max());
+
+  out.samples.resize(us.size());
+  out.accel_mm_s2 = kInf;
+  for (std::size_t j = 0; j < us.size(); ++j) {
+    FeedSample& fs = out.samples[j];
+    fs.u = us[j];
+    const NurbsEval at = nurbs_eval(v, fs.u);
+    NurbsEval e = at;
+    const double scale = (v.u_max() - v.u_min()) * 1e-7;
+    if (!(norm(e.d1) > 1e-9 * (norm(e.d2) * scale + 1e-300))) {
+      // Vanishing parametric speed (doubled control point): use the curve just beside it.
+      e = nurbs_eval(v, fs.u < v.u_max() ? fs.u + scale : fs.u - scale);
+    }
+    const SampleLimit sl = limit_at(e, lim);
+    fs.limit = sl.speed;
+    fs.binding = sl.binding;
+    if (sl.has_tangent) {
+      // the schedule holds the feed too: no override runs a NURBS block faster than fs.limit
+      out.accel_mm_s2 = std::min(out.accel_mm_s2, tangential_accel(sl.t, sl.k, sl.speed, lim));
+    }
+    if (std::find(corners.begin(), corners.end(), fs.u) != corners.end()) {
+      fs.limit = 0.0;
+      fs.binding = FeedLimit::kCorner;
+    }
+    if (j > 0) fs.s = out.samples[j - 1].s + nurbs_arc_length(v, us[j - 1], fs.u);
+  }
+  if (!std::isfinite(out.accel_mm_s2)) out.accel_mm_s2 = 0.0;
+  out.ramp_accel_mm_s2 = kRampAccelShare * out.accel_mm_s2;
+  out.length_mm = out.samples.back().s;
+
+  // The limit holds at the samples; take the smaller neighbour as well so that the linear
+  // interpolation between samples stays under a limit that varies between them.
+  std::vector<double> speed(out.samples.size());
+  for (std::size_t j = 0; j < speed.size(); ++j) {
+    double m = out.samples[j].limit;
+    if (j > 0) m = std::min(m, out.samples[j - 1].limit);
+    if (j + 1 < speed.size()) m = std::min(m, out.samples[j + 1].limit);
+    speed[j] = m;
+  }
+  accel_passes(
+      speed.size(), [&](std::size_t j) { return out.samples[j].s; }, speed, out.ramp_accel_mm_s2, v_start, v_end);
+  for (std::size_t j = 0; j < speed.size(); ++j) out.samples[j].speed = speed[j];
+  return out;
+}
+
+double schedule_speed_at(const FeedSchedule& schedule, double u) {
+  const auto& s = schedule.samples;
+  if (s.empty()) return 0.0;
+  if (u <= s.front().u) return s.front().speed;
+  if (u >= s.back().u) return s.back().speed;
+  const auto it = std::upper_bound(s.begin(), s.end(), u, [](double x, const FeedSample& f) { return x < f.u; });
+  const FeedSample& b = *it;
+  const FeedSample& a = *(it - 1);
+  const double f = (u - a.u) / (b.u - a.u);
+  return a.speed + f * (b.speed - a.speed);
+}
+
+void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, NurbsGeometry& g) {
+  const auto& s = schedule.samples;
+  auto lower = std::lower_bound(s.begin(), s.end(), u0, [](const FeedSample& f, double x) { return f.u < x; });
+  auto upper = std::upper_bound(s.begin(), s.end(), u1, [](double x, const FeedSample& f) { return x < f.u; });
+  const std::size_t first = static_cast<std::size_t>(lower - s.begin());
+  const std::size_t count = static_cast<std::size_t>(upper - lower);
+  if (count <= static_cast<std::size_t>(kMaxFeedSchedule)) {
+    for (std::size_t k = 0; k < count; ++k) {
+      g.schedule_u[k] = s[first + k].u;
+      g.schedule_speed[k] = s[first + k].speed;
+    }
+    g.schedule_count = static_cast<std::uint16_t>(count);
+    return;
+  }
+  // Too many samples: keep kMaxFeedSchedule of them, chosen greedily where the polyline
+  // through the kept ones deviates most from the dense schedule,
+  // always the first and the last.
+  const std::size_t m = static_cast<std::size_t>(kMaxFeedSchedule);
+  const std::size_t last = first + count - 1;
+  // The rt interpolates linearly in u between schedule points, so lines are in u here.
+  auto line_at = [&](std::size_t a, std::size_t b, double va, double vb, std::size_t i) {
+    const double t = (s[i].u - s[a].u) / (s[b].u - s[a].u);
+    return va + t * (vb - va);
+  };
+  std::vector<std::size_t> pick{first, last};
+  while (pick.size() < m) {
+    double worst = 0.0;
+    std::size_t worst_i = 0;
+    for (std::size_t k = 0; k + 1 < pick.size(); ++k) {
+      for (std::size_t i = pick[k] + 1; i < pick[k + 1]; ++i) {
+        const double dev = std::fabs(line_at(pick[k], pick[k + 1], s[pick[k]].speed, s[pick[k + 1]].speed, i) - s[i].speed);
+        if (dev > worst) {
+          worst = dev;
+          worst_i = i;
+        }
+      }
+    }
+    if (worst_i == 0) break;  // the polyline already is the dense schedule
+    pick.insert(std::upper_bound(pick.begin(), pick.end(), worst_i), worst_i);
+  }
+  // Lower the kept values where the straight line between two of them passes above the dense
+  // schedule (lowering a value never raises a neighbouring line). First try lowering only the
+  // higher end, pivoting about the lower one; if that is not enough, scale both ends.
+  std::vector<double> speed(pick.size());
+  for (std::size_t k = 0; k < pick.size(); ++k) speed[k] = s[pick[k]].speed;
+  for (std::size_t k = 0; k + 1 < pick.size(); ++k) {
+    const std::size_t a = pick[k];
+    const std::size_t b = pick[k + 1];
+    // Candidate 1: scale both ends by the worst ratio.
+    double factor = 1.0;
+    for (std::size_t i = a + 1; i < b; ++i) {
+      const double line = line_at(a, b, speed[k], speed[k + 1], i);
+      if (line > s[i].speed) factor = std::min(factor, line > 0.0 ? s[i].speed / line : 0.0);
+    }
+    if (factor >= 1.0) continue;
+    double best_left = factor * speed[k];
+    double best_right = factor * speed[k + 1];
+    // Candidate 2: keep the lower end, lower the higher one (possible when nothing in between
+    // is below the lower end).
+    const bool left_high = speed[k] > speed[k + 1];
+    const double low = std::min(speed[k], speed[k + 1]);
+    double high = std::max(speed[k], speed[k + 1]);
+    bool possible = true;
+    for (std::size_t i = a + 1; i < b && possible; ++i) {
+      const double t = (s[i].u - s[a].u) / (s[b].u - s[a].u);
+      const double toward_high = left_high ? 1.0 - t : t;
+      if (s[i].speed < low) possible = false;
+      if (toward_high > 0.0 && low + toward_high * (high - low) > s[i].speed) {
+        high = low + (s[i].speed - low) / toward_high;
+      }
+    }
+    if (possible && low + high > best_left + best_right) {
+      best_left = left_high ? high : low;
+      best_right = left_high ? low : high;
+    }
+    speed[k] = best_left;
+    speed[k + 1] = best_right;
+  }
+  accel_passes(
+      pick.size(), [&](std::size_t k) { return s[pick[k]].s; }, speed, schedule.ramp_accel_mm_s2, kInf, kInf);
+  for (std::size_t k = 0; k < pick.size(); ++k) {
+    g.schedule_u[k] = s[pick[k]].u;
+    g.schedule_speed[k] = speed[k];
+  }
+  g.schedule_count = static_cast<std::uint16_t>(pick.size());
+}
+
+NurbsBlocks plan_nurbs_blocks(const NurbsCurve& curve, const NurbsLimits& limits) {
+  NurbsBlocks out;
+  out.error = validate(curve);
+  if (!out.error.empty()) return out;
+  if (!(limits.feed_mm_s > 0.0)) {
+    out.error = "NURBS move needs a positive feed";
+    return out;
+  }
+  // The block schedules hold the geometric limits only: the rt's follower ramps from the
+  // start speed and to the end speed itself, with the same acceleration.
+  out.schedule = plan_nurbs_feed(curve, limits, kInf, kInf);
+  const std::vector<double> corners = corner_knots(curve);
+  const std::vector<NurbsCurve> pieces = split_nurbs(curve, kMaxNurbsPoints);
+  for (const NurbsCurve& piece : pieces) {
+    Block b;
+    b.kind = BlockKind::kNurbs;
+    if (std::string err = to_geometry(piece, b.nurbs); !err.empty()) {
+      out.error = err;
+      out.blocks.clear();
+      out.corner_after.clear();
+      return out;
+    }
+    const NurbsView v = piece.view();
+    fill_block_schedule(out.schedule, piece.u_min(), piece.u_max(), b.nurbs);
+    b.start = piece.points.front();
+    b.end = piece.points.back();
+    b.length = nurbs_arc_length(v, v.u_min(), v.u_max());
+    double vmax = 0.0;
+    for (int k = 0; k < b.nurbs.schedule_count; ++k) vmax = std::max(vmax, b.nurbs.schedule_speed[k]);
+    b.speed = std::min(limits.feed_mm_s, vmax);
+    b.accel = out.schedule.accel_mm_s2;
+    b.dir_start = nurbs_tangent(v, v.u_min(), true);
+    b.dir_end = nurbs_tangent(v, v.u_max(), false);
+    // Motion class and driving axis from the extent of the control polygon.
+    Vec3 lo = piece.points.front(), hi = piece.points.front();
+    for (const Vec3& p : piece.points) {
+      for (std::size_t i = 0; i < 3; ++i) {
+        lo[i] = std::min(lo[i], p[i]);
+        hi[i] = std::max(hi[i], p[i]);
+      }
+    }
+    int moving = 0;
+    std::size_t widest = 0;
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (hi[i] - lo[i] > 1e-12) ++moving;
+      if (hi[i] - lo[i] > hi[widest] - lo[widest]) widest = i;
+    }
+    b.motion_class = moving <= 1 ? MotionClass::kSingleAxis : moving == 2 ? MotionClass::kPlane : MotionClass::kSpace;
+    b.driving_axis = static_cast<std::uint8_t>(widest);
+    b.driving_dir = b.end[widest] >= b.start[widest] ? 1 : -1;
+    out.blocks.push_back(b);
+    out.corner_after.push_back(std::find(corners.begin(), corners.end(), piece.u_max()) != corners.end());
+  }
+  return out;
+}
+
+}  // namespace pcnc

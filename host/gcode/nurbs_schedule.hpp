@@ -1,0 +1,91 @@
+// nurbs_schedule.hpp — the feed schedule of a NURBS move (host preprocessing).
+//
+// The curve is sampled densely in its parameter. At each sample the speed limit is the
+// smallest of: the programmed feed; the chord-error speed (2/T) sqrt(2 rho delta - delta^2)
+// at which one sample period's chord deviates delta from a circle of the local curvature
+// radius rho; the centripetal limit sqrt(a_n,i / |kappa_i|) per axis (kappa the curvature
+// vector, a_n,i the share of axis i's acceleration kept for it); each axis's velocity limit
+// projected on the tangent. Forward and backward passes then make the tangential
+// acceleration limit hold from the start speed to the end speed. The schedule is cut into
+// the blocks' NurbsGeometry::schedule_u/schedule_speed arrays (at most kMaxFeedSchedule
+// points each, never above the dense schedule), and plan_nurbs_blocks() turns a whole
+// curve into ready-to-queue blocks.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ipc/block.hpp"
+#include "config/config.hpp"
+#include "geometry/nurbs.hpp"
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+struct NurbsLimits {
+  double feed_mm_s = 0.0;             // programmed path feed
+  double period_s = 0.0005;           // interpolation period T
+  double chord_tolerance_mm = 0.001;  // delta
+  Vec3 axis_velocity_mm_s{};          // per axis velocity limit
+  Vec3 axis_accel_mm_s2{};            // per axis acceleration limit
+  // Share of each axis's acceleration reserved for the centripetal part; the rest is the
+  // tangential budget. The two never add up to more than the axis limit.
+  double normal_accel_share = 0.5;
+  int samples_per_span = 32;          // dense sampling of each knot span
+};
+
+/// Limits from the machine configuration (cycle period, delta, axis limits) and a feed.
+NurbsLimits nurbs_limits(const MachineConfig& config, double feed_mm_s);
+
+/// Which limit set a sample's speed (before the acceleration passes).
+enum class FeedLimit : std::uint8_t { kFeed, kChord, kCentripetal, kAxisVelocity, kCorner };
+const char* to_string(FeedLimit limit);
+
+struct FeedSample {
+  double u = 0.0;      // curve parameter
+  double s = 0.0;      // arc length from the curve start, mm
+  double limit = 0.0;  // speed limit at u before the acceleration passes, mm/s
+  double speed = 0.0;  // scheduled speed after the passes, mm/s
+  FeedLimit binding = FeedLimit::kFeed;
+};
+
+struct FeedSchedule {
+  std::vector<FeedSample> samples;  // increasing u, first at u_min, last at u_max
+  double accel_mm_s2 = 0.0;         // tangential path acceleration limit (the blocks' accel)
+  double ramp_accel_mm_s2 = 0.0;    // acceleration of the passes: 90 % of it (margin for the rt)
+  double length_mm = 0.0;           // arc length of the curve
+};
+
+/// Plans the dense schedule of a valid curve. v_start and v_end are the speeds at its ends
+/// (0 unless the caller joins it to neighbours without stopping); they are capped by the
+/// local limits.
+FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& limits, double v_start = 0.0,
+                             double v_end = 0.0);
+
+/// The dense schedule's speed at u (linear between samples).
+double schedule_speed_at(const FeedSchedule& schedule, double u);
+
+/// Writes the part [u0, u1] of the schedule into g.schedule_u/schedule_speed: every sample
+/// when they fit, else kMaxFeedSchedule points evenly spaced in arc length whose values are
+/// the minimum of the dense schedule around them (so the linear interpolation never exceeds
+/// it), re-passed for the acceleration limit. u0 and u1 must be sample parameters (knots).
+void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, NurbsGeometry& g);
+
+/// A whole NURBS move as ring blocks: validated, split into pieces of at most
+/// kMaxNurbsPoints control points (and at corners), each with geometry, schedule, start/end
+/// points, length, speed (programmed feed capped by the schedule's maximum), accel,
+/// direction cosines and motion class. The block schedules hold the geometric limits
+/// (feed, chord error, centripetal, axis velocity, 0 at corners) with the acceleration passes
+/// between them but no start or end ramp: the rt's NurbsFollower ramps from the speed it
+/// enters with and to the end speed the executor asks for. seq, line and contouring are left for the caller;
+/// the caller should let the rt pass the joins between pieces of one curve without
+/// stopping (they are tangent continuous) except at corners, which `corner_after` marks.
+struct NurbsBlocks {
+  std::string error;                // non-empty: the curve was rejected, no blocks
+  std::vector<Block> blocks;
+  std::vector<bool> corner_after;   // per block: its end is a corner of the curve
+  FeedSchedule schedule;            // the dense schedule of the whole curve (for reports)
+};
+NurbsBlocks plan_nurbs_blocks(const NurbsCurve& curve, const NurbsLimits& limits);
+
+}  // namespace pcnc

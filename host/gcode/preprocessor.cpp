@@ -1,0 +1,203 @@
+// preprocessor.cpp — kinematic plan of one move: speeds and accelerations projected on the axes.
+#include "gcode/preprocessor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pcnc {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kAxisEps = 1e-9;  // mm: displacements below this do not count as moving
+
+void plan_line(const Move& m, const MachineConfig& cfg, Block& b) {
+  const Vec3 d = m.end - m.start;
+  const double length = norm(d);
+  b.length = length;
+  const Vec3 u = length > 0.0 ? (1.0 / length) * d : Vec3{0.0, 0.0, 0.0};
+  b.dir_start = b.dir_end = u;
+
+  double speed = m.kind == MoveKind::kRapid ? (cfg.motion.rapid_speed_mm_s > 0.0 ? cfg.motion.rapid_speed_mm_s : kInf)
+                                            : m.feed_mm_s;
+  double accel = kInf;
+  int moving = 0;
+  int drive = 0;
+  for (int i = 0; i < kAxes; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double ui = std::fabs(u[k]);
+    if (std::fabs(d[k]) > kAxisEps) ++moving;
+    if (std::fabs(d[k]) > std::fabs(d[static_cast<std::size_t>(drive)])) drive = i;
+    if (ui > 0.0) {
+      speed = std::min(speed, cfg.axes[k].max_velocity_mm_s / ui);
+      accel = std::min(accel, cfg.axes[k].max_accel_mm_s2 / ui);
+    }
+  }
+  if (!std::isfinite(speed)) speed = 0.0;
+  if (!std::isfinite(accel)) accel = 0.0;
+  b.motion_class = static_cast<MotionClass>(moving);
+  b.speed = speed;
+  b.accel = accel;
+  const auto dk = static_cast<std::size_t>(drive);
+  b.driving_axis = static_cast<std::uint8_t>(drive);
+  b.driving_dir = d[dk] < 0.0 ? -1 : 1;
+  const double ud = std::fabs(u[dk]);
+  b.driving_speed = speed * ud;
+  b.driving_accel = accel * ud;
+  const double s = decel_start_distance(length, speed, accel);
+  b.decel_start = m.start[dk] + u[dk] * s;
+}
+
+void plan_arc(const Move& m, const MachineConfig& cfg, Block& b) {
+  const int n = m.normal_axis;
+  const auto pa = plane_axes(n);
+  const auto a0 = static_cast<std::size_t>(pa[0]);
+  const auto a1 = static_cast<std::size_t>(pa[1]);
+  const auto nk = static_cast<std::size_t>(n);
+  const double r = m.radius;
+  const double sweep = m.sweep;
+  const double helix = m.end[nk] - m.start[nk];
+  const double theta0 = std::atan2(m.start[a1] - m.center[a1], m.start[a0] - m.center[a0]);
+  const double pitch = helix / std::fabs(sweep);        // mm along the normal per radian
+  const double rho = std::sqrt(r * r + pitch * pitch);  // |dp/dtheta|
+  const double length = rho * std::fabs(sweep);
+
+  ArcGeometry& g = b.arc;
+  g.center = m.center;
+  g.radius = r;
+  g.start_angle = theta0;
+  g.sweep = sweep;
+  g.helix = helix;
+  g.normal_axis = static_cast<std::uint8_t>(n);
+  b.length = length;
+  b.motion_class = std::fabs(helix) > kAxisEps ? MotionClass::kSpace : MotionClass::kPlane;
+
+  // Velocity: axis a0 moves with v*(r/rho)*|sin|, a1 with v*(r/rho)*|cos|, the normal with v*|pitch|/rho.
+  const double s_max = max_abs_sin(theta0, sweep);
+  const double c_max = max_abs_cos(theta0, sweep);
+  double v_axes = kInf;  // what the axes allow on this arc, whatever the feed
+  if (s_max > 0.0) v_axes = std::min(v_axes, cfg.axes[a0].max_velocity_mm_s * rho / (r * s_max));
+  if (c_max > 0.0) v_axes = std::min(v_axes, cfg.axes[a1].max_velocity_mm_s * rho / (r * c_max));
+  if (std::fabs(pitch) > 0.0) v_axes = std::min(v_axes, cfg.axes[nk].max_velocity_mm_s * rho / std::fabs(pitch));
+  // Centripetal acceleration v^2 * r / rho^2 within a share of the smaller in-plane axis limit.
+  const double a_plane = std::min(cfg.axes[a0].max_accel_mm_s2, cfg.axes[a1].max_accel_mm_s2);
+  if (r > 0.0) v_axes = std::min(v_axes, std::sqrt(kArcCentripetalShare * a_plane * rho * rho / r));
+  const double speed = std::min(m.feed_mm_s, v_axes);
+  // Tangential acceleration: what the plane has left at the block's top speed (feed override
+  // included), shared/arc_limits.hpp; the full limit along the normal.
+  const double v_top = std::min(v_axes, kArcMaxFeedOverride * speed);
+  double accel = r > 0.0 ? arc_tangential_accel(a_plane, r, v_top * r / rho) * rho / r : kInf;
+  if (std::fabs(pitch) > 0.0) accel = std::min(accel, cfg.axes[nk].max_accel_mm_s2 * rho / std::fabs(pitch));
+  if (!std::isfinite(accel)) accel = 0.0;
+  b.speed = speed;
+  b.accel = accel;
+
+  g.angular_speed = rho > 0.0 ? speed / rho : 0.0;
+  g.angular_accel = rho > 0.0 ? accel / rho : 0.0;
+  g.decel_start_angle = decel_start_distance(std::fabs(sweep), g.angular_speed, g.angular_accel);
+
+  // Driving axis of an arc: its helical (normal) axis.
+  b.driving_axis = static_cast<std::uint8_t>(n);
+  b.driving_dir = helix < 0.0 ? -1 : 1;
+  const double un = length > 0.0 ? std::fabs(helix) / length : 0.0;
+  b.driving_speed = speed * un;
+  b.driving_accel = accel * un;
+  b.decel_start = m.start[nk] + (std::fabs(sweep) > 0.0 ? helix * g.decel_start_angle / std::fabs(sweep) : 0.0);
+
+  // Unit tangents: direction of travel is sign(sweep) * dp/dtheta.
+  const double dirsign = sweep < 0.0 ? -1.0 : 1.0;
+  auto tangent = [&](double theta) {
+    Vec3 t{0.0, 0.0, 0.0};
+    t[a0] = -r * std::sin(theta) * dirsign;
+    t[a1] = r * std::cos(theta) * dirsign;
+    t[nk] = pitch * (helix != 0.0 ? 1.0 : 0.0) * (std::fabs(sweep) > 0.0 ? 1.0 : 0.0);
+    return normalized(t);
+  };
+  b.dir_start = tangent(theta0);
+  b.dir_end = tangent(theta0 + sweep);
+}
+
+}  // namespace
+
+double decel_start_distance(double length, double speed, double accel) {
+  if (!(accel > 0.0) || !(speed > 0.0)) return length;
+  const double stop = speed * speed / (2.0 * accel);
+  if (2.0 * stop >= length) return 0.5 * length;
+  return length - stop;
+}
+
+// Angles where |sin| peaks are pi/2 + k*pi; |cos| peaks at k*pi.
+static double max_abs_trig(double start, double sweep, double peak_offset, double (*f)(double)) {
+  const double lo = std::min(start, start + sweep);
+  const double hi = std::max(start, start + sweep);
+  // smallest peak >= lo
+  const double k = std::ceil((lo - peak_offset) / kPi);
+  if (peak_offset + k * kPi <= hi) return 1.0;
+  return std::max(std::fabs(f(lo)), std::fabs(f(hi)));
+}
+
+double max_abs_sin(double start, double sweep) {
+  return max_abs_trig(start, sweep, kPi / 2.0, [](double x) { return std::sin(x); });
+}
+double max_abs_cos(double start, double sweep) {
+  return max_abs_trig(start, sweep, 0.0, [](double x) { return std::cos(x); });
+}
+
+Block make_block(const Move& m, const MachineConfig& cfg) {
+  Block b{};
+  make_block_into(m, cfg, b);
+  return b;
+}
+
+void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
+  // Every field but the NURBS arrays, reset to its default.
+  b.seq = 0;
+  b.kind = BlockKind::kLine;
+  b.motion_class = MotionClass::kNone;
+  b.optional_stop = 0;
+  b.length = b.speed = b.accel = 0.0;
+  b.driving_axis = 0;
+  b.driving_dir = 1;
+  for (auto& p : b.pad0_) p = 0;
+  b.driving_speed = b.driving_accel = b.decel_start = 0.0;
+  b.dir_start = b.dir_end = Vec3{0.0, 0.0, 0.0};
+  b.dwell_s = 0.0;
+  b.arc = ArcGeometry{};
+  b.nurbs.point_count = b.nurbs.knot_count = b.nurbs.schedule_count = 0;
+  b.nurbs.degree = 0;
+  b.line = static_cast<std::uint32_t>(m.line > 0 ? m.line : 0);
+  b.start = m.start;
+  b.end = m.end;
+  b.contouring = m.contouring ? 1 : 0;
+  switch (m.kind) {
+    case MoveKind::kRapid:
+      b.kind = BlockKind::kRapid;
+      plan_line(m, cfg, b);
+      break;
+    case MoveKind::kLine:
+      b.kind = BlockKind::kLine;
+      plan_line(m, cfg, b);
+      break;
+    case MoveKind::kArc:
+      b.kind = BlockKind::kArc;
+      plan_arc(m, cfg, b);
+      break;
+    case MoveKind::kDwell:
+      b.kind = BlockKind::kDwell;
+      b.dwell_s = m.dwell_s;
+      break;
+    case MoveKind::kPause:
+      b.kind = BlockKind::kPause;
+      b.optional_stop = m.optional_stop ? 1 : 0;
+      break;
+    case MoveKind::kEnd: b.kind = BlockKind::kEnd; break;
+    case MoveKind::kNurbs:
+      // A NURBS move becomes several blocks: plan_nurbs_move (host/nurbs_move.hpp). Here it
+      // stays an empty NURBS block, which the rt refuses: never a silent wrong move.
+      b.kind = BlockKind::kNurbs;
+      break;
+  }
+}
+
+}  // namespace pcnc

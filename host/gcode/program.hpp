@@ -1,0 +1,81 @@
+// program.hpp — the streaming entry point of the G-code front end: check a whole program
+// (pass 1), then stream its ring Blocks (pass 2). Both passes read the file line by line with
+// O(1) memory: lexer -> parser -> interpreter -> preflight (pass 1) / preprocessor (pass 2).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ipc/block.hpp"
+#include "config/config.hpp"
+#include "gcode/diagnostics.hpp"
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+struct JobOptions {
+  int work_offset_index = 0;       // 0 = G54 ... 5 = G59 default selection (program may select another)
+  std::optional<Vec3> offset;      // --offset X,Y,Z: overrides the config's G54 value (program zero in machine coords)
+  bool fit = false;                // --fit: scale uniformly (factor <= 1) so the program fits the travel; also recentre
+  std::optional<bool> contouring;  // --contouring on|off, else config motion.contouring_default
+  // Machine position before the first move (the launcher passes the rt's actual position).
+  // Default: program zero (the G54 point after --offset/--fit) clamped into the travel.
+  std::optional<Vec3> start_position;
+};
+
+struct Transform {
+  Vec3 offset{};
+  double scale = 1.0;
+};  // machine = scale * program + offset, reported to the user
+
+struct CheckResult {
+  std::vector<Diagnostic> diagnostics;
+  bool ok = false;
+  std::uint64_t lines = 0;
+  std::uint64_t moves = 0;
+  Transform transform;
+  Vec3 min_point{}, max_point{};  // program extents in machine coords
+  Vec3 last_point{};
+  double feed_length_time_s = 0.0;  // sum of length/F over feed moves
+};
+
+/// Pass 1: reads the whole file, parses, interprets, checks soft limits (after offset/scale),
+/// feeds, everything. No Block is produced. Memory does not grow with file length.
+/// A file that cannot be read gives ok = false with one error diagnostic.
+CheckResult check_program(const std::string& path, const MachineConfig& config, const JobOptions& options);
+/// The same over text in memory (tests, fuzzing); `name` is used in messages.
+CheckResult check_program_text(std::string_view text, const std::string& name, const MachineConfig& config,
+                               const JobOptions& options);
+
+/// Pass 2: streams Blocks in program order. Construct only after check_program(...).ok, with
+/// its transform. Throws std::runtime_error if the program turns out to have an error after
+/// all (e.g. the file changed since it was checked). The stream keeps its own copy of `config`.
+class BlockStream {
+ public:
+  BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
+              const Transform& transform);
+  struct FromText {};
+  BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config,
+              const JobOptions& options, const Transform& transform);
+  ~BlockStream();
+  BlockStream(BlockStream&&) noexcept;
+  BlockStream& operator=(BlockStream&&) noexcept;
+
+  bool next(Block& out);             // false at end of program (after the End block was returned)
+  std::uint64_t lines_read() const;  // for progress
+  std::uint64_t total_bytes() const;
+  std::uint64_t bytes_read() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The stable one-line text form used by `pcnc check --print-blocks` and the golden tests.
+std::string format_block(const Block& b);
+
+}  // namespace pcnc

@@ -1,0 +1,47 @@
+// report_html.hpp — the run report as one self-contained HTML page (`pcnc run --report`).
+//
+// Built after both processes have exited, from the run summary pcnc-host wrote (figures)
+// and the per-cycle trace pcnc-rt wrote (pictures), plus the program itself (which source
+// lines are rapids). The page holds inline SVG and CSS only: no script, no fonts, nothing
+// fetched from the network, so it opens anywhere with nothing but a browser.
+//
+// Pictures: the tool path as measured, in an isometric view (rapids dashed, feed moves
+// coloured by path speed, the final tool position as a red dot) and from above; the path
+// speed over time;
+// the following error per axis over time (min..max envelopes, so no peak is lost to
+// decimation). Figures: one table, each row with a stable id for scripts and tests.
+#pragma once
+
+#include <string>
+
+#include "config/config.hpp"
+#include "report/run_summary.hpp"
+#include "report/trace_reader.hpp"
+
+namespace pcnc {
+
+struct ReportPage {
+  RunSummary summary;
+  bool has_trace = false;
+  TraceDigest trace;        // valid when has_trace
+  std::string trace_note;   // e.g. why there is no trace
+};
+
+/// The whole page.
+std::string render_report_html(const ReportPage& page);
+
+/// The isometric tool path alone (an <svg> element), for tests.
+std::string render_toolpath_svg(const ReportPage& page);
+/// The tool path seen from above (X right, Y up, equal scales).
+std::string render_top_view_svg(const ReportPage& page);
+
+/// Reads summary and trace, classifies the program's lines (rapid or not) with a BlockStream
+/// over `program` under the summary's transform, renders and writes `html_path`.
+/// `trace_path` may be empty (no pictures). Throws std::runtime_error naming what failed.
+void build_report_file(const std::string& summary_path, const std::string& trace_path, const MachineConfig& config,
+                       const std::string& html_path);
+
+/// Formatting shared with the tests: fixed decimals, "-0.000" printed as "0.000".
+std::string fixed(double v, int decimals);
+
+}  // namespace pcnc

@@ -1,0 +1,56 @@
+// run_report.cpp — formatting the terminal run report.
+#include "report/run_report.hpp"
+
+#include <cstdio>
+
+#include "report/run_summary.hpp"
+
+namespace pcnc {
+
+Vec3 to_program_coordinates(const Vec3& machine, const Transform& t) {
+  return (1.0 / t.scale) * (machine - t.offset);
+}
+
+std::string format_run_report(const RunReport& r) {
+  const Status& s = r.job.final_status;
+  const Transform& t = r.check.transform;
+  const Vec3 prog = to_program_coordinates(s.actual, t);
+  const Vec3 rms = rms_following_error(s);
+  std::string corner;
+  if (r.corner_tolerance_mm > 0.0) {
+    char c[128];
+    std::snprintf(c, sizeof c, " (corner tolerance %.1f um: corners at the junction-deviation speed, G1 runs merged)",
+                  r.corner_tolerance_mm * 1000.0);
+    corner = c;
+  }
+  char buf[4096];
+  int n = std::snprintf(
+      buf, sizeof buf,
+      "run report: %s\n"
+      "  result            %s%s%s\n"
+      "  program time      %.3f s machine time (%.3f s wall, %s clock)\n"
+      "  feed time L/F     %.3f s (pure path length over programmed feed)\n"
+      "  lines / blocks    %llu lines read, %llu blocks sent, %llu blocks done\n"
+      "  junctions         %llu passed without stopping, %llu stops%s\n"
+      "  transform         machine = %.6g * program + (%.4f, %.4f, %.4f) mm\n"
+      "  final position    machine X%.4f Y%.4f Z%.4f mm; program X%.4f Y%.4f Z%.4f\n"
+      "  commanded         X%.4f Y%.4f Z%.4f mm\n"
+      "  max follow. error X %.2f um  Y %.2f um  Z %.2f um\n"
+      "  RMS follow. error X %.2f um  Y %.2f um  Z %.2f um\n"
+      "  contour error     max %.2f um, RMS %.2f um (measured position to the programmed path)\n"
+      "  ring underruns    %llu (host slot refill p99 %.1f us)\n"
+      "  rt cycle          compute p99 %.2f us max %.2f us; wake-up p99 %.1f us max %.1f us; %llu overruns\n",
+      r.program.c_str(), to_string(r.job.end), r.job.message.empty() ? "" : ": ", r.job.message.c_str(),
+      s.program_time_s, r.job.wall_time_s, s.clock_virtual ? "virtual" : "real", r.check.feed_length_time_s,
+      static_cast<unsigned long long>(r.job.lines_read), static_cast<unsigned long long>(r.job.blocks_sent),
+      static_cast<unsigned long long>(s.blocks_done), static_cast<unsigned long long>(s.junction_flows),
+      static_cast<unsigned long long>(s.junction_stops), corner.c_str(), t.scale, t.offset[0], t.offset[1], t.offset[2], s.actual[0],
+      s.actual[1], s.actual[2], prog[0], prog[1], prog[2], s.commanded[0], s.commanded[1], s.commanded[2], s.max_following_error[0] * 1000.0,
+      s.max_following_error[1] * 1000.0, s.max_following_error[2] * 1000.0, rms[0] * 1000.0, rms[1] * 1000.0,
+      rms[2] * 1000.0, s.max_contour_error * 1000.0, rms_contour_error(s) * 1000.0,
+      static_cast<unsigned long long>(s.underruns), r.job.refill_latency.quantile(0.99), s.timing.compute_p99_us, s.timing.compute_max_us,
+      s.timing.wake_p99_us, s.timing.wake_max_us, static_cast<unsigned long long>(s.timing.overruns));
+  return std::string(buf, static_cast<std::size_t>(n > 0 ? n : 0));
+}
+
+}  // namespace pcnc

@@ -1,0 +1,244 @@
+// run_summary.cpp — RunSummary from a finished run, and its JSON form (see run_summary.hpp).
+#include "report/run_summary.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+namespace pcnc {
+
+namespace {
+
+using nlohmann::json;
+
+json timing_json(const TimingStats& t) {
+  return json{{"wake_min_us", t.wake_min_us},       {"wake_mean_us", t.wake_mean_us},
+              {"wake_p99_us", t.wake_p99_us},       {"wake_max_us", t.wake_max_us},
+              {"compute_min_us", t.compute_min_us}, {"compute_mean_us", t.compute_mean_us},
+              {"compute_p99_us", t.compute_p99_us}, {"compute_max_us", t.compute_max_us},
+              {"overruns", t.overruns}};
+}
+
+TimingStats timing_from(const json& j) {
+  TimingStats t;
+  t.wake_min_us = j.at("wake_min_us").get<double>();
+  t.wake_mean_us = j.at("wake_mean_us").get<double>();
+  t.wake_p99_us = j.at("wake_p99_us").get<double>();
+  t.wake_max_us = j.at("wake_max_us").get<double>();
+  t.compute_min_us = j.at("compute_min_us").get<double>();
+  t.compute_mean_us = j.at("compute_mean_us").get<double>();
+  t.compute_p99_us = j.at("compute_p99_us").get<double>();
+  t.compute_max_us = j.at("compute_max_us").get<double>();
+  t.overruns = j.at("overruns").get<std::uint64_t>();
+  return t;
+}
+
+template <typename Enum>
+Enum enum_from(const std::string& name, int last) {
+  for (int i = 0; i <= last; ++i) {
+    if (name == to_string(static_cast<Enum>(i))) return static_cast<Enum>(i);
+  }
+  throw std::runtime_error("run summary: unknown name '" + name + "'");
+}
+
+json status_json(const Status& s) {
+  return json{{"state", to_string(s.state)},
+              {"fault", to_string(s.fault)},
+              {"fault_axis", s.fault_axis},
+              {"fault_line", s.fault_line},
+              {"fault_value", s.fault_value},
+              {"contouring", s.contouring},
+              {"program_done", s.program_done},
+              {"clock_virtual", s.clock_virtual},
+              {"line", s.line},
+              {"time_s", s.time_s},
+              {"program_time_s", s.program_time_s},
+              {"blocks_done", s.blocks_done},
+              {"underruns", s.underruns},
+              {"junction_stops", s.junction_stops},
+              {"junction_flows", s.junction_flows},
+              {"commanded", s.commanded},
+              {"actual", s.actual},
+              {"following_error", s.following_error},
+              {"max_following_error", s.max_following_error},
+              {"following_error_sq_sum", s.following_error_sq_sum},
+              {"program_cycles", s.program_cycles},
+              {"contour_error", s.contour_error},
+              {"max_contour_error", s.max_contour_error},
+              {"contour_error_sq_sum", s.contour_error_sq_sum},
+              {"feed_override", s.feed_override},
+              {"timing", timing_json(s.timing)}};
+}
+
+Status status_from(const json& j) {
+  Status s;
+  s.state = enum_from<MachineState>(j.at("state").get<std::string>(), static_cast<int>(MachineState::kHostLost));
+  s.fault = enum_from<FaultCode>(j.at("fault").get<std::string>(), static_cast<int>(FaultCode::kSequence));
+  s.fault_axis = j.at("fault_axis").get<std::uint8_t>();
+  s.fault_line = j.at("fault_line").get<std::uint32_t>();
+  s.fault_value = j.at("fault_value").get<double>();
+  s.contouring = j.at("contouring").get<std::uint8_t>();
+  s.program_done = j.at("program_done").get<std::uint8_t>();
+  s.clock_virtual = j.at("clock_virtual").get<std::uint8_t>();
+  s.line = j.at("line").get<std::uint32_t>();
+  s.time_s = j.at("time_s").get<double>();
+  s.program_time_s = j.at("program_time_s").get<double>();
+  s.blocks_done = j.at("blocks_done").get<std::uint64_t>();
+  s.underruns = j.at("underruns").get<std::uint64_t>();
+  s.junction_stops = j.at("junction_stops").get<std::uint64_t>();
+  s.junction_flows = j.at("junction_flows").get<std::uint64_t>();
+  s.commanded = j.at("commanded").get<Vec3>();
+  s.actual = j.at("actual").get<Vec3>();
+  s.following_error = j.at("following_error").get<Vec3>();
+  s.max_following_error = j.at("max_following_error").get<Vec3>();
+  s.following_error_sq_sum = j.at("following_error_sq_sum").get<Vec3>();
+  s.program_cycles = j.at("program_cycles").get<std::uint64_t>();
+  s.contour_error = j.at("contour_error").get<double>();
+  s.max_contour_error = j.at("max_contour_error").get<double>();
+  s.contour_error_sq_sum = j.at("contour_error_sq_sum").get<double>();
+  s.feed_override = j.at("feed_override").get<double>();
+  s.timing = timing_from(j.at("timing"));
+  return s;
+}
+
+}  // namespace
+
+RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, const std::string& config_path,
+                            bool contouring_at_start) {
+  RunSummary s;
+  s.program = r.program;
+  s.machine = config.name;
+  s.config_path = config_path;
+  s.clock = r.job.final_status.clock_virtual ? "virtual" : "real";
+  s.contouring_at_start = contouring_at_start;
+  s.contouring_angle_deg = config.motion.contouring_angle_deg;
+  s.corner_tolerance_mm = config.motion.corner_tolerance_mm;
+  s.cycle_hz = config.motion.cycle_hz;
+  s.travel_min = config.travel_min();
+  s.travel_max = config.travel_max();
+  s.lines = r.check.lines;
+  s.moves = r.check.moves;
+  for (const Diagnostic& d : r.check.diagnostics) {
+    if (d.severity != Diagnostic::Severity::kError) ++s.warnings;
+  }
+  s.transform = r.check.transform;
+  s.min_point = r.check.min_point;
+  s.max_point = r.check.max_point;
+  s.last_point = r.check.last_point;
+  s.feed_length_time_s = r.check.feed_length_time_s;
+  s.end = to_string(r.job.end);
+  s.message = r.job.message;
+  s.blocks_sent = r.job.blocks_sent;
+  s.lines_read = r.job.lines_read;
+  s.wall_time_s = r.job.wall_time_s;
+  s.refill_count = r.job.refill_latency.count();
+  s.refill_p50_us = r.job.refill_latency.quantile(0.5);
+  s.refill_p99_us = r.job.refill_latency.quantile(0.99);
+  s.refill_max_us = r.job.refill_latency.max();
+  s.final_status = r.job.final_status;
+  return s;
+}
+
+nlohmann::json to_json(const RunSummary& s) {
+  return json{{"format", s.format},
+              {"program", s.program},
+              {"machine", s.machine},
+              {"config_path", s.config_path},
+              {"clock", s.clock},
+              {"contouring_at_start", s.contouring_at_start},
+              {"contouring_angle_deg", s.contouring_angle_deg},
+              {"corner_tolerance_mm", s.corner_tolerance_mm},
+              {"cycle_hz", s.cycle_hz},
+              {"travel_min", s.travel_min},
+              {"travel_max", s.travel_max},
+              {"check",
+               {{"lines", s.lines},
+                {"moves", s.moves},
+                {"warnings", s.warnings},
+                {"scale", s.transform.scale},
+                {"offset", s.transform.offset},
+                {"min_point", s.min_point},
+                {"max_point", s.max_point},
+                {"last_point", s.last_point},
+                {"feed_length_time_s", s.feed_length_time_s}}},
+              {"job",
+               {{"end", s.end},
+                {"message", s.message},
+                {"blocks_sent", s.blocks_sent},
+                {"lines_read", s.lines_read},
+                {"wall_time_s", s.wall_time_s},
+                {"refill_count", s.refill_count},
+                {"refill_p50_us", s.refill_p50_us},
+                {"refill_p99_us", s.refill_p99_us},
+                {"refill_max_us", s.refill_max_us}}},
+              {"status", status_json(s.final_status)}};
+}
+
+RunSummary run_summary_from_json(const nlohmann::json& j) {
+  RunSummary s;
+  s.format = j.at("format").get<int>();
+  if (s.format != 1) throw std::runtime_error("run summary format " + std::to_string(s.format) + " is not known");
+  s.program = j.at("program").get<std::string>();
+  s.machine = j.at("machine").get<std::string>();
+  s.config_path = j.at("config_path").get<std::string>();
+  s.clock = j.at("clock").get<std::string>();
+  s.contouring_at_start = j.at("contouring_at_start").get<bool>();
+  s.contouring_angle_deg = j.at("contouring_angle_deg").get<double>();
+  s.corner_tolerance_mm = j.value("corner_tolerance_mm", 0.0);  // absent in summaries before it existed
+  s.cycle_hz = j.at("cycle_hz").get<double>();
+  s.travel_min = j.at("travel_min").get<Vec3>();
+  s.travel_max = j.at("travel_max").get<Vec3>();
+  const json& c = j.at("check");
+  s.lines = c.at("lines").get<std::uint64_t>();
+  s.moves = c.at("moves").get<std::uint64_t>();
+  s.warnings = c.at("warnings").get<std::uint64_t>();
+  s.transform.scale = c.at("scale").get<double>();
+  s.transform.offset = c.at("offset").get<Vec3>();
+  s.min_point = c.at("min_point").get<Vec3>();
+  s.max_point = c.at("max_point").get<Vec3>();
+  s.last_point = c.at("last_point").get<Vec3>();
+  s.feed_length_time_s = c.at("feed_length_time_s").get<double>();
+  const json& b = j.at("job");
+  s.end = b.at("end").get<std::string>();
+  s.message = b.at("message").get<std::string>();
+  s.blocks_sent = b.at("blocks_sent").get<std::uint64_t>();
+  s.lines_read = b.at("lines_read").get<std::uint64_t>();
+  s.wall_time_s = b.at("wall_time_s").get<double>();
+  s.refill_count = b.at("refill_count").get<std::uint64_t>();
+  s.refill_p50_us = b.at("refill_p50_us").get<double>();
+  s.refill_p99_us = b.at("refill_p99_us").get<double>();
+  s.refill_max_us = b.at("refill_max_us").get<double>();
+  s.final_status = status_from(j.at("status"));
+  return s;
+}
+
+void write_run_summary(const RunSummary& s, const std::string& path) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write the run summary to '" + path + "'");
+  f << to_json(s).dump(2) << "\n";
+  if (!f.flush()) throw std::runtime_error("cannot write the run summary to '" + path + "'");
+}
+
+RunSummary read_run_summary(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("cannot read the run summary '" + path + "'");
+  try {
+    return run_summary_from_json(nlohmann::json::parse(f));
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error("run summary '" + path + "': " + e.what());
+  }
+}
+
+Vec3 rms_following_error(const Status& s) {
+  if (s.program_cycles == 0) return {};
+  const double n = static_cast<double>(s.program_cycles);
+  return {std::sqrt(s.following_error_sq_sum[0] / n), std::sqrt(s.following_error_sq_sum[1] / n),
+          std::sqrt(s.following_error_sq_sum[2] / n)};
+}
+
+double rms_contour_error(const Status& s) {
+  if (s.program_cycles == 0) return 0.0;
+  return std::sqrt(s.contour_error_sq_sum / static_cast<double>(s.program_cycles));
+}
+
+}  // namespace pcnc

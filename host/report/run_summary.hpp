@@ -1,0 +1,67 @@
+// run_summary.hpp — the machine-readable end of a run: what pcnc-host writes with
+// --summary FILE.json after `pcnc run` (check result, transform, job result, final rt status,
+// the machine's travel), so that the launcher can build the HTML report from it and the
+// trace once both processes have exited, and scripts can read the figures without parsing
+// the terminal report. The JSON holds plain numbers in mm, s, µs; to_json and from_json are
+// exact inverses for every field listed here.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "config/config.hpp"
+#include "report/run_report.hpp"
+
+namespace pcnc {
+
+struct RunSummary {
+  int format = 1;
+  std::string program;        // path as given
+  std::string machine;        // config name
+  std::string config_path;
+  std::string clock;          // "real" | "virtual"
+  bool contouring_at_start = false;
+  double contouring_angle_deg = 0.0;
+  double corner_tolerance_mm = 0.0;  // motion.corner_tolerance_mm (0: corners stop, nothing merged)
+  double cycle_hz = 0.0;
+  Vec3 travel_min{}, travel_max{};
+
+  // pass 1 (check_program)
+  std::uint64_t lines = 0;
+  std::uint64_t moves = 0;
+  std::uint64_t warnings = 0;
+  Transform transform{};
+  Vec3 min_point{}, max_point{}, last_point{};  // machine coordinates
+  double feed_length_time_s = 0.0;
+
+  // the job
+  std::string end;            // to_string(JobEnd)
+  std::string message;
+  std::uint64_t blocks_sent = 0;
+  std::uint64_t lines_read = 0;
+  double wall_time_s = 0.0;
+  std::uint64_t refill_count = 0;
+  double refill_p50_us = 0.0, refill_p99_us = 0.0, refill_max_us = 0.0;
+
+  Status final_status{};      // the rt's status at the end
+};
+
+RunSummary make_run_summary(const RunReport& report, const MachineConfig& config, const std::string& config_path,
+                            bool contouring_at_start);
+
+nlohmann::json to_json(const RunSummary& s);
+/// Throws nlohmann::json::exception (or std::runtime_error) on a missing or mistyped field.
+RunSummary run_summary_from_json(const nlohmann::json& j);
+
+/// Writes the JSON to `path` (pretty-printed). Throws std::runtime_error when it cannot.
+void write_run_summary(const RunSummary& s, const std::string& path);
+RunSummary read_run_summary(const std::string& path);
+
+/// RMS following error per axis over the program's cycles, mm.
+Vec3 rms_following_error(const Status& s);
+/// RMS contour error over the program's cycles, mm.
+double rms_contour_error(const Status& s);
+
+}  // namespace pcnc

@@ -1,0 +1,236 @@
+// trace_reader.cpp — streaming trace CSV parser and the one-pass digest for the run report.
+#include "report/trace_reader.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace pcnc {
+
+namespace {
+
+constexpr const char* kHeader = "t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed";
+constexpr std::size_t kMaxIdleTail = 20000;  // 10 s at 2 kHz: longer idle closes the program window
+
+// Next comma-separated field of `s` from `pos`; advances pos past the comma.
+std::string_view field(std::string_view s, std::size_t& pos) {
+  if (pos > s.size()) return {};  // past the last field
+  const std::size_t start = pos;
+  const std::size_t comma = s.find(',', pos);
+  if (comma == std::string_view::npos) {
+    pos = s.size() + 1;
+    return s.substr(start);
+  }
+  pos = comma + 1;
+  return s.substr(start, comma - start);
+}
+
+bool to_double(std::string_view f, double& v) {
+  if (f.empty()) return false;
+  const char* b = f.data();
+  if (*b == '+') ++b;
+  const auto r = std::from_chars(b, f.data() + f.size(), v);
+  return r.ec == std::errc() && r.ptr == f.data() + f.size();
+}
+
+bool busy(MachineState s) { return s != MachineState::kIdle && s != MachineState::kStarting; }
+
+}  // namespace
+
+bool parse_state_name(std::string_view name, MachineState& state) {
+  for (int i = 0; i <= static_cast<int>(MachineState::kHostLost); ++i) {
+    const auto s = static_cast<MachineState>(i);
+    if (name == to_string(s)) {
+      state = s;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool parse_trace_row(std::string_view text, TraceRow& row) {
+  if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+  std::size_t pos = 0;
+  if (!to_double(field(text, pos), row.t)) return false;
+  const std::string_view line = field(text, pos);
+  const auto r = std::from_chars(line.data(), line.data() + line.size(), row.line);
+  if (r.ec != std::errc() || r.ptr != line.data() + line.size()) return false;
+  if (!parse_state_name(field(text, pos), row.state)) return false;
+  Vec3* vecs[3] = {&row.commanded, &row.actual, &row.following_error};
+  for (Vec3* v : vecs) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (!to_double(field(text, pos), (*v)[i])) return false;
+    }
+  }
+  if (!to_double(field(text, pos), row.speed)) return false;
+  return pos == text.size() + 1;  // nothing after the last field
+}
+
+TraceReader::TraceReader(const std::string& path) : path_(path) {
+  file_ = std::fopen(path.c_str(), "r");
+  if (!file_) throw std::runtime_error("cannot read trace '" + path + "': " + std::strerror(errno));
+  buf_.resize(1024);
+  if (!std::fgets(buf_.data(), static_cast<int>(buf_.size()), file_)) {
+    std::fclose(file_);
+    throw std::runtime_error("trace '" + path + "' is empty (no header)");
+  }
+  std::string_view h(buf_.data());
+  while (!h.empty() && (h.back() == '\n' || h.back() == '\r')) h.remove_suffix(1);
+  if (h != kHeader) {
+    std::fclose(file_);
+    throw std::runtime_error("'" + path + "' is not a pcnc trace: its first line is not the trace header");
+  }
+}
+
+TraceReader::~TraceReader() {
+  if (file_) std::fclose(file_);
+}
+
+bool TraceReader::next(TraceRow& row) {
+  for (;;) {
+    if (!std::fgets(buf_.data(), static_cast<int>(buf_.size()), file_)) return false;
+    std::string_view s(buf_.data());
+    if (s.empty() || s.back() != '\n') {
+      // the last row of a trace cut short (process killed mid-write) has no newline: skip it
+      if (std::feof(file_)) return false;
+      throw std::runtime_error(path_ + ": row " + std::to_string(rows_ + 2) + " is too long");
+    }
+    s.remove_suffix(1);
+    if (s.empty()) continue;
+    if (!parse_trace_row(s, row)) {
+      throw std::runtime_error(path_ + ": line " + std::to_string(rows_ + 2) + " is not a trace row: " + std::string(s));
+    }
+    ++rows_;
+    return true;
+  }
+}
+
+// ---- digest ----
+
+TraceDigester::TraceDigester(DigestOptions options) : o_(std::move(options)) {
+  o_.max_buckets = std::max<std::size_t>(o_.max_buckets, 2);
+  path_tol_ = o_.path_tolerance_mm;
+}
+
+void TraceDigester::add(const TraceRow& row) {
+  ++d_.rows;
+  if (ended_) return;
+  if (!started_) {
+    if (row.state != MachineState::kRunning) return;
+    started_ = true;
+    t_start_ = row.t;
+  }
+  if (!busy(row.state)) {
+    if (idle_tail_.size() >= kMaxIdleTail) {
+      ended_ = true;
+      return;
+    }
+    idle_tail_.push_back(row);
+    return;
+  }
+  for (const TraceRow& r : idle_tail_) {
+    add_to_buckets(r, r.t - t_start_);
+    add_to_path(r);
+  }
+  idle_tail_.clear();
+  add_to_buckets(row, row.t - t_start_);
+  add_to_path(row);
+}
+
+void TraceDigester::add_to_buckets(const TraceRow& row, double t) {
+  ++d_.program_rows;
+  d_.duration_s = t;
+  d_.last = row;
+  d_.speed_max = std::max(d_.speed_max, row.speed);
+  for (std::size_t i = 0; i < 3; ++i) d_.ferr_abs_max[i] = std::max(d_.ferr_abs_max[i], std::fabs(row.following_error[i]));
+  if (row.state == MachineState::kFault || row.state == MachineState::kEstop || row.state == MachineState::kHostLost) {
+    d_.saw_fault = true;
+  }
+
+  auto& b = d_.buckets;
+  const auto index = static_cast<std::size_t>(std::max(0.0, t) / bucket_width_);
+  if (!b.empty() && static_cast<std::size_t>(std::max(0.0, b.back().t0) / bucket_width_) == index) {
+    TraceBucket& k = b.back();
+    k.t1 = t;
+    k.speed_min = std::min(k.speed_min, row.speed);
+    k.speed_max = std::max(k.speed_max, row.speed);
+    for (std::size_t i = 0; i < 3; ++i) {
+      k.ferr_min[i] = std::min(k.ferr_min[i], row.following_error[i]);
+      k.ferr_max[i] = std::max(k.ferr_max[i], row.following_error[i]);
+    }
+    ++k.rows;
+    return;
+  }
+  TraceBucket k;
+  k.t0 = k.t1 = t;
+  k.speed_min = k.speed_max = row.speed;
+  k.ferr_min = k.ferr_max = row.following_error;
+  k.rows = 1;
+  b.push_back(k);
+  if (b.size() > o_.max_buckets) {
+    // merge neighbours (in pairs of the doubled width) and go on with twice the width
+    bucket_width_ *= 2.0;
+    std::vector<TraceBucket> merged;
+    merged.reserve(b.size() / 2 + 1);
+    for (const TraceBucket& x : b) {
+      const auto ix = static_cast<std::size_t>(std::max(0.0, x.t0) / bucket_width_);
+      if (!merged.empty() && static_cast<std::size_t>(std::max(0.0, merged.back().t0) / bucket_width_) == ix) {
+        TraceBucket& m = merged.back();
+        m.t1 = x.t1;
+        m.speed_min = std::min(m.speed_min, x.speed_min);
+        m.speed_max = std::max(m.speed_max, x.speed_max);
+        for (std::size_t i = 0; i < 3; ++i) {
+          m.ferr_min[i] = std::min(m.ferr_min[i], x.ferr_min[i]);
+          m.ferr_max[i] = std::max(m.ferr_max[i], x.ferr_max[i]);
+        }
+        m.rows += x.rows;
+      } else {
+        merged.push_back(x);
+      }
+    }
+    b.swap(merged);
+  }
+}
+
+void TraceDigester::add_to_path(const TraceRow& row) {
+  const bool rapid = o_.is_rapid_line && o_.is_rapid_line(row.line);
+  auto& path = d_.path;
+  if (!path.empty()) {
+    const ToolPathPoint& last = path.back();
+    if (rapid == last.rapid && norm(row.actual - last.p) < path_tol_) return;
+  }
+  path.push_back(ToolPathPoint{row.actual, row.speed, rapid});
+  if (path.size() > o_.max_path_points) thin_path();
+}
+
+void TraceDigester::thin_path() {
+  path_tol_ *= 2.0;
+  std::vector<ToolPathPoint> kept;
+  kept.reserve(d_.path.size() / 2 + 1);
+  for (const ToolPathPoint& p : d_.path) {
+    if (!kept.empty() && p.rapid == kept.back().rapid && norm(p.p - kept.back().p) < path_tol_) continue;
+    kept.push_back(p);
+  }
+  d_.path.swap(kept);
+}
+
+TraceDigest TraceDigester::finish() {
+  // the final position: the last row of the window, also when the path thinned it away
+  if (d_.program_rows > 0 && (d_.path.empty() || norm(d_.path.back().p - d_.last.actual) > 0.0)) {
+    d_.path.push_back(ToolPathPoint{d_.last.actual, d_.last.speed, o_.is_rapid_line && o_.is_rapid_line(d_.last.line)});
+  }
+  d_.path_tolerance_mm = path_tol_;
+  return std::move(d_);
+}
+
+TraceDigest digest_trace(const std::string& path, const DigestOptions& options) {
+  TraceReader reader(path);
+  TraceDigester digester(options);
+  TraceRow row;
+  while (reader.next(row)) digester.add(row);
+  return digester.finish();
+}
+
+}  // namespace pcnc

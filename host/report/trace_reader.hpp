@@ -1,0 +1,121 @@
+// trace_reader.hpp — reads the per-cycle trace CSV that pcnc-rt writes (--trace) and boils it
+// down to what the run report draws: a time series of path speed and following error, and
+// the tool path in space. One streaming pass, memory bounded by the plot resolution, not by
+// the trace length (a ten-minute program is 1.2 million rows).
+//
+// Time series: rows fall into time buckets that keep each value's minimum and maximum, so
+// peaks survive any decimation; when the buckets run out, neighbours merge pairwise and the
+// bucket width doubles. Tool path: a point is kept when it lies farther than a tolerance
+// from the last kept point, or when the speed class or the source line's kind changes.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ipc/status.hpp"
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+/// One trace row (DESIGN.md: t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed).
+struct TraceRow {
+  double t = 0.0;
+  std::uint32_t line = 0;
+  MachineState state = MachineState::kIdle;
+  Vec3 commanded{};
+  Vec3 actual{};
+  Vec3 following_error{};
+  double speed = 0.0;
+};
+
+/// Parses one CSV data row. False (and `row` unspecified) when it is malformed.
+bool parse_trace_row(std::string_view text, TraceRow& row);
+/// The state's trace name back to the enum ("RUNNING" -> kRunning). False when unknown.
+bool parse_state_name(std::string_view name, MachineState& state);
+
+/// Streams a trace file row by row. Throws std::runtime_error when the file cannot be read
+/// or its header is not the trace header; next() throws on a malformed row, naming its line.
+class TraceReader {
+ public:
+  explicit TraceReader(const std::string& path);
+  ~TraceReader();
+  TraceReader(const TraceReader&) = delete;
+  TraceReader& operator=(const TraceReader&) = delete;
+  bool next(TraceRow& row);
+  std::uint64_t rows() const { return rows_; }
+
+ private:
+  std::string path_;
+  std::FILE* file_ = nullptr;
+  std::string buf_;
+  std::uint64_t rows_ = 0;
+};
+
+/// One time bucket of the decimated series: min and max of each value over its rows.
+struct TraceBucket {
+  double t0 = 0.0, t1 = 0.0;  // time of its first and last row, s (program time)
+  double speed_min = 0.0, speed_max = 0.0;
+  Vec3 ferr_min{}, ferr_max{};
+  std::uint32_t rows = 0;
+};
+
+/// A kept point of the tool path (actual, measured position, machine coordinates).
+struct ToolPathPoint {
+  Vec3 p{};
+  double speed = 0.0;  // commanded path speed there, mm/s
+  bool rapid = false;  // the block in execution was a rapid (G00)
+};
+
+struct DigestOptions {
+  std::size_t max_buckets = 1200;       // time resolution of the plots
+  double path_tolerance_mm = 0.02;      // tool path: keep points at least this far apart
+  std::size_t max_path_points = 200000; // beyond this the tolerance doubles and the path thins
+  /// Is the block on this source line a rapid? (From the program; empty: never.)
+  std::function<bool(std::uint32_t line)> is_rapid_line;
+};
+
+/// What the report needs from a trace. Times are program time: 0 at the first RUNNING row.
+struct TraceDigest {
+  std::uint64_t rows = 0;           // all rows read
+  std::uint64_t program_rows = 0;   // rows from the first RUNNING row to the last non-idle one
+  double duration_s = 0.0;          // of that window
+  double speed_max = 0.0;           // mm/s
+  Vec3 ferr_abs_max{};              // mm, over the window
+  std::vector<TraceBucket> buckets;
+  std::vector<ToolPathPoint> path;
+  double path_tolerance_mm = 0.0;   // the tolerance finally used
+  TraceRow last{};                  // the last row of the window
+  bool saw_fault = false;           // FAULT, ESTOP or HOST_LOST appeared
+};
+
+/// Reads the whole trace once and digests it.
+TraceDigest digest_trace(const std::string& path, const DigestOptions& options = {});
+
+/// The same digest over rows from any source (tests).
+class TraceDigester {
+ public:
+  explicit TraceDigester(DigestOptions options);
+  void add(const TraceRow& row);
+  TraceDigest finish();
+
+ private:
+  void add_to_buckets(const TraceRow& row, double t);
+  void add_to_path(const TraceRow& row);
+  void thin_path();
+
+  DigestOptions o_;
+  TraceDigest d_;
+  bool started_ = false;
+  double t_start_ = 0.0;
+  double bucket_width_ = 0.0005;  // s; doubles as buckets merge
+  double path_tol_ = 0.0;
+  // IDLE rows after the last busy row: part of the program only if a busy row follows.
+  std::vector<TraceRow> idle_tail_;
+  bool ended_ = false;  // a long idle stretch closed the window
+};
+
+}  // namespace pcnc

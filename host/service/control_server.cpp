@@ -1,0 +1,327 @@
+// control_server.cpp — the Unix-socket event loop (see control_server.hpp).
+#include "service/control_server.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <spdlog/spdlog.h>
+#include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+namespace pcnc {
+namespace {
+
+std::runtime_error sys_error(const std::string& what) { return std::runtime_error(what + ": " + std::strerror(errno)); }
+
+sockaddr_un make_address(const std::string& path) {
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  if (path.empty() || path.size() >= sizeof addr.sun_path) {
+    throw std::runtime_error("socket path '" + path + "' is empty or longer than " + std::to_string(sizeof addr.sun_path - 1) +
+                             " bytes");
+  }
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  return addr;
+}
+
+// A socket file left by a server that died is removed; one with a live server is an error.
+void clear_stale_socket(const std::string& path, const sockaddr_un& addr) {
+  struct stat st {};
+  if (lstat(path.c_str(), &st) != 0) return;
+  if (!S_ISSOCK(st.st_mode)) throw std::runtime_error("'" + path + "' exists and is not a socket; refusing to replace it");
+  const int probe = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (probe >= 0) {
+    const bool live = connect(probe, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0;
+    close(probe);
+    if (live) throw std::runtime_error("another server is already listening on '" + path + "'");
+  }
+  if (unlink(path.c_str()) != 0 && errno != ENOENT) throw sys_error("cannot remove stale socket '" + path + "'");
+  spdlog::info("removed stale control socket {}", path);
+}
+
+}  // namespace
+
+ControlServer::ControlServer(std::string path, int mode, ServerLimits limits, ServerHandlers handlers)
+    : path_(std::move(path)), mode_(mode), limits_(limits), handlers_(std::move(handlers)) {
+  const sockaddr_un addr = make_address(path_);
+  clear_stale_socket(path_, addr);
+  listen_fd_ = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (listen_fd_ < 0) throw sys_error("socket");
+  if (bind(listen_fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+    const auto e = sys_error("cannot bind control socket '" + path_ + "'");
+    close(listen_fd_);
+    throw e;
+  }
+  // bind() used the umask; set the configured mode before anyone can be accepted.
+  if (chmod(path_.c_str(), static_cast<mode_t>(mode_)) != 0 || listen(listen_fd_, 16) != 0) {
+    const auto e = sys_error("cannot set up control socket '" + path_ + "'");
+    close(listen_fd_);
+    unlink(path_.c_str());
+    throw e;
+  }
+  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (wake_fd_ < 0) {
+    const auto e = sys_error("eventfd");
+    close(listen_fd_);
+    unlink(path_.c_str());
+    throw e;
+  }
+}
+
+ControlServer::~ControlServer() {
+  for (auto& [id, c] : clients_) close(c.fd);
+  clients_.clear();
+  if (listen_fd_ >= 0) close(listen_fd_);
+  if (wake_fd_ >= 0) close(wake_fd_);
+  unlink(path_.c_str());
+}
+
+bool ControlServer::peer_allowed(uid_t uid, gid_t gid) const {
+  if (uid == geteuid()) return true;
+  // A socket opened to the group (e.g. 0660) admits members of the server's group.
+  return (mode_ & 0060) == 0060 && gid == getegid();
+}
+
+void ControlServer::accept_clients() {
+  for (;;) {
+    const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd < 0) {
+      if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) spdlog::warn("control socket accept: {}", std::strerror(errno));
+      return;
+    }
+    ucred cred{};
+    socklen_t len = sizeof cred;
+    if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) != 0) {
+      spdlog::warn("control socket: cannot read peer credentials ({}); connection refused", std::strerror(errno));
+      close(fd);
+      ++refused_;
+      continue;
+    }
+    if (!peer_allowed(cred.uid, cred.gid)) {
+      spdlog::warn("control socket: refused connection from uid {} gid {} pid {}: only uid {} may connect", cred.uid, cred.gid,
+                   cred.pid, geteuid());
+      if (handlers_.refused_reply) {
+        const std::string msg = handlers_.refused_reply(cred.uid);
+        (void)!::send(fd, msg.data(), msg.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      }
+      close(fd);
+      ++refused_;
+      continue;
+    }
+    if (clients_.size() >= limits_.max_clients) {
+      spdlog::warn("control socket: refused connection from pid {}: {} clients already connected", cred.pid, clients_.size());
+      close(fd);
+      ++refused_;
+      continue;
+    }
+    const ClientId id = next_id_++;
+    Client c;
+    c.fd = fd;
+    c.progress = std::chrono::steady_clock::now();
+    c.uid = cred.uid;
+    c.pid = cred.pid;
+    clients_.emplace(id, std::move(c));
+    spdlog::debug("control socket: client {} connected (pid {})", id, cred.pid);
+    if (handlers_.on_connect) handlers_.on_connect(id);
+  }
+}
+
+void ControlServer::read_client(ClientId id, Client& c) {
+  char buf[64 * 1024];
+  const ssize_t n = recv(c.fd, buf, sizeof buf, MSG_DONTWAIT);
+  if (n == 0) {
+    c.eof = true;  // answer what it sent, then close
+    return;
+  }
+  if (n < 0) {
+    if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) drop(id, std::strerror(errno));
+    return;
+  }
+  c.in.append(buf, static_cast<std::size_t>(n));
+}
+
+void ControlServer::flush_client(ClientId id, Client& c) {
+  if (c.out_sent == c.out.size()) c.progress = std::chrono::steady_clock::now();
+  while (c.out_sent < c.out.size()) {
+    const ssize_t n = ::send(c.fd, c.out.data() + c.out_sent, c.out.size() - c.out_sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n < 0) {
+      if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) break;
+      drop(id, std::strerror(errno));
+      return;
+    }
+    c.out_sent += static_cast<std::size_t>(n);
+    c.progress = std::chrono::steady_clock::now();
+  }
+  if (c.out_sent == c.out.size()) {
+    c.out.clear();
+    c.out_sent = 0;
+  } else if (c.out_sent > c.out.size() / 2) {
+    c.out.erase(0, c.out_sent);
+    c.out_sent = 0;
+  }
+}
+
+bool ControlServer::send(ClientId client, std::string_view line) {
+  auto it = clients_.find(client);
+  if (it == clients_.end() || it->second.fd < 0) return false;
+  Client& c = it->second;
+  if (c.out_sent == c.out.size()) c.progress = std::chrono::steady_clock::now();  // the stall clock starts now
+  c.out.append(line);
+  if (c.out.size() - c.out_sent > limits_.max_output_bytes) {
+    spdlog::warn("control socket: dropping client {} (pid {}): more than {} bytes of replies queued, it does not read",
+                 client, c.pid, limits_.max_output_bytes);
+    drop(client, nullptr);
+    return false;
+  }
+  flush_client(client, c);
+  return it->second.fd >= 0;
+}
+
+void ControlServer::disconnect(ClientId client) {
+  auto it = clients_.find(client);
+  if (it == clients_.end() || it->second.fd < 0) return;
+  flush_client(client, it->second);
+  drop(client, nullptr);
+}
+
+void ControlServer::drop(ClientId id, const char* why) {
+  auto it = clients_.find(id);
+  if (it == clients_.end() || it->second.fd < 0) return;
+  if (why) spdlog::info("control socket: client {} dropped: {}", id, why);
+  close(it->second.fd);
+  it->second.fd = -1;  // erased at the end of the loop turn (callers may hold references)
+  it->second.in.clear();
+  it->second.out.clear();
+  to_drop_.push_back(id);
+  ++dropped_;
+}
+
+std::vector<ClientId> ControlServer::clients() const {
+  std::vector<ClientId> ids;
+  for (const auto& [id, c] : clients_) {
+    if (c.fd >= 0) ids.push_back(id);
+  }
+  return ids;
+}
+
+uid_t ControlServer::peer_uid(ClientId client) const {
+  auto it = clients_.find(client);
+  return it == clients_.end() ? static_cast<uid_t>(-1) : it->second.uid;
+}
+
+void ControlServer::post(std::function<void()> fn) {
+  {
+    std::lock_guard<std::mutex> lock(posted_mutex_);
+    posted_.push_back(std::move(fn));
+  }
+  const std::uint64_t one = 1;
+  (void)!write(wake_fd_, &one, sizeof one);
+}
+
+void ControlServer::run_posted() {
+  std::uint64_t count = 0;
+  (void)!read(wake_fd_, &count, sizeof count);
+  std::vector<std::function<void()>> work;
+  {
+    std::lock_guard<std::mutex> lock(posted_mutex_);
+    work.swap(posted_);
+  }
+  for (auto& fn : work) fn();
+}
+
+void ControlServer::run(const std::atomic<bool>& stop, double tick_s) {
+  using clock = std::chrono::steady_clock;
+  const auto tick = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(tick_s));
+  auto next_tick = clock::now() + tick;
+  std::vector<pollfd> fds;
+  std::vector<ClientId> ids;
+  while (!stop.load()) {
+    fds.clear();
+    ids.clear();
+    fds.push_back({listen_fd_, POLLIN, 0});
+    fds.push_back({wake_fd_, POLLIN, 0});
+    bool backlog = false;  // some client has complete lines waiting (fairness cap hit)
+    for (auto& [id, c] : clients_) {
+      if (c.fd < 0) continue;
+      const bool throttled = c.out.size() - c.out_sent > limits_.throttle_bytes;
+      const bool pending_line = c.in.find('\n') != std::string::npos;
+      backlog = backlog || (pending_line && !throttled);
+      // Finish buffered lines before reading more; read nothing while its replies pile up.
+      short events = pending_line || c.eof || throttled ? 0 : POLLIN;
+      if (c.out_sent < c.out.size()) events |= POLLOUT;
+      fds.push_back({c.fd, events, 0});
+      ids.push_back(id);
+    }
+    const auto now = clock::now();
+    int timeout_ms = backlog ? 0 : static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(next_tick - now).count());
+    if (timeout_ms < 0) timeout_ms = 0;
+    const int r = poll(fds.data(), fds.size(), timeout_ms);
+    if (r < 0 && errno != EINTR) {
+      spdlog::error("control socket poll: {}", std::strerror(errno));
+      break;
+    }
+    if (r > 0) {
+      if (fds[1].revents & POLLIN) run_posted();
+      if (fds[0].revents & POLLIN) accept_clients();
+      for (std::size_t i = 0; i < ids.size(); ++i) {
+        auto it = clients_.find(ids[i]);
+        if (it == clients_.end() || it->second.fd < 0) continue;
+        const short rev = fds[i + 2].revents;
+        if (rev & POLLOUT) flush_client(ids[i], it->second);
+        if (it->second.fd >= 0 && (rev & (POLLIN | POLLHUP | POLLERR))) read_client(ids[i], it->second);
+      }
+    }
+    // Hand complete lines to the handler, a bounded number per client per turn.
+    for (auto& [id, c] : clients_) {
+      std::size_t handled = 0;
+      std::size_t start = 0;
+      while (c.fd >= 0 && handled < limits_.max_lines_per_turn && c.out.size() - c.out_sent <= limits_.throttle_bytes) {
+        const std::size_t nl = c.in.find('\n', start);
+        const std::size_t len = (nl == std::string::npos ? c.in.size() : nl) - start;
+        if (len > limits_.max_line_bytes) {
+          spdlog::warn("control socket: client {} (pid {}) sent a line longer than {} bytes; disconnecting", id, c.pid,
+                       limits_.max_line_bytes);
+          if (handlers_.too_long_reply) c.out.append(handlers_.too_long_reply(limits_.max_line_bytes));
+          disconnect(id);
+          break;
+        }
+        if (nl == std::string::npos) break;
+        std::string_view line(c.in.data() + start, len);
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        start = nl + 1;
+        ++handled;
+        if (!line.empty() && handlers_.on_line) handlers_.on_line(id, line);
+      }
+      if (c.fd >= 0 && start > 0) c.in.erase(0, start);
+      if (c.fd >= 0 && c.eof && c.in.find('\n') == std::string::npos) disconnect(id);
+    }
+    // A client whose replies have not moved for the stall timeout does not read: drop it.
+    const auto stall = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(limits_.stall_timeout_s));
+    for (auto& [id, c] : clients_) {
+      if (c.fd >= 0 && c.out_sent < c.out.size() && clock::now() - c.progress > stall) {
+        spdlog::warn("control socket: dropping client {} (pid {}): it does not read its replies ({} bytes pending for {:.1f} s)", id,
+                     c.pid, c.out.size() - c.out_sent, limits_.stall_timeout_s);
+        drop(id, nullptr);
+      }
+    }
+    if (clock::now() >= next_tick) {
+      next_tick += tick;
+      if (next_tick < clock::now()) next_tick = clock::now() + tick;
+      if (handlers_.on_tick) handlers_.on_tick();
+    }
+    for (ClientId id : to_drop_) {
+      clients_.erase(id);
+      if (handlers_.on_disconnect) handlers_.on_disconnect(id);
+    }
+    to_drop_.clear();
+  }
+}
+
+}  // namespace pcnc

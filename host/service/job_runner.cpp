@@ -1,0 +1,140 @@
+// job_runner.cpp — feeding a program to the rt and following it to its end.
+#include "service/job_runner.hpp"
+
+#include <chrono>
+#include <thread>
+
+namespace pcnc {
+
+const char* to_string(JobEnd end) {
+  switch (end) {
+    case JobEnd::kCompleted: return "completed";
+    case JobEnd::kFault: return "fault";
+    case JobEnd::kRtLost: return "pcnc-rt lost";
+    case JobEnd::kInterrupted: return "interrupted";
+    case JobEnd::kStopped: return "stopped";
+  }
+  return "?";
+}
+
+namespace {
+bool faulted(const Status& s) {
+  return s.state == MachineState::kFault || s.state == MachineState::kEstop || s.state == MachineState::kHostLost;
+}
+std::string fault_text(const Status& s) {
+  std::string m = std::string("machine entered ") + to_string(s.state);
+  if (s.fault != FaultCode::kNone) {
+    m += ": " + std::string(to_string(s.fault)) + " on axis " + axis_name(s.fault_axis) + " at line " +
+         std::to_string(s.fault_line) + " (value " + std::to_string(s.fault_value) + ")";
+  }
+  return m;
+}
+}  // namespace
+
+JobRunner::JobRunner(RtLink& link, const MachineConfig& config) : link_(link), config_(config) {}
+
+bool JobRunner::wait_until_state(const std::function<bool(const Status&)>& done, const std::atomic<bool>& interrupt,
+                                 double timeout_s, Status& last) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  for (;;) {
+    last = link_.status();
+    if (done(last)) return true;
+    if (interrupt.load() || !link_.rt_alive() || std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // status follow-up, not the ring path
+  }
+}
+
+JobResult JobRunner::run(const std::string& path, const JobOptions& options, const CheckResult& check,
+                         const std::atomic<bool>& interrupt, const std::function<void(const JobProgress&)>& progress) {
+  BlockStream stream(path, config_, options, check.transform);
+  BlockSource source;
+  source.next = [&](Block& b) { return stream.next(b); };
+  source.progress = [&] { return JobProgress{stream.lines_read(), stream.bytes_read(), stream.total_bytes(), Status{}}; };
+  return run_source(source, options.contouring.value_or(config_.motion.contouring_default), interrupt, progress);
+}
+
+JobResult JobRunner::run_source(const BlockSource& source, bool contouring, const std::atomic<bool>& interrupt,
+                                const std::function<void(const JobProgress&)>& progress) {
+  JobResult result;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto finish = [&](JobEnd end, std::string message) {
+    result.end = end;
+    result.message = std::move(message);
+    result.final_status = link_.status();
+    result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return result;
+  };
+
+  Status st = link_.status();
+  if (st.state != MachineState::kIdle) {
+    return finish(JobEnd::kFault, std::string("machine is ") + to_string(st.state) + ", not IDLE: cannot start a program");
+  }
+
+  // Virtual clock: spin up to 200 µs for a free slot (see RingFeeder); real clock: 20 µs.
+  RingFeeder feeder(link_, 0.02, link_.status().clock_virtual ? 200000 : 20000);
+  Command start;
+  start.kind = CommandKind::kProgramStart;
+  start.value = contouring ? 1.0 : 0.0;
+  const std::uint64_t start_id = link_.send(start);
+  if (start_id == 0) return finish(JobEnd::kFault, "the rt's mailbox is full");
+  // Blocks follow the start command at once: the rt takes the command before it looks at the
+  // ring in the same cycle, so the program's first cycles never find the ring empty (waiting
+  // for the command to be taken first cost a few underruns under the real clock).
+  bool started = false;
+  auto note_started = [&] {
+    if (started || link_.status().last_command_id < start_id) return;
+    started = true;
+    if (on_started_) on_started_();
+  };
+
+  auto last_progress = std::chrono::steady_clock::now();
+  auto report_progress = [&] {
+    if (!progress) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_progress < std::chrono::milliseconds(100)) return;
+    last_progress = now;
+    JobProgress p = source.progress ? source.progress() : JobProgress{};
+    p.status = link_.status();
+    progress(p);
+  };
+
+  for (;;) {
+    const FeedResult r = feeder.push([&](Block& b) { return source.next(b); }, &interrupt);
+    if (r == FeedResult::kEndOfInput) break;
+    if (r == FeedResult::kRtLost) return finish(JobEnd::kRtLost, "pcnc-rt stopped responding");
+    if (r == FeedResult::kAborted || interrupt.load()) break;
+    note_started();
+    report_progress();
+    // A fault flushes the ring on the rt side; stop feeding at once.
+    if ((feeder.pushed() & 63) == 0 && faulted(link_.status())) break;
+  }
+  result.blocks_sent = feeder.pushed();
+  result.lines_read = source.progress ? source.progress().lines_read : 0;
+  result.refill_latency = feeder.refill_latency();
+
+  for (;;) {
+    const bool ended = wait_until_state(
+        [&](const Status& s) {
+          return s.last_command_id >= start_id &&  // not the previous program's end
+                 (s.program_done || faulted(s) || (!s.program_active && s.state == MachineState::kIdle));
+        },
+        interrupt, 0.1, st);
+    note_started();
+    if (ended) break;
+    if (interrupt.load()) {
+      Command stop;
+      stop.kind = CommandKind::kStop;
+      link_.send(stop);
+      wait_until_state([&](const Status& s) { return s.state != MachineState::kStopping && s.state != MachineState::kRunning; },
+                       std::atomic<bool>{false}, 10.0, st);
+      return finish(JobEnd::kInterrupted, "interrupted: stopped along the path");
+    }
+    if (!link_.rt_alive()) return finish(JobEnd::kRtLost, "pcnc-rt stopped responding");
+    report_progress();
+  }
+  if (faulted(st)) return finish(JobEnd::kFault, fault_text(st));
+  if (!st.program_done) return finish(JobEnd::kStopped, "the program was stopped before its end");
+  return finish(JobEnd::kCompleted, "");
+}
+
+}  // namespace pcnc

@@ -1,0 +1,64 @@
+// job_runner.hpp — runs one checked program on the machine: tells the rt a program starts,
+// streams its blocks through the ring feeder, waits for the end (or a fault, a lost rt, or
+// an interrupt), and collects what the run report needs.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <string>
+
+#include "gcode/program.hpp"
+#include "service/ring_feeder.hpp"
+#include "service/rt_link.hpp"
+
+namespace pcnc {
+
+enum class JobEnd { kCompleted, kFault, kRtLost, kInterrupted, kStopped };
+const char* to_string(JobEnd end);
+
+struct JobResult {
+  JobEnd end = JobEnd::kCompleted;
+  std::string message;    // why, when not completed
+  Status final_status{};  // the rt's status at the end
+  std::uint64_t blocks_sent = 0;
+  std::uint64_t lines_read = 0;
+  LatencyHistogram refill_latency;  // host slot-refill latency, µs
+  double wall_time_s = 0.0;
+};
+
+struct JobProgress {
+  std::uint64_t lines_read = 0;
+  std::uint64_t bytes_read = 0;
+  std::uint64_t total_bytes = 0;
+  Status status{};
+};
+
+/// Where a job's blocks come from: normally a BlockStream over the checked file; the
+/// service also resumes a program from the middle of a block (service.cpp).
+struct BlockSource {
+  std::function<bool(Block&)> next;  // false after the last block (the End block included)
+  std::function<JobProgress()> progress;  // lines/bytes so far (status is filled in by the runner)
+};
+
+class JobRunner {
+ public:
+  JobRunner(RtLink& link, const MachineConfig& config);
+  /// Runs `path` (already checked: `check` is its CheckResult). `interrupt` stops the run
+  /// with a controlled stop. `progress` is called now and then from this thread.
+  JobResult run(const std::string& path, const JobOptions& options, const CheckResult& check,
+                const std::atomic<bool>& interrupt, const std::function<void(const JobProgress&)>& progress = {});
+  /// The same over any block source; `contouring` is the mode at program start.
+  JobResult run_source(const BlockSource& source, bool contouring, const std::atomic<bool>& interrupt,
+                       const std::function<void(const JobProgress&)>& progress = {});
+  /// Called once the rt has taken the program start (the program is under way).
+  void set_on_started(std::function<void()> fn) { on_started_ = std::move(fn); }
+
+ private:
+  bool wait_until_state(const std::function<bool(const Status&)>& done, const std::atomic<bool>& interrupt,
+                        double timeout_s, Status& last);
+  RtLink& link_;
+  const MachineConfig& config_;
+  std::function<void()> on_started_;
+};
+
+}  // namespace pcnc

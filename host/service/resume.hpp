@@ -1,0 +1,31 @@
+// resume.hpp — continuing a program that stopped in the middle of a block (after the host
+// that fed it was lost and pcnc-rt held the machine on the path, HOST_LOST).
+//
+// The rt stops along the path, so the machine stands on the interrupted block's curve. The
+// continuation is that block's remaining part, re-planned from the standing point with the
+// same kind, end, feed limit and contouring flag (a pure function of the block and the
+// point). The blocks after it are re-streamed unchanged from the checked program.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "ipc/block.hpp"
+#include "config/config.hpp"
+
+namespace pcnc {
+
+struct Continuation {
+  bool skip = false;  // nothing of the block is left (stopped at its end, or a pause block)
+  Block block{};      // the remaining part (seq 0: the feeder numbers it), when !skip
+};
+
+/// The rest of `interrupted` from `at` (machine coordinates, at rest). Lines and rapids
+/// continue straight to the end; arcs and helices from the angle (or height) reached. A
+/// dwell is repeated whole; an M00/M01 pause is skipped (resuming is its continue). Fails
+/// (nullopt, `why` set) when `at` is not on the block's path within `tolerance_mm`, or for a
+/// block kind that cannot be cut (multi-turn flat arcs, NURBS).
+std::optional<Continuation> continue_block(const Block& interrupted, const Vec3& at, const MachineConfig& config,
+                                           double tolerance_mm, std::string* why);
+
+}  // namespace pcnc

@@ -1,0 +1,58 @@
+// rt_link.hpp — pcnc-host's attachment to pcnc-rt: the opened segment, the host heartbeat
+// (a background thread), the mailbox sender, status reads, and rt liveness.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "ipc/command.hpp"
+#include "config/config.hpp"
+#include "ipc/segment.hpp"
+#include "ipc/status.hpp"
+
+namespace pcnc {
+
+class RtLink {
+ public:
+  /// Opens the segment (throws SegmentError with the reason) and starts the heartbeat.
+  explicit RtLink(const MachineConfig& config);
+  ~RtLink();
+  RtLink(const RtLink&) = delete;
+  RtLink& operator=(const RtLink&) = delete;
+
+  /// Like the constructor, but retries for up to `wait_s` while the segment is absent or not
+  /// yet initialised (the rt starting up). A segment that is refused (wrong magic/version/size)
+  /// fails at once.
+  static std::unique_ptr<RtLink> attach(const MachineConfig& config, double wait_s);
+
+  SharedSegment& shm() { return segment_.shm(); }
+  const SharedSegment& shm() const { return segment_.shm(); }
+
+  /// Queues a command for the rt and wakes it if it waits (virtual clock). Returns its id,
+  /// or 0 if the mailbox is full. Safe to call from several threads (the mailbox ring has a
+  /// single producer; a mutex serialises the host's senders).
+  std::uint64_t send(Command cmd);
+  /// The rt's latest status snapshot.
+  Status status() const;
+  /// The rt heartbeat is fresh (within process.rt_timeout_s) and its pid is alive.
+  bool rt_alive() const;
+  /// Seconds since the rt's last cycle.
+  double rt_heartbeat_age_s() const;
+  /// Why rt_alive() is false, in words ("" while alive).
+  std::string rt_loss_reason() const;
+  int rt_pid() const { return shm().header.rt_pid.load(); }
+
+ private:
+  void beat();
+  const MachineConfig& config_;
+  HostSegment segment_;
+  std::atomic<bool> stop_{false};
+  std::thread heartbeat_;
+  std::atomic<std::uint64_t> next_id_{1};
+  std::mutex send_mutex_;
+};
+
+}  // namespace pcnc

@@ -1,0 +1,83 @@
+// machine.hpp — the machine as one object the 2 kHz loop steps: command handling, block
+// execution with contouring, servo, simulated plant and safety, in that order each cycle.
+//
+// The loop (rt_loop.cpp) owns time and the shared segment; Machine owns everything that
+// happens inside one cycle and is pure computation: no system calls, no allocation after
+// construction, no locks, no I/O. That keeps it testable without processes and deterministic
+// under --clock virtual.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "ipc/block.hpp"
+#include "ipc/command.hpp"
+#include "config/config.hpp"
+#include "ipc/segment.hpp"
+#include "ipc/status.hpp"
+
+namespace pcnc {
+
+using MotionRing = SpscRing<Block, kRingSlots>;
+
+/// One cycle's record for the trace (DESIGN.md trace format).
+struct TraceSample {
+  double t = 0.0;
+  std::uint32_t line = 0;
+  MachineState state = MachineState::kIdle;
+  Vec3 commanded{};
+  Vec3 actual{};
+  Vec3 following_error{};
+  double speed = 0.0;
+};
+static_assert(std::is_trivially_copyable_v<TraceSample>);
+
+class Machine {
+ public:
+  explicit Machine(const MachineConfig& config);
+  ~Machine();
+  Machine(const Machine&) = delete;
+  Machine& operator=(const Machine&) = delete;
+
+  /// Takes one mailbox command; called before cycle() for each pending command.
+  void command(const Command& cmd);
+
+  /// Tells the machine whether the host is alive (heartbeat fresh). When it turns false
+  /// while a program runs, the machine stops along the path and enters HOST_LOST.
+  void set_host_alive(bool alive);
+
+  /// One servo period: takes/peeks blocks from `ring` (pops the ones it finished),
+  /// interpolates, runs the servo and plant, checks safety, updates status().
+  void cycle(MotionRing& ring);
+
+  /// Under --clock virtual the loop does not advance time while this is true: a program is
+  /// active and the ring holds fewer blocks than the look-ahead wants (not full and no End
+  /// block queued). Under the real clock such cycles run anyway and count as underruns when
+  /// the executor actually had nothing to do.
+  bool wants_more_blocks(const MotionRing& ring) const;
+
+  /// A paused program standing still (feed hold come to rest, or an M00/M01 reached), no
+  /// jog: nothing moves until a command comes. Under --clock virtual the loop then sleeps
+  /// like an idle machine instead of racing machine time ahead.
+  bool paused_at_rest() const;
+
+  const Status& status() const;
+  const TraceSample& trace_sample() const;
+
+  /// Why the machine faulted, in words (static text; "" when not faulted). Status carries
+  /// the code, axis, value and line; this names the defect, e.g. which block check failed.
+  const char* fault_reason() const;
+
+  /// Fault injection for tests and demonstrations: the plant's axis stops moving (a crash or
+  /// a jammed guide). The following-error check then trips.
+  void set_axis_blocked(int axis, bool blocked);
+
+  /// The simulated axes' true positions (not quantised by the encoders), mm.
+  Vec3 true_position() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pcnc

@@ -1,0 +1,190 @@
+// rt_loop.cpp — the 2 kHz loop around Machine: timing, mailbox, host wake-ups, status.
+#include "loop/rt_loop.hpp"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cerrno>
+
+#include "loop/trace_writer.hpp"
+
+namespace pcnc {
+
+namespace {
+constexpr std::uint64_t kNsPerS = 1000000000ull;
+constexpr int kVirtualPublishCycles = 8;  // 4 ms of machine time, a few µs of wall time
+
+timespec to_timespec(std::uint64_t ns) {
+  timespec t{};
+  t.tv_sec = static_cast<time_t>(ns / kNsPerS);
+  t.tv_nsec = static_cast<long>(ns % kNsPerS);
+  return t;
+}
+}  // namespace
+
+RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOptions& options)
+    : config_(config),
+      shm_(shm),
+      options_(options),
+      machine_(std::make_unique<Machine>(config)),
+      timing_(std::make_unique<CycleTiming>()),
+      host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)),
+      summary_period_(std::max(1, static_cast<int>(config.motion.cycle_hz / 10.0))) {
+  if (!options_.trace_path.empty()) trace_ = std::make_unique<TraceWriter>(options_.trace_path);
+}
+
+RtLoop::~RtLoop() = default;
+
+bool RtLoop::host_alive(std::uint64_t now_ns) const {
+  const std::uint64_t beat = shm_.header.host_heartbeat_ns.load(std::memory_order_acquire);
+  return beat != 0 && now_ns < beat + host_timeout_ns_;
+}
+
+void RtLoop::take_commands(std::uint64_t now_ns) {
+  shm_.header.rt_heartbeat_ns.store(now_ns, std::memory_order_release);
+  Command cmd;
+  while (shm_.commands.try_pop(cmd)) machine_->command(cmd);
+  machine_->set_host_alive(host_alive(now_ns));
+}
+
+void RtLoop::cycle(std::uint64_t now_ns) {
+  take_commands(now_ns);
+
+  const std::uint64_t popped_before = shm_.motion.popped();
+  machine_->cycle(shm_.motion);
+  if (shm_.motion.popped() != popped_before) {
+    shm_.header.slot_freed_ns.store(now_ns, std::memory_order_release);
+    shm_.slot_freed.notify();
+  }
+  if (trace_) {
+    if (options_.virtual_clock) {
+      trace_->push_wait(machine_->trace_sample());
+    } else {
+      trace_->push(machine_->trace_sample());
+    }
+  }
+
+  if (options_.virtual_clock) {
+    publish_status_virtual(false);
+  } else {
+    publish_status();
+  }
+}
+
+void RtLoop::publish_status_virtual(bool force) {
+  const Status& s = machine_->status();
+  if (!force && ++unpublished_cycles_ < kVirtualPublishCycles && s.state == published_state_ &&
+      s.program_done == published_done_) {
+    return;
+  }
+  if (force && unpublished_cycles_ == 0) return;  // nothing new since the last one
+  publish_status();
+}
+
+void RtLoop::publish_status() {
+  Status s = machine_->status();
+  // The quantiles scan histograms: refresh them ten times a second of machine time, not
+  // every cycle.
+  if (summary_age_ == 0) timing_summary_ = timing_->summary();
+  if (++summary_age_ >= summary_period_) summary_age_ = 0;
+  s.timing = timing_summary_;
+  s.clock_virtual = options_.virtual_clock ? 1 : 0;
+  s.ring_fill = static_cast<std::uint8_t>(shm_.motion.size());
+  shm_.status.store(s);
+  unpublished_cycles_ = 0;
+  published_state_ = s.state;
+  published_done_ = s.program_done;
+}
+
+std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
+  const std::uint64_t period_ns = static_cast<std::uint64_t>(1e9 / config_.motion.cycle_hz + 0.5);
+  std::uint64_t cycles = 0;
+
+  if (options_.virtual_clock) {
+    // Same cycle, no sleeping: time is simulated. While a program needs blocks that the host
+    // has not written yet, wait for the host instead of advancing time, so that replays are
+    // deterministic. When the machine is at rest with nothing to do, wait too (10 ms steps)
+    // instead of burning a core.
+    // Compute time is measured from the end of one cycle to the end of the next when no
+    // wait came between them: one clock read per cycle, loop overhead included.
+    std::uint64_t last = monotonic_ns();
+    while (!stop.load(std::memory_order_relaxed)) {
+      if (!shm_.commands.empty()) {
+        take_commands(last);
+        publish_status();  // the host sees its commands taken even before time advances
+      }
+      const MachineState st = machine_->status().state;
+      const bool at_rest = (st != MachineState::kRunning && st != MachineState::kJogging &&
+                            st != MachineState::kStopping && st != MachineState::kPaused && shm_.motion.empty()) ||
+                           machine_->paused_at_rest();
+      if (machine_->wants_more_blocks(shm_.motion)) {
+        publish_status_virtual(true);
+        shm_.block_published.wait_until(
+            [&] {
+              return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) ||
+                     stop.load(std::memory_order_relaxed);
+            },
+            0.01, 200000);  // the host is producing: spin up to 200 µs before sleeping
+        last = monotonic_ns();
+        // Still waiting for the host (and it is alive): do not advance time.
+        if (machine_->wants_more_blocks(shm_.motion) && host_alive(last)) continue;
+      } else if (at_rest) {
+        // Idle: sleep until something arrives, running a cycle now and then so that the
+        // plant settles and status and heartbeat stay fresh.
+        publish_status_virtual(true);
+        const bool paused = st == MachineState::kPaused;
+        shm_.block_published.wait_until(
+            [&] {
+              return !shm_.commands.empty() || (!paused && !shm_.motion.empty()) || stop.load(std::memory_order_relaxed);
+            },
+            0.01);
+        last = monotonic_ns();
+        if (!shm_.commands.empty()) continue;  // take them before stepping time
+      }
+      cycle(last);
+      const std::uint64_t now = monotonic_ns();
+      timing_->compute.add(static_cast<double>(now - last) / 1000.0);
+      last = now;
+      ++cycles;
+    }
+    publish_status_virtual(true);
+    return cycles;
+  }
+
+  // Sleep to `spin` before the deadline, then spin to it (process.rt_spin_us; never the
+  // whole period).
+  const std::uint64_t spin_ns =
+      std::min(static_cast<std::uint64_t>(config_.process.rt_spin_us * 1000.0), period_ns * 9 / 10);
+  std::uint64_t next = monotonic_ns() + period_ns;
+  while (!stop.load(std::memory_order_relaxed)) {
+    const timespec deadline = to_timespec(next - spin_ns);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
+      if (stop.load(std::memory_order_relaxed)) return cycles;
+    }
+    if (spin_ns > 0) {
+      while (monotonic_ns() < next) {
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
+      }
+    }
+    const std::uint64_t woke = monotonic_ns();
+    const std::uint64_t late = woke > next ? woke - next : 0;
+    timing_->wake.add(static_cast<double>(late) / 1000.0);
+    cycle(woke);
+    const std::uint64_t done = monotonic_ns();
+    timing_->compute.add(static_cast<double>(done - woke) / 1000.0);
+    ++cycles;
+    next += period_ns;
+    if (done > next) {
+      // Missed the next deadline: count it and re-anchor instead of running a burst of
+      // late cycles back to back.
+      ++timing_->overruns;
+      const std::uint64_t behind = (done - next) / period_ns + 1;
+      next += behind * period_ns;
+    }
+  }
+  return cycles;
+}
+
+}  // namespace pcnc

@@ -1,0 +1,313 @@
+// executor.cpp — the block executor's cycle (scheme and speed law in executor.hpp).
+#include "motion/executor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "motion/junction.hpp"
+#include "geometry/nurbs_interpolator.hpp"
+#include "loop/safety.hpp"
+
+namespace pcnc {
+
+Executor::Executor(const MachineConfig& config) : cfg_(config), dt_(config.cycle_period_s()) {
+  f_ = std::clamp(config.motion.junction_velocity_step_fraction, 0.0, 1.0);
+  k_ = 1.0 + 2.0 * f_;
+  junction_.cos_limit = std::cos(config.motion.contouring_angle_deg * std::numbers::pi / 180.0);
+  junction_.step_fraction = f_;
+  junction_.corner_tolerance_mm = config.motion.corner_tolerance_mm;
+  junction_.dt = dt_;
+  for (int i = 0; i < kAxes; ++i) junction_.axis_accel[i] = config.axes[i].max_accel_mm_s2;
+  Vec3 home{};
+  for (int i = 0; i < kAxes; ++i) home[i] = config.axes[i].home_mm;
+  set_position(home);
+}
+
+void Executor::set_position(const Vec3& p) {
+  pos_ = p;
+  tail_ = p;
+  hold_still();
+  s_ = 0.0;
+  dwell_ = 0.0;
+  crossed_ = 0;
+  rest_cycle_ = false;
+  ended_at_rest_ = false;
+  after_motion_ = false;
+  fresh_ = true;
+  has_prev_ = false;
+  exit_valid_ = false;
+}
+
+void Executor::flush(MotionRing& ring) {
+  ring.pop_all();
+  prepared_ = 0;
+  set_position(pos_);
+}
+
+void Executor::hold_still() {
+  v_ = 0.0;
+  vel_ = {0.0, 0.0, 0.0};
+  acc_ = {0.0, 0.0, 0.0};
+}
+
+bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
+  const std::size_t n = std::min(ring.size(), kRingSlots);
+  while (prepared_ < n) {
+    const Block& b = ring.peek(prepared_);
+    const BlockVerdict verdict = check_block(b, tail_, expected_seq_, cfg_);
+    if (verdict.fault != FaultCode::kNone) {
+      out.fault = verdict.fault;
+      out.reason = verdict.reason;
+      out.fault_axis = verdict.axis;
+      out.fault_line = b.line;
+      out.fault_value = verdict.value;
+      return false;
+    }
+    prep_[prepared_] = prepare_block(b, cfg_);
+    if (prep_[prepared_].motion) tail_ = b.end;
+    if (prepared_ > 0) {
+      const PreparedBlock& p = prep_[prepared_ - 1];
+      const PreparedBlock& q = prep_[prepared_];
+      corner_[prepared_ - 1] = p.motion && q.motion ? corner_speed(p.contouring, p.dir_end, q.dir_start, junction_) : 0.0;
+    }
+    exit_valid_ = false;
+    ++expected_seq_;
+    ++prepared_;
+  }
+  return true;
+}
+
+void Executor::pop(MotionRing& ring, ExecResult& out) {
+  has_prev_ = prep_[0].motion;
+  if (has_prev_) prev_ = prep_[0];
+  ring.pop();
+  for (std::size_t i = 1; i < prepared_; ++i) {
+    prep_[i - 1] = prep_[i];
+    corner_[i - 1] = corner_[i];
+  }
+  --prepared_;
+  exit_valid_ = false;
+  ++out.blocks_done;
+  s_ = 0.0;
+  dwell_ = 0.0;
+  fresh_ = true;
+}
+
+double Executor::cap_of(const PreparedBlock& b, const ExecInput& in) const {
+  if (in.hold) return 0.0;
+  return std::min(b.speed * in.feed_override, b.v_machine);
+}
+
+bool Executor::flows_after(std::size_t i) const { return i + 1 < prepared_ && corner_[i] > 0.0; }
+
+double Executor::junction_cap(std::size_t i, const ExecInput& in) const {
+  if (!flows_after(i)) return 0.0;
+  return std::min({corner_[i], cap_of(prep_[i], in), cap_of(prep_[i + 1], in), prep_[i].v_last, prep_[i + 1].v_first});
+}
+
+double Executor::exit_speed_of_current(const ExecInput& in) {
+  if (!exit_valid_ || exit_hold_ != in.hold || exit_override_ != in.feed_override) {
+    exit_speed_ = compute_exit_speed(in);
+    exit_hold_ = in.hold;
+    exit_override_ = in.feed_override;
+    exit_valid_ = true;
+  }
+  return exit_speed_;
+}
+
+// Backward pass over the chain of flowing blocks known in the ring; the last one ends at rest.
+double Executor::compute_exit_speed(const ExecInput& in) const {
+  std::size_t e = 0;
+  while (flows_after(e)) ++e;
+  double v_out = 0.0;
+  for (std::size_t j = e; j >= 1; --j) {
+    // the same discrete rule (with its margin) the block will be run with
+    const double v_in = std::min({cap_of(prep_[j], in), prep_[j].v_first,
+                                  stop_speed(prep_[j].length, v_out, prep_[j].accel, dt_, k_)});
+    v_out = std::min(v_in, junction_cap(j - 1, in));
+  }
+  return v_out;
+}
+
+void Executor::begin_block(const Block& blk) {
+  s_ = 0.0;
+  if (blk.kind == BlockKind::kNurbs) {
+    const NurbsView view = view_of(blk.nurbs);
+    nurbs_u_ = view.u_min();
+    nurbs_at_ = nurbs_eval(view, nurbs_u_);
+    nurbs_hint_ = 0;
+  }
+}
+
+bool Executor::advance(const Block& blk, double ds, double& leftover) {
+  const PreparedBlock& b = prep_[0];
+  leftover = 0.0;
+  bool at_end = false;
+  if (blk.kind == BlockKind::kNurbs) {
+    if (ds > 0.0) {
+      const NurbsStep st = nurbs_parameter_step(view_of(blk.nurbs), nurbs_u_, nurbs_at_, ds);
+      nurbs_u_ = st.u;
+      nurbs_at_ = st.eval;
+      s_ = std::min(s_ + st.chord, b.length);
+      if (st.at_end) {
+        at_end = true;
+        leftover = std::max(0.0, ds - st.chord);
+        s_ = b.length;
+      }
+    }
+    pos_ = at_end ? blk.end : nurbs_at_.p;
+    const double d1 = norm(nurbs_at_.d1);
+    if (d1 > 0.0) {
+      tangent_ = (1.0 / d1) * nurbs_at_.d1;
+      curvature_ = (1.0 / (d1 * d1)) * (nurbs_at_.d2 - dot(nurbs_at_.d2, tangent_) * tangent_);
+    } else {  // C' vanishes (a repeated end point): use the block's stated tangent
+      tangent_ = s_ > 0.5 * b.length ? b.dir_end : b.dir_start;
+      curvature_ = {0.0, 0.0, 0.0};
+    }
+    return at_end;
+  }
+  s_ += ds;
+  if (s_ >= b.length) {
+    at_end = true;
+    leftover = s_ - b.length;
+    s_ = b.length;
+  }
+  const PathPoint pp = evaluate(b, s_);
+  pos_ = pp.p;
+  tangent_ = pp.tangent;
+  curvature_ = pp.curvature;
+  return at_end;
+}
+
+void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
+  out = ExecResult{};
+  if (!prepare_visible(ring, out)) {
+    hold_still();
+    return;
+  }
+  if (prepared_ == 0) {
+    hold_still();
+    rest_cycle_ = false;
+    out.starved = true;
+    return;
+  }
+  const Block& blk = ring.peek(0);
+  const PreparedBlock& b = prep_[0];
+  line_ = blk.line;
+  seq_ = blk.seq;
+  if (b.motion) {
+    contouring_ = b.contouring;
+    motion_step(ring, in, out);
+    return;
+  }
+  // Non-motion blocks run at rest.
+  hold_still();
+  rest_cycle_ = false;
+  switch (b.kind) {
+    case BlockKind::kDwell:
+      dwell_ += dt_;
+      after_motion_ = false;
+      if (dwell_ >= blk.dwell_s - 1e-12) pop(ring, out);
+      break;
+    case BlockKind::kPause:
+      after_motion_ = false;
+      out.at_pause = true;
+      if (in.resume_pause) {
+        pop(ring, out);
+        out.at_pause = false;
+      }
+      break;
+    case BlockKind::kEnd:
+      after_motion_ = false;
+      pop(ring, out);
+      out.program_end = true;
+      break;
+    default:  // a zero-length move: nothing to travel
+      pop(ring, out);
+      break;
+  }
+}
+
+void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
+  if (rest_cycle_) {  // one cycle at rest after landing on a stop
+    rest_cycle_ = false;
+    hold_still();
+    return;
+  }
+  if (fresh_) {
+    if (after_motion_ && ended_at_rest_) ++out.junction_stops;
+    ended_at_rest_ = false;
+    fresh_ = false;
+    begin_block(ring.peek(0));
+  }
+  const Block& blk = ring.peek(0);
+  const PreparedBlock& b = prep_[0];
+  const double a = b.accel;
+  double cap = cap_of(b, in);
+  if (b.kind == BlockKind::kNurbs && cap > 0.0) {
+    // the feed schedule where the machine is and where this cycle will land (floored at
+    // one cycle's acceleration, so that a 0 at a corner of the schedule cannot freeze it)
+    const NurbsGeometry& g = blk.nurbs;
+    const double d1 = norm(nurbs_at_.d1);
+    const double u_next = d1 > 0.0 ? std::min(nurbs_u_ + v_ * dt_ / d1, g.knots[g.point_count]) : nurbs_u_;
+    const double sched = std::min(block_schedule_speed(g, nurbs_u_, nurbs_hint_), block_schedule_speed(g, u_next, nurbs_hint_));
+    cap = std::min(cap, std::max(sched, a * dt_));
+  }
+  const bool stop_at_end = !flows_after(0);
+  const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
+  const double remaining = b.length - s_;
+
+  // A stop at the end of this block, with no junction-restricted cycle left: the exact
+  // discrete braking rule. Otherwise the rule with the margin k for the restricted cycles.
+  const double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
+                                                     : stop_speed(remaining, v_exit, a, dt_, k_);
+  const double v_allow = std::min(cap, v_stop);
+  const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
+  const double a_step = near_junction ? (1.0 - f_) * a : a;
+  double v_new = std::min(v_allow, v_ + a_step * dt_);
+  v_new = std::max({v_new, v_ - a_step * dt_, 0.0});
+  if (stop_at_end && cap > 0.0) {
+    // Final approach: reach the end exactly this cycle when that takes no more than one
+    // cycle's acceleration either way (and the stop after it is within a·dt too).
+    const double v_land = remaining / dt_;
+    if (v_land <= a * dt_ && v_land <= cap && v_land >= v_ - a * dt_) v_new = v_land;
+  }
+  if (crossed_ > 0) --crossed_;
+
+  const double v_old = v_;
+  v_ = v_new;
+  double leftover = 0.0;
+  bool at_end = advance(blk, v_new * dt_, leftover) || (stop_at_end && v_new > 0.0 && v_new * dt_ >= remaining);
+  while (at_end) {
+    if (!flows_after(0)) {
+      // stop at the end: land exactly there, rest one cycle, then the next block.
+      pos_ = prep_[0].end;
+      vel_ = v_new * prep_[0].dir_end;
+      acc_ = ((v_new - v_old) / dt_) * prep_[0].dir_end;
+      pop(ring, out);
+      rest_cycle_ = true;
+      ended_at_rest_ = true;
+      after_motion_ = true;
+      return;
+    }
+    // flowing junction: carry the distance left over into the next block
+    pop(ring, out);
+    fresh_ = false;
+    ++out.junction_flows;
+    crossed_ = 2;
+    after_motion_ = true;
+    ended_at_rest_ = false;
+    const Block& next = ring.peek(0);
+    contouring_ = prep_[0].contouring;
+    line_ = next.line;
+    seq_ = next.seq;
+    begin_block(next);
+    const double carry = leftover;
+    at_end = advance(next, carry, leftover);
+  }
+  vel_ = v_new * tangent_;
+  acc_ = ((v_new - v_old) / dt_) * tangent_ + (v_new * v_new) * curvature_;
+}
+
+}  // namespace pcnc

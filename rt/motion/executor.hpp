@@ -1,0 +1,158 @@
+// executor.hpp — the block executor: turns the ring's blocks into one setpoint per cycle.
+//
+// Scheme: a path-length parameter per block. The seed paper advances the driving axis (for
+// lines) or the angle (for arcs) with the block's speed and acceleration and derives the
+// other axes from the line equation or from sin/cos. Here every motion block is a curve p(s)
+// parameterised by its path length s (path.hpp); s advances each cycle by v·dt, and for a
+// line s is exactly the driving axis coordinate scaled by 1/|dir_driving|, for an arc it is
+// the angle scaled by the radius. The schemes give the same setpoints; the path parameter
+// lets one look-ahead pass treat lines, rapids, arcs and helices alike and carry the
+// distance left over at a flowing junction into the next block of any kind.
+//
+// Speed law each cycle (junction.hpp), in order:
+//   1. look-ahead over the blocks already in the ring (the current one and up to 3 more):
+//      each junction either flows (M21 on the block, turn < contouring angle) with a speed
+//      cap (per-axis velocity step <= f·a_i·dt, f = junction_velocity_step_fraction) or
+//      stops; the chain's last known block ends at rest. A backward pass gives the speed the
+//      current block may have at its end;
+//   2. v_allow = min(block speed × feed override (capped by what the axes allow on the curve),
+//      stop_speed(distance to the end of the current block, its exit speed)); when the
+//      block ends in a stop and no junction-restricted cycle is left, stop_speed_exact, the
+//      exact discrete rule (braking starts at the last possible cycle, no creeping tail);
+//   3. v = clamp(v_allow, v − a·dt, v + a·dt), v >= 0; in the cycles around a flowing
+//      junction the path acceleration is limited to (1 − f)·a so that path acceleration plus
+//      the corner's velocity step stays within each axis's acceleration;
+//   4. s += v·dt; past the end of the block, the remainder continues in the next block when
+//      the junction flows; otherwise the block lands exactly at its end (the last cycles
+//      approach it at <= a·dt per cycle), the machine holds one cycle at rest, and the next
+//      block starts from rest.
+// NURBS blocks (G5.2/G06.2) run in the same scheme: s is the chord length along the exact
+// curve, advanced with the NURBS engineer's Taylor + Newton parameter step; the block's feed
+// schedule (shared/nurbs_schedule) at the current and the predicted parameter caps the speed.
+// Feed hold / stop: all caps become 0, so the speed ramps down at the block's acceleration
+// along the path; resuming ramps up again from where it stood.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "ipc/block.hpp"
+#include "config/config.hpp"
+#include "motion/junction.hpp"
+#include "loop/machine.hpp"
+#include "geometry/nurbs.hpp"
+#include "motion/path.hpp"
+#include "ipc/status.hpp"
+
+namespace pcnc {
+
+struct ExecInput {
+  bool hold = false;          // feed hold, stop or host lost: decelerate to rest on the path
+  double feed_override = 1.0; // 0 .. 2
+  bool resume_pause = false;  // leave an M00/M01 block
+};
+
+struct ExecResult {
+  FaultCode fault = FaultCode::kNone;  // a block was refused
+  const char* reason = "";
+  std::uint8_t fault_axis = 0;
+  std::uint32_t fault_line = 0;
+  double fault_value = 0.0;
+  bool starved = false;       // nothing to execute and the ring is empty
+  bool program_end = false;   // the End block completed this cycle
+  bool at_pause = false;      // waiting on an M00/M01 block
+  int blocks_done = 0;
+  int junction_stops = 0;
+  int junction_flows = 0;
+};
+
+class Executor {
+ public:
+  explicit Executor(const MachineConfig& config);
+
+  /// The machine stands at `p` at rest (start-up, after a jog or a reset). Forgets any block.
+  void set_position(const Vec3& p);
+  /// A new program starts: sequence numbers restart at 1.
+  void start_program() { expected_seq_ = 1; }
+  /// Drops everything in the ring and the block in execution; stays where it is (at rest
+  /// expected — the machine calls this only at rest, or after amplifiers went off).
+  void flush(MotionRing& ring);
+
+  /// One cycle: validates new blocks, advances along the path, pops finished blocks.
+  void step(MotionRing& ring, const ExecInput& in, ExecResult& out);
+
+  const Vec3& position() const { return pos_; }
+  const Vec3& velocity() const { return vel_; }
+  const Vec3& acceleration() const { return acc_; }
+  double speed() const { return v_; }
+  std::uint32_t line() const { return line_; }
+  std::uint64_t seq() const { return seq_; }
+  bool contouring() const { return contouring_; }
+  /// Has a block in execution (possibly between blocks within a cycle).
+  bool busy() const { return prepared_ > 0; }
+  /// The motion block in execution and the path length reached on it (for the contour
+  /// error), or nullptr; the motion block finished last (nullptr after a non-motion block).
+  const PreparedBlock* current_motion() const { return prepared_ > 0 && prep_[0].motion ? &prep_[0] : nullptr; }
+  double progress() const { return s_; }
+  const PreparedBlock* previous_motion() const { return has_prev_ ? &prev_ : nullptr; }
+
+ private:
+  bool prepare_visible(const MotionRing& ring, ExecResult& out);
+  void pop(MotionRing& ring, ExecResult& out);
+  void motion_step(MotionRing& ring, const ExecInput& in, ExecResult& out);
+  double cap_of(const PreparedBlock& b, const ExecInput& in) const;
+  double exit_speed_of_current(const ExecInput& in);
+  double compute_exit_speed(const ExecInput& in) const;
+  bool flows_after(std::size_t i) const;                      // geometric: junction i|i+1 flows
+  double junction_cap(std::size_t i, const ExecInput& in) const;  // speed cap there (0: stop)
+  void hold_still();
+  /// Moves along the current block's path by ds (NURBS: chord length); sets pos_ and the
+  /// tangent and curvature there. Returns true when the block's end was reached, with the
+  /// distance left over past it in `leftover`.
+  bool advance(const Block& blk, double ds, double& leftover);
+  void begin_block(const Block& blk);  // s_ = 0 (NURBS: parameter at its start)
+
+  MachineConfig cfg_;
+  double dt_;
+  double f_;               // junction velocity-step fraction, clamped to [0, 1]
+  double k_;               // stop_speed margin
+  JunctionRules junction_;  // contouring angle, step fraction, corner tolerance, axis limits
+
+  std::array<PreparedBlock, kRingSlots> prep_{};  // prep_[i] describes ring.peek(i)
+  // corner_[i]: the speed cap of the junction between prep_[i] and prep_[i + 1] from the
+  // geometry alone (0: it does not flow), computed once when prep_[i + 1] is prepared.
+  std::array<double, kRingSlots> corner_{};
+  // exit_speed_of_current() depends only on the prepared blocks and the input: it is kept
+  // until a block is prepared or popped, or the hold or the override changes.
+  bool exit_valid_ = false;
+  bool exit_hold_ = false;
+  double exit_override_ = 0.0;
+  double exit_speed_ = 0.0;
+  PreparedBlock prev_{};  // the motion block finished last
+  bool has_prev_ = false;
+  std::size_t prepared_ = 0;
+  std::uint64_t expected_seq_ = 1;
+  Vec3 tail_{};  // where the last validated block ends
+
+  double s_ = 0.0;       // progress in the current block, mm
+  double v_ = 0.0;       // path speed of the last cycle, mm/s
+  double dwell_ = 0.0;   // time spent in the current dwell, s
+  int crossed_ = 0;      // cycles left with reduced acceleration after a flowing junction
+  bool rest_cycle_ = false;     // hold one cycle at rest after landing at a stop
+  bool ended_at_rest_ = false;  // the last motion block ended stopped (junction counting)
+  bool after_motion_ = false;   // the last finished block was a motion
+  bool fresh_ = true;           // the current block has not moved yet
+
+  // NURBS block in execution: curve parameter, curve there, schedule search hint
+  double nurbs_u_ = 0.0;
+  NurbsEval nurbs_at_{};
+  int nurbs_hint_ = 0;
+  Vec3 tangent_{}, curvature_{};
+
+  Vec3 pos_{}, vel_{}, acc_{};
+  std::uint32_t line_ = 0;
+  std::uint64_t seq_ = 0;
+  bool contouring_ = false;
+};
+
+}  // namespace pcnc

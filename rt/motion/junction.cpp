@@ -1,0 +1,83 @@
+// junction.cpp — the look-ahead speed rules (see junction.hpp).
+#include "motion/junction.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace pcnc {
+
+double stop_speed(double distance_mm, double v_end_mm_s, double a, double dt, double k) {
+  const double d = distance_mm > 0.0 ? distance_mm : 0.0;
+  // v²/(2a) + k·dt·v − (d + v_end²/(2a)) = 0, positive root.
+  const double kd = k * dt * a;
+  const double disc = kd * kd + 2.0 * a * d + v_end_mm_s * v_end_mm_s;
+  const double v = std::sqrt(disc) - kd;
+  return v > 0.0 ? v : 0.0;
+}
+
+double stop_speed_exact(double distance_mm, double a, double dt) {
+  if (!(distance_mm > 0.0) || !(a > 0.0) || !(dt > 0.0)) return 0.0;
+  // Braking from v = (n + φ)·a·dt one a·dt per cycle, moving v·dt in this cycle and each
+  // one after, covers (n + 1)(n/2 + φ)·a·dt² before the speed reaches φ·a·dt < a·dt, and the
+  // last cycle lands (executor.cpp). Solve (n + 1)(n/2 + φ) = q for n (integer) and φ ∈ [0, 1).
+  const double q = distance_mm / (a * dt * dt);
+  double n = std::floor(0.5 * (std::sqrt(8.0 * q + 1.0) - 1.0));
+  if (n < 0.0) n = 0.0;
+  if ((n + 1.0) * (n + 2.0) * 0.5 <= q) n += 1.0;      // rounding of the square root
+  if (n > 0.0 && n * (n + 1.0) * 0.5 > q) n -= 1.0;
+  double phi = q / (n + 1.0) - 0.5 * n;
+  phi = phi < 0.0 ? 0.0 : (phi > 1.0 ? 1.0 : phi);
+  return (n + phi) * a * dt;
+}
+
+double entry_speed(double length_mm, double v_exit_mm_s, double a) {
+  return std::sqrt(v_exit_mm_s * v_exit_mm_s + 2.0 * a * (length_mm > 0.0 ? length_mm : 0.0));
+}
+
+bool junction_flows(bool contouring, const Vec3& dir_end, const Vec3& dir_start, double cos_limit) {
+  if (!contouring) return false;
+  // strictly under the contouring angle: cos(turn) > cos(limit)
+  return dot(dir_end, dir_start) > cos_limit;
+}
+
+double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
+                          double dt, double fraction) {
+  double cap = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kAxes; ++i) {
+    const double jump = std::abs(dir_start[i] - dir_end[i]);
+    if (jump > 1e-12) cap = std::fmin(cap, fraction * axis_accel[i] * dt / jump);
+  }
+  return cap;
+}
+
+double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
+                                double tolerance_mm) {
+  if (!(tolerance_mm > 0.0)) return 0.0;
+  const double cos_theta = -dot(dir_end, dir_start);  // θ: the angle the corner encloses
+  if (cos_theta <= -1.0 + 1e-12) return std::numeric_limits<double>::infinity();  // straight on
+  if (cos_theta >= 1.0 - 1e-12) return 0.0;                                        // reversal
+  const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
+  const double radius = tolerance_mm * sin_half / (1.0 - sin_half);
+  const Vec3 change = dir_start - dir_end;
+  const double n = norm(change);
+  double a = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kAxes; ++i) {
+    const double ui = std::abs(change[i]) / n;
+    if (ui > 1e-12) a = std::fmin(a, axis_accel[i] / ui);
+  }
+  return std::sqrt(a * radius);
+}
+
+double corner_speed(bool contouring, const Vec3& dir_end, const Vec3& dir_start, const JunctionRules& r) {
+  if (!contouring) return 0.0;
+  double cap = 0.0;
+  if (junction_flows(contouring, dir_end, dir_start, r.cos_limit)) {
+    cap = junction_speed_cap(dir_end, dir_start, r.axis_accel, r.dt, r.step_fraction);
+  }
+  if (r.corner_tolerance_mm > 0.0) {
+    cap = std::fmax(cap, junction_deviation_speed(dir_end, dir_start, r.axis_accel, r.corner_tolerance_mm));
+  }
+  return cap;
+}
+
+}  // namespace pcnc

@@ -1,0 +1,70 @@
+// junction.hpp — the speed rules of the block executor's look-ahead, as pure functions:
+//
+//  * stop_speed: the fastest speed this cycle may use so that the machine can still slow to
+//    a target speed within the path it knows (the "never commit to a speed from which you
+//    cannot stop within the path already in the ring" rule);
+//  * junction_flows: the seed's contouring test (M21 on and a turn under the contouring angle);
+//  * junction_speed_cap: how fast a flowing corner may be passed so that the velocity step
+//    on every axis stays within `fraction` of that axis's acceleration times one cycle.
+// docs/machine-model.md and docs/servo-tuning.md cite these; the rules are explained in
+// the executor's header.
+#pragma once
+
+#include <array>
+
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+/// Largest v >= 0 with  k·v·dt + (v² − v_end²)/(2a) <= distance : moving v·dt this cycle
+/// and then braking at `accel` still reaches `v_end` (or less) before `distance` runs out.
+/// k >= 1 keeps a margin for the discrete braking and for cycles whose acceleration is
+/// restricted at flowing junctions (executor.hpp).
+double stop_speed(double distance_mm, double v_end_mm_s, double accel_mm_s2, double dt_s, double k);
+
+/// The exact discrete rule for a stop at rest: the largest v such that moving v·dt this
+/// cycle and then braking by a·dt per cycle (each cycle moving at its new speed, the last
+/// one landing at the end with a speed <= a·dt) covers exactly `distance`. Used for the last
+/// block before a stop when no junction restricts the acceleration; it starts braking
+/// later than stop_speed's margin would, and reaches the end without a slow creeping tail.
+double stop_speed_exact(double distance_mm, double accel_mm_s2, double dt_s);
+
+/// The continuous-time entry speed of a block of `length_mm` that must exit at `v_exit`.
+double entry_speed(double length_mm, double v_exit_mm_s, double accel_mm_s2);
+
+/// Contouring test between a block ending with tangent `dir_end` and the next starting with
+/// `dir_start` (unit vectors): flows when contouring is on and the turn is under the angle
+/// whose cosine is `cos_limit`.
+bool junction_flows(bool contouring, const Vec3& dir_end, const Vec3& dir_start, double cos_limit);
+
+/// Junction speed cap: per axis i, v·|dir_start_i − dir_end_i| <= fraction·a_i·dt.
+/// Returns +infinity for a straight (tangent) junction.
+double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
+                          double dt_s, double fraction);
+
+/// The rules a junction is judged by, from the config.
+struct JunctionRules {
+  double cos_limit = 1.0;             // cos(contouring angle)
+  double step_fraction = 0.0;         // junction_velocity_step_fraction, in [0, 1]
+  double corner_tolerance_mm = 0.0;   // 0: off
+  double dt = 0.0;                    // cycle period, s
+  std::array<double, kAxes> axis_accel{};
+};
+
+/// The speed cap of the junction between a motion block ending with `dir_end` (M21 on it:
+/// `contouring`) and the next starting with `dir_start`, from the geometry alone; 0 means
+/// it stops. Under M21 a turn under the contouring angle flows with junction_speed_cap;
+/// with a corner tolerance every junction may also flow at junction_deviation_speed; the
+/// larger cap applies.
+double corner_speed(bool contouring, const Vec3& dir_end, const Vec3& dir_start, const JunctionRules& rules);
+
+/// Junction-deviation speed (grbl, Klipper): the speed at which a virtual arc tangent to
+/// both directions, passing within `tolerance_mm` of the corner, would be run at the
+/// acceleration the axes allow along the direction of the velocity change:
+///   R = δ·sin(θ/2)/(1 − sin(θ/2)),  θ the angle between −dir_end and dir_start,
+///   a_j = min_i a_i/|u_i|,  u = normalized(dir_start − dir_end),  v = sqrt(a_j·R).
+/// +infinity for a straight junction, 0 for a reversal or a tolerance of 0.
+double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
+                                double tolerance_mm);
+
+}  // namespace pcnc

@@ -1,0 +1,173 @@
+// path.cpp — evaluation and machine caps of lines, arcs and helices (see path.hpp).
+#include "motion/path.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "geometry/arc_limits.hpp"
+
+namespace pcnc {
+
+void arc_plane_axes(int normal_axis, int& first, int& second) {
+  switch (normal_axis) {
+    case 0: first = 1; second = 2; break;   // G19: Y, Z
+    case 1: first = 2; second = 0; break;   // G18: Z, X
+    default: first = 0; second = 1; break;  // G17: X, Y
+  }
+}
+
+namespace {
+
+double wrap_pi(double a) {
+  constexpr double two_pi = 2.0 * std::numbers::pi;
+  a = std::fmod(a, two_pi);
+  if (a > std::numbers::pi) a -= two_pi;
+  if (a <= -std::numbers::pi) a += two_pi;
+  return a;
+}
+
+void line_caps(PreparedBlock& pb, const MachineConfig& cfg) {
+  const Vec3 u = pb.dir_start;
+  double v = std::numeric_limits<double>::infinity(), a = v;
+  for (int i = 0; i < kAxes; ++i) {
+    const double c = std::abs(u[i]);
+    if (c < 1e-12) continue;
+    v = std::min(v, cfg.axes[i].max_velocity_mm_s / c);
+    a = std::min(a, cfg.axes[i].max_accel_mm_s2 / c);
+  }
+  pb.v_machine = v;
+  pb.accel = std::min(pb.accel, a);
+}
+
+// Arcs: the in-plane axes see the tangential acceleration plus the centripetal v²/r: the
+// centripetal part gets at most kArcCentripetalShare of the smaller plane axis's
+// acceleration, the tangential part what is left of its magnitude (shared/arc_limits.hpp).
+void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
+  const double r_min = std::min(pb.r0, pb.r1);
+  const double r_max = std::max(pb.r0, pb.r1);
+  const double q = r_max * std::abs(pb.sweep) / pb.length;                // in-plane share of speed
+  const double h = std::abs(pb.end[pb.an] - pb.start[pb.an]) / pb.length;  // normal share
+  const auto& A = cfg.axes;
+  const double a_plane = std::min(A[pb.a1].max_accel_mm_s2, A[pb.a2].max_accel_mm_s2);
+  const double v_plane = std::min(A[pb.a1].max_velocity_mm_s, A[pb.a2].max_velocity_mm_s);
+  double v = std::numeric_limits<double>::infinity(), a = v;
+  if (q > 1e-12) {
+    v = std::min(v, v_plane / q);
+    v = std::min(v, std::sqrt(kArcCentripetalShare * a_plane * r_min) / q);
+    // tangential: what the plane has left at the top speed this block can run at
+    const double v_top = std::min(v, kArcMaxFeedOverride * pb.speed);
+    a = std::min(a, arc_tangential_accel(a_plane, r_min, v_top * q) / q);
+  }
+  if (h > 1e-12) {
+    v = std::min(v, A[pb.an].max_velocity_mm_s / h);
+    a = std::min(a, A[pb.an].max_accel_mm_s2 / h);
+  }
+  pb.v_machine = v;
+  pb.accel = std::min(pb.accel, a);
+}
+
+}  // namespace
+
+PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
+  PreparedBlock pb;
+  pb.kind = b.kind;
+  pb.contouring = b.contouring != 0;
+  pb.start = b.start;
+  pb.end = b.end;
+  pb.length = b.length;
+  pb.speed = b.speed;
+  pb.accel = b.accel;
+  const bool moving = (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc ||
+                       b.kind == BlockKind::kNurbs);
+  pb.motion = moving && b.length > 0.0;
+  pb.v_first = pb.v_last = std::numeric_limits<double>::infinity();
+  if (!pb.motion) return pb;
+  if (b.kind == BlockKind::kNurbs) {
+    // The host's feed schedule already holds every axis and curvature limit: it is the cap.
+    const NurbsGeometry& g = b.nurbs;
+    double vmax = 0.0;
+    for (int i = 0; i < g.schedule_count; ++i) vmax = std::max(vmax, g.schedule_speed[i]);
+    pb.v_machine = vmax;
+    pb.v_first = g.schedule_speed[0];
+    pb.v_last = g.schedule_speed[g.schedule_count - 1];
+    pb.dir_start = normalized(b.dir_start);
+    pb.dir_end = normalized(b.dir_end);
+    return pb;
+  }
+  if (b.kind == BlockKind::kArc) {
+    pb.an = b.arc.normal_axis;
+    arc_plane_axes(pb.an, pb.a1, pb.a2);
+    pb.c1 = b.arc.center[pb.a1];
+    pb.c2 = b.arc.center[pb.a2];
+    const double s1 = b.start[pb.a1] - pb.c1, s2 = b.start[pb.a2] - pb.c2;
+    const double e1 = b.end[pb.a1] - pb.c1, e2 = b.end[pb.a2] - pb.c2;
+    pb.r0 = std::hypot(s1, s2);
+    pb.r1 = std::hypot(e1, e2);
+    pb.theta0 = std::atan2(s2, s1);
+    // The block's sweep, corrected by the small difference between its stated end angle and
+    // the end point's actual angle (checked to be within tolerance by check_block).
+    const double theta_end = std::atan2(e2, e1);
+    pb.sweep = b.arc.sweep + wrap_pi(theta_end - (pb.theta0 + b.arc.sweep));
+    // The length of the curve actually run (a spiral when r1 != r0 within the tolerance), so
+    // that the path speed is the true speed along it.
+    pb.length = std::hypot(0.5 * (pb.r0 + pb.r1) * std::abs(pb.sweep), b.end[pb.an] - b.start[pb.an]);
+    pb.dir_start = evaluate(pb, 0.0).tangent;
+    pb.dir_end = evaluate(pb, pb.length).tangent;
+    arc_caps(pb, cfg);
+    // s runs uniformly in angle, so on a spiral the true speed is up to r_max/r_mean times the
+    // parameter speed: scale the caps so the true speed never exceeds them.
+    const double r_mean = 0.5 * (pb.r0 + pb.r1), r_max = std::max(pb.r0, pb.r1);
+    if (r_max > r_mean) {
+      const double f = r_mean / r_max;
+      pb.speed *= f;
+      pb.v_machine *= f;
+      pb.accel *= f;
+    }
+  } else {
+    pb.dir_start = normalized(b.end - b.start);
+    pb.dir_end = pb.dir_start;
+    line_caps(pb, cfg);
+  }
+  return pb;
+}
+
+PathPoint evaluate(const PreparedBlock& b, double s) {
+  PathPoint out;
+  if (!b.motion) {
+    out.p = b.end;
+    return out;
+  }
+  const double u = std::clamp(s / b.length, 0.0, 1.0);
+  if (b.kind != BlockKind::kArc) {
+    out.p = u >= 1.0 ? b.end : b.start + u * (b.end - b.start);
+    out.tangent = b.dir_start;
+    return out;
+  }
+  const double th = b.theta0 + b.sweep * u;
+  const double r = b.r0 + (b.r1 - b.r0) * u;
+  const double c = std::cos(th), sn = std::sin(th);
+  const double dn = b.end[b.an] - b.start[b.an];
+  if (u >= 1.0) {
+    out.p = b.end;
+  } else {
+    out.p[b.a1] = b.c1 + r * c;
+    out.p[b.a2] = b.c2 + r * sn;
+    out.p[b.an] = b.start[b.an] + dn * u;
+  }
+  // dp/du, then unit tangent; curvature from the circular part (r' terms are tiny).
+  Vec3 d{};
+  const double dr = b.r1 - b.r0;
+  d[b.a1] = dr * c - r * sn * b.sweep;
+  d[b.a2] = dr * sn + r * c * b.sweep;
+  d[b.an] = dn;
+  const double speed_u = norm(d);  // |dp/du|
+  out.tangent = (1.0 / speed_u) * d;
+  const double k = r * b.sweep * b.sweep / (speed_u * speed_u);
+  out.curvature[b.a1] = -k * c;
+  out.curvature[b.a2] = -k * sn;
+  return out;
+}
+
+}  // namespace pcnc

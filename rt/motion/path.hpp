@@ -1,0 +1,55 @@
+// path.hpp — a validated motion block as the executor sees it: a curve parameterised by
+// path length s in [0, length], evaluated to a point, unit tangent and curvature vector,
+// plus the machine's own speed and acceleration caps for that curve.
+//
+// NURBS blocks are stepped by the executor along their exact curve (chord length s, see
+// executor.cpp); here they get their caps and end tangents only.
+//
+// Lines: p(s) = start + (end − start)·s/L. Arcs and helices: the angle and the in-plane
+// radius advance linearly with s (u = s/L: θ = θ0 + sweep·u, r = r0 + (r1 − r0)·u) and the
+// normal axis moves linearly, so the path joins start and end exactly even when the end
+// radius differs from the start radius by the G-code tolerance.
+#pragma once
+
+#include <cstdint>
+
+#include "ipc/block.hpp"
+#include "config/config.hpp"
+
+namespace pcnc {
+
+struct PathPoint {
+  Vec3 p{};          // mm
+  Vec3 tangent{};    // unit
+  Vec3 curvature{};  // d(tangent)/ds, 1/mm (points to the centre of an arc)
+};
+
+struct PreparedBlock {
+  BlockKind kind = BlockKind::kLine;
+  bool motion = false;      // has a path to travel (line, rapid, arc of nonzero length)
+  bool contouring = false;  // may pass its end junction without stopping
+  double length = 0.0;      // mm
+  double speed = 0.0;       // block's path speed limit (before override), mm/s
+  double v_machine = 0.0;   // what the axes allow on this curve (override cannot exceed), mm/s
+  double accel = 0.0;       // path acceleration used, mm/s²
+  Vec3 start{}, end{};
+  Vec3 dir_start{}, dir_end{};  // unit tangents from the geometry
+  // speed caps where the block starts and ends (NURBS: its feed schedule's first and last
+  // values; +infinity for lines and arcs, whose caps are uniform)
+  double v_first = 0.0, v_last = 0.0;
+  // arc only
+  int a1 = 0, a2 = 1, an = 2;   // in-plane first, second axis; normal axis
+  double c1 = 0.0, c2 = 0.0;    // centre in the plane
+  double theta0 = 0.0, sweep = 0.0, r0 = 0.0, r1 = 0.0;
+};
+
+/// Builds the executor's view of a block that passed check_block(). Pure.
+PreparedBlock prepare_block(const Block& block, const MachineConfig& config);
+
+/// Point, tangent and curvature at path length s (clamped to [0, length]).
+PathPoint evaluate(const PreparedBlock& b, double s);
+
+/// The arc's in-plane axes for a normal axis (2: X,Y; 1: Z,X; 0: Y,Z).
+void arc_plane_axes(int normal_axis, int& first, int& second);
+
+}  // namespace pcnc

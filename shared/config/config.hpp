@@ -1,0 +1,116 @@
+// config.hpp — the machine configuration both processes read from one TOML file
+// (configs/desktop-mill.toml by default). Every limit, gain and tolerance lives here, in SI-ish
+// units named in the keys (mm, s, kg, N, A). Nothing physical is hard-coded elsewhere.
+#pragma once
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+/// One linear axis: travel, motion limits, the simulated drive, the encoder and its servo.
+struct AxisConfig {
+  // travel and limits
+  double travel_min_mm = 0.0;
+  double travel_max_mm = 25.0;
+  double max_velocity_mm_s = 50.0;
+  double max_accel_mm_s2 = 1000.0;
+  double following_error_limit_mm = 0.5;
+  double home_mm = 0.0;  // where the axis stands when pcnc-rt starts (inside the travel)
+
+  // simulated drive (plant)
+  double moving_mass_kg = 1.0;
+  double force_constant_n_per_a = 10.0;
+  double current_limit_a = 5.0;
+  double viscous_friction_n_s_per_m = 0.0;
+  double coulomb_friction_n = 0.0;
+  double gravity_load_n = 0.0;  // constant force along -axis (Z carries its own weight)
+  double encoder_resolution_mm = 0.0001;
+
+  // servo (PID on position error, output = amplifier current in A)
+  double kp_a_per_mm = 0.0;
+  double ki_a_per_mm_s = 0.0;
+  double kd_a_s_per_mm = 0.0;
+  double derivative_filter_hz = 500.0;
+  double velocity_ff_a_s_per_mm = 0.0;
+  double accel_ff_a_s2_per_mm = 0.0;
+  double friction_ff_a = 0.0;       // Coulomb friction feed-forward: this current × sign(commanded velocity)
+  double integrator_limit_a = 1.0;  // anti-windup clamp of the integral term
+};
+
+struct MotionConfig {
+  double cycle_hz = 2000.0;             // servo and interpolation rate
+  double contouring_angle_deg = 10.0;   // M21: junctions turning less than this do not stop
+  bool contouring_default = false;      // contouring mode at program start (M21/M22 override)
+  // Junction speed cap under contouring: the velocity vector may jump by at most this
+  // fraction of the smallest axis acceleration times one cycle period.
+  double junction_velocity_step_fraction = 1.0;
+  // Corner tolerance under M21 (0: off, the seed's rule alone). When > 0, every junction may
+  // also be passed at the junction-deviation speed of a virtual arc that stays within this
+  // distance of the corner (grbl's and Klipper's rule; rt/junction.hpp), corners sharper
+  // than the contouring angle included. The setpoint's velocity then steps at the corner and
+  // the servo rounds it: the run report's contour error shows by how much.
+  double corner_tolerance_mm = 0.0;
+  double rapid_speed_mm_s = 0.0;        // 0: each axis's max velocity (projected on the move)
+  double jog_accel_fraction = 1.0;      // jogs use this fraction of each axis's acceleration
+  double subsample_steps = 8.0;         // plant integration sub-steps per cycle (if needed)
+  // rt block check: how far a block's start may sit from the previous block's end (and its
+  // stated length from its geometry) before the rt refuses it as corrupt.
+  double block_tolerance_mm = 0.001;
+};
+
+struct GcodeConfig {
+  double arc_radius_tolerance_mm = 0.002;   // |r_end - r_start| allowed (absolute part)
+  double arc_radius_tolerance_rel = 0.001;  // ... plus this fraction of the radius
+  bool clamp_excess_feed = true;            // F above the machine maximum: clamp (warn) or reject
+  double max_feed_mm_min = 0.0;             // 0: from the axis limits
+  std::array<Vec3, 6> work_offsets{};       // G54..G59, mm, program zero in machine coordinates
+  int nurbs_knots = 0;                      // 0: open uniform (LinuxCNC); 1: chord length (seed)
+  double nurbs_chord_tolerance_mm = 0.001;  // δ of the NURBS feed schedule
+};
+
+struct ProcessConfig {
+  std::string shm_name = "/pcnc-desktop-mill";
+  std::string socket_path = "/tmp/pcnc-desktop-mill.sock";
+  int socket_mode = 0600;
+  double host_timeout_s = 0.1;     // rt: host heartbeat older than this while running -> HOST_LOST
+  double rt_timeout_s = 0.1;       // host: rt heartbeat older than this -> rt lost
+  double jog_deadman_s = 0.5;      // continuous jog stops without a keep-alive this long
+  int rt_priority = 80;            // SCHED_FIFO priority asked for
+  // Real clock: the rt sleeps until this long before each deadline and spins the rest, so
+  // that the wake-up does not pay the idle CPU's exit latency (a virtual machine's idle vCPU
+  // can take milliseconds to wake). Costs this fraction of a core: spin / period. 0: sleep.
+  double rt_spin_us = 0.0;
+};
+
+struct MachineConfig {
+  std::string name = "desktop-mill";
+  std::string source_path;  // the file it came from
+  std::array<AxisConfig, kAxes> axes{};
+  MotionConfig motion{};
+  GcodeConfig gcode{};
+  ProcessConfig process{};
+
+  double cycle_period_s() const { return 1.0 / motion.cycle_hz; }
+  Vec3 travel_min() const { return {axes[0].travel_min_mm, axes[1].travel_min_mm, axes[2].travel_min_mm}; }
+  Vec3 travel_max() const { return {axes[0].travel_max_mm, axes[1].travel_max_mm, axes[2].travel_max_mm}; }
+};
+
+/// Reads a TOML machine configuration. Unknown keys and out-of-range values are errors
+/// (a typo in a gain must not pass silently). Throws ConfigError naming the file, key and why.
+MachineConfig load_config(const std::string& path);
+/// Same, from TOML text (for tests); `origin` names it in messages.
+MachineConfig parse_config(const std::string& toml_text, const std::string& origin);
+
+/// Where the default config lives: $PCNC_CONFIG, else configs/desktop-mill.toml found
+/// relative to the executable's directory (build tree or install), else the working directory.
+std::string default_config_path();
+
+struct ConfigError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace pcnc

@@ -1,0 +1,502 @@
+// nurbs.cpp — NURBS evaluation, knot vectors, validation, knot insertion and splitting.
+// See nurbs.hpp. The evaluation path (find_span, basis functions, nurbs_eval) uses only
+// fixed-size local arrays so the rt can call it every cycle.
+#include "geometry/nurbs.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace pcnc {
+namespace {
+
+constexpr int kOrderMax = kMaxNurbsDegree + 1;
+
+// a / b with the B-spline convention 0/0 = 0 (a zero-length knot interval contributes nothing).
+inline double safe_div(double a, double b) { return b != 0.0 ? a / b : 0.0; }
+
+// Non-zero basis functions of every degree 0..p at u in span `span`:
+// table[d][j] = N_{span-d+j, d}(u), j = 0..d (Cox–de Boor recurrence).
+using BasisTable = std::array<std::array<double, kOrderMax>, kOrderMax>;
+
+void basis_table(const double* t, int span, int p, double u, BasisTable& table) {
+  table[0][0] = 1.0;
+  for (int d = 1; d <= p; ++d) {
+    for (int j = 0; j <= d; ++j) {
+      const int i = span - d + j;
+      double value = 0.0;
+      if (j >= 1) value += safe_div(u - t[i], t[i + d] - t[i]) * table[d - 1][j - 1];
+      if (j <= d - 1) value += safe_div(t[i + d + 1] - u, t[i + d + 1] - t[i + 1]) * table[d - 1][j];
+      table[d][j] = value;
+    }
+  }
+}
+
+// Derivative of the degree-d basis functions from the degree-(d-1) values `lower`
+// (lower[j] = N_{span-d+1+j, d-1} or its derivative): out[j] for N_{span-d+j, d}.
+void derive(const double* t, int span, int d, const double* lower, double* out) {
+  for (int j = 0; j <= d; ++j) {
+    const int i = span - d + j;
+    double value = 0.0;
+    if (j >= 1) value += safe_div(lower[j - 1], t[i + d] - t[i]);
+    if (j <= d - 1) value -= safe_div(lower[j], t[i + d + 1] - t[i + 1]);
+    out[j] = d * value;
+  }
+}
+
+int multiplicity(const std::vector<double>& knots, double u) {
+  return static_cast<int>(std::count(knots.begin(), knots.end(), u));
+}
+
+}  // namespace
+
+NurbsView view_of(const NurbsGeometry& g) {
+  return {g.points, g.weights, g.knots, static_cast<int>(g.point_count), static_cast<int>(g.degree)};
+}
+
+// ---- knot vectors -----------------------------------------------------------------------
+
+std::vector<double> open_uniform_knots(int count, int degree) {
+  const int k = degree + 1;
+  const int n = count - 1;
+  std::vector<double> knots;
+  if (count < 1 || degree < 0) return knots;
+  knots.reserve(static_cast<std::size_t>(n + k + 1));
+  for (int i = 0; i <= n + k; ++i) {
+    if (i < k) {
+      knots.push_back(0.0);
+    } else if (i <= n) {
+      knots.push_back(static_cast<double>(i - k + 1));
+    } else {
+      knots.push_back(static_cast<double>(n - k + 2));
+    }
+  }
+  return knots;
+}
+
+std::vector<double> chord_length_knots(const std::vector<Vec3>& points, int degree) {
+  const int count = static_cast<int>(points.size());
+  const int k = degree + 1;
+  const int n = count - 1;
+  if (count < k || degree < 1) return open_uniform_knots(count, degree);
+  std::vector<double> chord(static_cast<std::size_t>(n));
+  double total = 0.0;
+  for (int j = 0; j < n; ++j) {
+    chord[static_cast<std::size_t>(j)] = norm(points[static_cast<std::size_t>(j + 1)] - points[static_cast<std::size_t>(j)]);
+    total += chord[static_cast<std::size_t>(j)];
+  }
+  if (!(total > 0.0)) return open_uniform_knots(count, degree);
+  const double m = static_cast<double>(n - k + 2);  // domain end, as for the open uniform vector
+  std::vector<double> knots(static_cast<std::size_t>(n + k + 1), 0.0);
+  // Seed eq. (4), 1-based: x_{i+k} = ((i/m) c_{i+1} + sum_{j<=i} c_j) / sum c * m, i = 1..n-k+1.
+  double prefix = 0.0;
+  for (int i = 1; i <= n - k + 1; ++i) {
+    prefix += chord[static_cast<std::size_t>(i - 1)];
+    const double x = ((i / m) * chord[static_cast<std::size_t>(i)] + prefix) / total * m;
+    knots[static_cast<std::size_t>(i + k - 1)] = x;
+  }
+  for (int idx = n + 1; idx <= n + k; ++idx) knots[static_cast<std::size_t>(idx)] = m;
+  return knots;
+}
+
+NurbsCurve make_nurbs(std::vector<Vec3> points, std::vector<double> weights, int order, KnotRule rule) {
+  NurbsCurve c;
+  c.degree = order - 1;
+  c.points = std::move(points);
+  c.weights = std::move(weights);
+  c.knots = rule == KnotRule::kChordLength ? chord_length_knots(c.points, c.degree)
+                                           : open_uniform_knots(static_cast<int>(c.points.size()), c.degree);
+  return c;
+}
+
+// ---- validation -------------------------------------------------------------------------
+
+std::string validate(const NurbsView& c) {
+  char buf[200];
+  const int p = c.degree;
+  if (p < kMinNurbsDegree || p > kMaxNurbsDegree) {
+    std::snprintf(buf, sizeof buf, "NURBS order %d out of range: the order must be %d to %d (degree %d to %d)",
+                  p + 1, kMinNurbsOrder, kMaxNurbsOrder, kMinNurbsDegree, kMaxNurbsDegree);
+    return buf;
+  }
+  if (c.count < p + 1) {
+    std::snprintf(buf, sizeof buf, "NURBS of order %d needs at least %d control points, got %d", p + 1, p + 1,
+                  c.count);
+    return buf;
+  }
+  for (int i = 0; i < c.count; ++i) {
+    const Vec3& q = c.points[i];
+    if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2])) {
+      std::snprintf(buf, sizeof buf, "NURBS control point %d is not a finite number", i + 1);
+      return buf;
+    }
+    if (!(c.weights[i] > 0.0) || !std::isfinite(c.weights[i])) {
+      std::snprintf(buf, sizeof buf, "NURBS weight of control point %d is %g: weights must be > 0", i + 1,
+                    c.weights[i]);
+      return buf;
+    }
+  }
+  const int knot_count = c.count + p + 1;
+  for (int i = 0; i < knot_count; ++i) {
+    if (!std::isfinite(c.knots[i])) {
+      std::snprintf(buf, sizeof buf, "NURBS knot %d is not a finite number", i + 1);
+      return buf;
+    }
+    if (i > 0 && c.knots[i] < c.knots[i - 1]) {
+      std::snprintf(buf, sizeof buf, "NURBS knots must not decrease: knot %d (%g) < knot %d (%g)", i + 1, c.knots[i],
+                    i, c.knots[i - 1]);
+      return buf;
+    }
+  }
+  if (!(c.knots[p] < c.knots[c.count])) {
+    return "NURBS knot vector gives an empty parameter range (all active knots equal)";
+  }
+  if (c.knots[0] != c.knots[p] || c.knots[c.count] != c.knots[c.count + p]) {
+    std::snprintf(buf, sizeof buf,
+                  "NURBS knot vector must be clamped: its first %d and last %d knots must be equal", p + 1, p + 1);
+    return buf;
+  }
+  // Interior multiplicity above the degree would break the curve apart.
+  for (int i = p + 1; i < c.count;) {
+    int j = i;
+    while (j + 1 < c.count && c.knots[j + 1] == c.knots[i]) ++j;
+    const int mult = j - i + 1;
+    if (mult > p && c.knots[i] > c.knots[p] && c.knots[i] < c.knots[c.count]) {
+      std::snprintf(buf, sizeof buf,
+                    "NURBS interior knot %g repeats %d times: at most the degree (%d) keeps the curve connected",
+                    c.knots[i], mult, p);
+      return buf;
+    }
+    i = j + 1;
+  }
+  return {};
+}
+
+std::string validate(const NurbsCurve& curve) {
+  char buf[160];
+  if (curve.degree < kMinNurbsDegree || curve.degree > kMaxNurbsDegree) {
+    std::snprintf(buf, sizeof buf, "NURBS order %d out of range: the order must be %d to %d (degree %d to %d)",
+                  curve.degree + 1, kMinNurbsOrder, kMaxNurbsOrder, kMinNurbsDegree, kMaxNurbsDegree);
+    return buf;
+  }
+  if (curve.points.size() < static_cast<std::size_t>(curve.degree + 1)) {
+    std::snprintf(buf, sizeof buf, "NURBS of order %d needs at least %d control points, got %zu", curve.degree + 1,
+                  curve.degree + 1, curve.points.size());
+    return buf;
+  }
+  if (curve.weights.size() != curve.points.size()) {
+    std::snprintf(buf, sizeof buf, "NURBS has %zu weights for %zu control points", curve.weights.size(),
+                  curve.points.size());
+    return buf;
+  }
+  const std::size_t want = curve.points.size() + static_cast<std::size_t>(curve.degree) + 1;
+  if (curve.knots.size() != want) {
+    std::snprintf(buf, sizeof buf,
+                  "NURBS of order %d with %zu control points needs %zu knots (points + order), got %zu",
+                  curve.degree + 1, curve.points.size(), want, curve.knots.size());
+    return buf;
+  }
+  return validate(curve.view());
+}
+
+// ---- evaluation -------------------------------------------------------------------------
+
+int find_span(const NurbsView& c, double u) {
+  const double* t = c.knots;
+  const int p = c.degree;
+  const int n = c.count - 1;
+  if (u >= t[n + 1]) {
+    int i = n;
+    while (i > p && !(t[i] < t[i + 1])) --i;
+    return i;
+  }
+  if (u <= t[p]) {
+    int i = p;
+    while (i < n && !(t[i] < t[i + 1])) ++i;
+    return i;
+  }
+  int lo = p;
+  int hi = n + 1;  // invariant: t[lo] <= u < t[hi]
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (u < t[mid]) {
+      hi = mid;
+    } else {
+      lo = mid;
+    }
+  }
+  return lo;
+}
+
+Vec3 nurbs_point(const NurbsView& c, double u) {
+  u = std::clamp(u, c.u_min(), c.u_max());
+  const int p = c.degree;
+  const int span = find_span(c, u);
+  BasisTable table;
+  basis_table(c.knots, span, p, u, table);
+  Vec3 a{0.0, 0.0, 0.0};
+  double w = 0.0;
+  for (int j = 0; j <= p; ++j) {
+    const int i = span - p + j;
+    const double nw = table[p][j] * c.weights[i];
+    a = a + nw * c.points[i];
+    w += nw;
+  }
+  return (1.0 / w) * a;
+}
+
+NurbsEval nurbs_eval(const NurbsView& c, double u) {
+  u = std::clamp(u, c.u_min(), c.u_max());
+  const int p = c.degree;
+  const int span = find_span(c, u);
+  const double* t = c.knots;
+  BasisTable table;
+  basis_table(t, span, p, u, table);
+  std::array<double, kOrderMax> d1{};
+  std::array<double, kOrderMax> d2{};
+  derive(t, span, p, table[p - 1].data(), d1.data());
+  if (p >= 2) {
+    std::array<double, kOrderMax> lower_d1{};
+    derive(t, span, p - 1, table[p - 2].data(), lower_d1.data());
+    derive(t, span, p, lower_d1.data(), d2.data());
+  }
+  // Homogeneous curve A(u) = sum N w P, W(u) = sum N w, and their derivatives.
+  Vec3 a0{}, a1{}, a2{};
+  double w0 = 0.0, w1 = 0.0, w2 = 0.0;
+  for (int j = 0; j <= p; ++j) {
+    const int i = span - p + j;
+    const double w = c.weights[i];
+    const Vec3 wp = w * c.points[i];
+    a0 = a0 + table[p][j] * wp;
+    a1 = a1 + d1[j] * wp;
+    a2 = a2 + d2[j] * wp;
+    w0 += table[p][j] * w;
+    w1 += d1[j] * w;
+    w2 += d2[j] * w;
+  }
+  NurbsEval e;
+  const double inv = 1.0 / w0;
+  e.p = inv * a0;
+  e.d1 = inv * (a1 - w1 * e.p);
+  e.d2 = inv * (a2 - 2.0 * w1 * e.d1 - w2 * e.p);
+  return e;
+}
+
+Vec3 nurbs_tangent(const NurbsView& c, double u, bool toward_end) {
+  const NurbsEval e = nurbs_eval(c, u);
+  const double speed = norm(e.d1);
+  const double scale = norm(e.d2) * (c.u_max() - c.u_min());
+  if (speed > 1e-9 * std::max(scale, 1e-300) && speed > 0.0) return (1.0 / speed) * e.d1;
+  // C'(u) = 0: near u, C(u+h) - C(u) ~ C''(u) h^2 / 2, pointing along C'' on both sides;
+  // the direction of travel is +C'' after u and -C'' before u.
+  const Vec3 dir = normalized(e.d2);
+  return toward_end ? dir : -1.0 * dir;
+}
+
+double nurbs_curvature(const NurbsEval& e) {
+  const double s = norm(e.d1);
+  if (!(s > 0.0)) return 0.0;
+  return norm(cross(e.d1, e.d2)) / (s * s * s);
+}
+
+namespace {
+
+// 8-point Gauss–Legendre on [a, b] of the parametric speed |C'(u)|.
+double gauss8_speed(const NurbsView& c, double a, double b) {
+  static constexpr double kX[4] = {0.18343464249564981, 0.52553240991632899, 0.79666647741362674,
+                                   0.96028985649753623};
+  static constexpr double kW[4] = {0.36268378337836198, 0.31370664587788729, 0.22238103445337447,
+                                   0.10122853629037626};
+  const double mid = 0.5 * (a + b);
+  const double half = 0.5 * (b - a);
+  double sum = 0.0;
+  for (int g = 0; g < 4; ++g) {
+    sum += kW[g] * (norm(nurbs_eval(c, mid - half * kX[g]).d1) + norm(nurbs_eval(c, mid + half * kX[g]).d1));
+  }
+  return half * sum;
+}
+
+// Adaptive: halves the interval until the two halves agree with the whole. The speed is a
+// smooth function inside a span except near (almost) vanishing C', where it has a kink.
+double adaptive_length(const NurbsView& c, double a, double b, double whole, int depth) {
+  const double mid = 0.5 * (a + b);
+  const double left = gauss8_speed(c, a, mid);
+  const double right = gauss8_speed(c, mid, b);
+  const double both = left + right;
+  if (depth <= 0 || std::fabs(both - whole) <= 1e-13 * std::fabs(both) + 1e-13) return both;
+  return adaptive_length(c, a, mid, left, depth - 1) + adaptive_length(c, mid, b, right, depth - 1);
+}
+
+}  // namespace
+
+double nurbs_arc_length(const NurbsView& c, double u0, double u1) {
+  u0 = std::clamp(u0, c.u_min(), c.u_max());
+  u1 = std::clamp(u1, c.u_min(), c.u_max());
+  if (!(u1 > u0)) return 0.0;
+  double total = 0.0;
+  double a = u0;
+  while (a < u1) {
+    // One knot span at a time: the speed is smooth inside a span.
+    const int span = find_span(c, a);
+    double b = std::min(u1, c.knots[span + 1]);
+    if (!(b > a)) b = u1;
+    total += adaptive_length(c, a, b, gauss8_speed(c, a, b), 40);
+    a = b;
+  }
+  return total;
+}
+
+// ---- knot insertion and splitting -------------------------------------------------------
+
+NurbsCurve insert_knot(const NurbsCurve& curve, double u, int times) {
+  NurbsCurve out = curve;
+  for (int r = 0; r < times; ++r) {
+    const NurbsCurve in = out;
+    const int p = in.degree;
+    const int count = static_cast<int>(in.points.size());
+    if (!(u > in.u_min() && u < in.u_max())) {
+      throw std::invalid_argument("insert_knot: parameter outside the open domain");
+    }
+    const int k = find_span(in.view(), u);  // knots[k] <= u < knots[k+1]
+    out.points.assign(static_cast<std::size_t>(count + 1), Vec3{});
+    out.weights.assign(static_cast<std::size_t>(count + 1), 0.0);
+    for (int i = 0; i <= count; ++i) {
+      const auto si = static_cast<std::size_t>(i);
+      if (i <= k - p) {
+        out.points[si] = in.points[si];
+        out.weights[si] = in.weights[si];
+      } else if (i >= k + 1) {
+        out.points[si] = in.points[si - 1];
+        out.weights[si] = in.weights[si - 1];
+      } else {
+        // Blend in homogeneous coordinates (w P, w).
+        const double alpha = safe_div(u - in.knots[si], in.knots[si + static_cast<std::size_t>(p)] - in.knots[si]);
+        const double w = alpha * in.weights[si] + (1.0 - alpha) * in.weights[si - 1];
+        const Vec3 wp = alpha * in.weights[si] * in.points[si] + (1.0 - alpha) * in.weights[si - 1] * in.points[si - 1];
+        out.weights[si] = w;
+        out.points[si] = (1.0 / w) * wp;
+      }
+    }
+    out.knots = in.knots;
+    out.knots.insert(out.knots.begin() + k + 1, u);
+  }
+  return out;
+}
+
+NurbsCurve nurbs_segment(const NurbsCurve& curve, double a, double b) {
+  NurbsCurve c = curve;
+  const int p = c.degree;
+  // Make a and b knots of multiplicity p (the curve then passes through a control point
+  // there), then keep the control points between them and clamp the knot vector.
+  for (const double x : {a, b}) {
+    if (x > c.u_min() && x < c.u_max()) {
+      const int have = multiplicity(c.knots, x);
+      if (have < p) c = insert_knot(c, x, p - have);
+    }
+  }
+  // First control point index: the one whose basis function is 1 at a.
+  const NurbsView v = c.view();
+  int first = 0;
+  if (a > c.u_min()) first = find_span(v, a) - p;  // last knot equal to a is r: C(a) = P_{r-p}
+  int last = static_cast<int>(c.points.size()) - 1;
+  if (b < c.u_max()) last = find_span(v, b) - p;  // knots[r] == b (multiplicity p): C(b) = P_{r-p}
+  NurbsCurve out;
+  out.degree = p;
+  out.points.assign(c.points.begin() + first, c.points.begin() + last + 1);
+  out.weights.assign(c.weights.begin() + first, c.weights.begin() + last + 1);
+  out.knots.assign(static_cast<std::size_t>(p + 1), a);
+  for (double t : c.knots) {
+    if (t > a && t < b) out.knots.push_back(t);
+  }
+  out.knots.insert(out.knots.end(), static_cast<std::size_t>(p + 1), b);
+  return out;
+}
+
+std::vector<double> corner_knots(const NurbsCurve& curve) {
+  const int p = curve.degree;
+  const double lo = curve.u_min();
+  const double hi = curve.u_max();
+  const NurbsView v = curve.view();
+  std::vector<double> corners;
+  for (std::size_t i = 0; i < curve.knots.size(); ++i) {
+    const double t = curve.knots[i];
+    if (!(t > lo && t < hi) || (!corners.empty() && corners.back() == t)) continue;
+    if (i > 0 && curve.knots[i - 1] == t) continue;  // only the first of a run
+    if (multiplicity(curve.knots, t) < p) continue;  // C1 there: no corner possible
+    const Vec3 before = nurbs_tangent(v, std::nextafter(t, lo), false);
+    const Vec3 after = nurbs_tangent(v, t, true);
+    if (dot(before, after) < 1.0 - 1e-12) corners.push_back(t);
+  }
+  return corners;
+}
+
+std::vector<NurbsCurve> split_nurbs(const NurbsCurve& curve, int max_points) {
+  const int p = curve.degree;
+  if (max_points < p + 1) throw std::invalid_argument("split_nurbs: max_points below the order");
+  const double lo = curve.u_min();
+  const double hi = curve.u_max();
+  const std::vector<double> corners = corner_knots(curve);
+  // Distinct interior knots with multiplicities, in increasing order.
+  std::vector<std::pair<double, int>> interior;
+  for (const double t : curve.knots) {
+    if (!(t > lo && t < hi)) continue;
+    if (!interior.empty() && interior.back().first == t) {
+      ++interior.back().second;
+    } else {
+      interior.emplace_back(t, 1);
+    }
+  }
+  // A clamped piece over [a, b] has p + 1 + (multiplicities of the knots strictly inside)
+  // control points. Cut greedily where the next knot would make the piece too big.
+  std::vector<double> cuts{lo};
+  int inside = 0;
+  for (const auto& [t, mult] : interior) {
+    const bool corner = std::find(corners.begin(), corners.end(), t) != corners.end();
+    if (corner || p + 1 + inside + mult > max_points) {
+      cuts.push_back(t);
+      inside = 0;
+    } else {
+      inside += mult;
+    }
+  }
+  cuts.push_back(hi);
+  std::vector<NurbsCurve> pieces;
+  if (cuts.size() == 2) {
+    pieces.push_back(curve);
+    return pieces;
+  }
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) pieces.push_back(nurbs_segment(curve, cuts[i], cuts[i + 1]));
+  return pieces;
+}
+
+// ---- block storage ----------------------------------------------------------------------
+
+std::string to_geometry(const NurbsCurve& curve, NurbsGeometry& g) {
+  if (curve.points.size() > static_cast<std::size_t>(kMaxNurbsPoints)) {
+    char buf[120];
+    std::snprintf(buf, sizeof buf, "NURBS piece has %zu control points; a block holds at most %d (split it first)",
+                  curve.points.size(), kMaxNurbsPoints);
+    return buf;
+  }
+  if (std::string err = validate(curve); !err.empty()) return err;
+  g.degree = static_cast<std::uint8_t>(curve.degree);
+  g.point_count = static_cast<std::uint16_t>(curve.points.size());
+  g.knot_count = static_cast<std::uint16_t>(curve.knots.size());
+  std::copy(curve.points.begin(), curve.points.end(), g.points);
+  std::copy(curve.weights.begin(), curve.weights.end(), g.weights);
+  std::copy(curve.knots.begin(), curve.knots.end(), g.knots);
+  return {};
+}
+
+NurbsCurve from_geometry(const NurbsGeometry& g) {
+  NurbsCurve c;
+  c.degree = g.degree;
+  c.points.assign(g.points, g.points + g.point_count);
+  c.weights.assign(g.weights, g.weights + g.point_count);
+  c.knots.assign(g.knots, g.knots + g.knot_count);
+  return c;
+}
+
+}  // namespace pcnc

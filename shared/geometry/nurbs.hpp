@@ -1,0 +1,150 @@
+// nurbs.hpp — the NURBS curve as a value type: exact evaluation (point, first and second
+// derivative), knot vectors (LinuxCNC G5.2 open uniform, the seed paper's chord length),
+// validation, knot insertion and splitting into ring-sized pieces.
+//
+// Used on both sides of the ring: the host builds a NurbsCurve from G5.2/G06.2 words,
+// validates it, splits it into pieces of at most kMaxNurbsPoints control points and copies
+// each piece into a Block's NurbsGeometry; the rt evaluates the NurbsGeometry in place every
+// cycle through a NurbsView. Evaluation allocates nothing (fixed arrays sized by
+// kMaxNurbsDegree) and works the same on either storage.
+//
+// Conventions: degree p in 1..kMaxNurbsDegree (order p+1 in 2..6), n+1 control points,
+// n+p+2 knots, non-decreasing. The parameter domain is [knots[p], knots[n+1]].
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ipc/block.hpp"
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+constexpr int kMinNurbsDegree = 1;
+constexpr int kMinNurbsOrder = kMinNurbsDegree + 1;  // 2
+constexpr int kMaxNurbsOrder = kMaxNurbsDegree + 1;  // 6
+
+/// How knots are made when a program gives none (GcodeConfig::nurbs_knots).
+enum class KnotRule : int {
+  kOpenUniform = 0,  // LinuxCNC G5.2: 0 (order times), 1, 2, ..., n-k+2 (order times)
+  kChordLength = 1,  // the seed paper's eq. (4): spaced by the control polygon's chords
+};
+
+/// Read-only view of a curve's arrays: what evaluation works on. Cheap to copy; it points
+/// into a NurbsCurve or a NurbsGeometry, which must outlive it.
+struct NurbsView {
+  const Vec3* points = nullptr;
+  const double* weights = nullptr;
+  const double* knots = nullptr;
+  int count = 0;   // number of control points, n+1
+  int degree = 0;  // p
+
+  double u_min() const { return knots[degree]; }
+  double u_max() const { return knots[count]; }
+};
+
+/// A point of the curve and its first two derivatives with respect to the parameter u.
+struct NurbsEval {
+  Vec3 p{};
+  Vec3 d1{};
+  Vec3 d2{};
+};
+
+/// The host-side curve: any number of control points (the ring's per-block limit is met by
+/// split_nurbs). A plain value; no invariants are enforced until validate().
+struct NurbsCurve {
+  int degree = 3;
+  std::vector<Vec3> points;
+  std::vector<double> weights;
+  std::vector<double> knots;
+
+  NurbsView view() const {
+    return {points.data(), weights.data(), knots.data(), static_cast<int>(points.size()), degree};
+  }
+  double u_min() const { return knots[static_cast<std::size_t>(degree)]; }
+  double u_max() const { return knots[points.size()]; }
+};
+
+/// View of the curve stored in a block (the rt evaluates this directly).
+NurbsView view_of(const NurbsGeometry& g);
+
+// ---- knot vectors -----------------------------------------------------------------------
+
+/// LinuxCNC's G5.2 knot vector for `count` control points and order k = degree+1: k zeros,
+/// then 1, 2, ..., count-k, then count-k+1 repeated k times (integers, domain [0, count-k+1]).
+std::vector<double> open_uniform_knots(int count, int degree);
+
+/// The seed paper's chord-length knot vector (its eq. 4, Rogers & Adams): clamped, same
+/// domain [0, count-degree] as the open uniform one, interior knots placed by the chord
+/// lengths c_i = |B_{i+1} - B_i| of the control polygon. Falls back to open uniform when
+/// the polygon has zero length.
+std::vector<double> chord_length_knots(const std::vector<Vec3>& points, int degree);
+
+/// A complete curve from control points, weights and order, knots by `rule`.
+NurbsCurve make_nurbs(std::vector<Vec3> points, std::vector<double> weights, int order,
+                      KnotRule rule = KnotRule::kOpenUniform);
+
+// ---- validation -------------------------------------------------------------------------
+
+/// Empty when the curve is usable, else one sentence saying what is wrong (order out of
+/// range 2..6, too few control points for the order, weight count or value, knot count,
+/// decreasing or non-finite knots, empty parameter domain, knots not clamped (first and
+/// last `order` knots equal, as G5.2 and G06.2 make them), interior knot multiplicity above
+/// the degree, non-finite coordinates).
+std::string validate(const NurbsCurve& curve);
+std::string validate(const NurbsView& curve);
+
+// ---- evaluation (allocation-free, real-time safe) ---------------------------------------
+
+/// Knot span index i with knots[i] <= u < knots[i+1], in [degree, count-1]; u outside the
+/// domain is clamped to it (u_max maps to the last non-empty span).
+int find_span(const NurbsView& c, double u);
+
+/// C(u). u is clamped to the domain.
+Vec3 nurbs_point(const NurbsView& c, double u);
+
+/// C(u), C'(u), C''(u) by the Cox–de Boor basis and its derivatives, with the rational
+/// quotient rule on the homogeneous curve. u is clamped to the domain. At an interior knot
+/// the derivatives are those of the span starting there (right-hand side).
+NurbsEval nurbs_eval(const NurbsView& c, double u);
+
+/// Unit tangent at u; where the parametric speed vanishes (a doubled control point, as in
+/// LinuxCNC programs that repeat the start point) the direction of C'' is used instead,
+/// looking forward (`toward_end`) or backward.
+Vec3 nurbs_tangent(const NurbsView& c, double u, bool toward_end = true);
+
+/// Curvature |C' x C''| / |C'|^3 at u (1/mm); 0 where the parametric speed vanishes.
+double nurbs_curvature(const NurbsEval& e);
+
+/// Arc length of the curve between parameters u0 <= u1 (Gauss–Legendre per knot span).
+double nurbs_arc_length(const NurbsView& c, double u0, double u1);
+
+// ---- knot insertion and splitting (host side) -------------------------------------------
+
+/// Boehm knot insertion of u, `times` times; the curve's shape and parametrisation do not
+/// change. u must lie inside the domain.
+NurbsCurve insert_knot(const NurbsCurve& curve, double u, int times = 1);
+
+/// The part of the curve between parameters a < b as a clamped curve of its own (same
+/// parametrisation, knots [a..b]).
+NurbsCurve nurbs_segment(const NurbsCurve& curve, double a, double b);
+
+/// Interior knots where the curve has a corner: multiplicity >= degree and the tangent
+/// direction differs on the two sides (more than about 1e-6 rad).
+std::vector<double> corner_knots(const NurbsCurve& curve);
+
+/// Splits a valid curve at interior knots into consecutive pieces of at most `max_points`
+/// control points (>= degree+1). It also splits at every corner: an interior knot of
+/// multiplicity >= degree where the tangent direction turns, so that no piece contains a
+/// tangent discontinuity (the rt then treats the corner like any block junction). Pieces
+/// are the original curve restricted to [u_i, u_{i+1}], so they join with its continuity.
+std::vector<NurbsCurve> split_nurbs(const NurbsCurve& curve, int max_points = kMaxNurbsPoints);
+
+// ---- block storage ----------------------------------------------------------------------
+
+/// Copies degree, points, weights and knots into `g` (schedule fields untouched). Returns
+/// an error sentence when the curve does not fit one block (more than kMaxNurbsPoints).
+std::string to_geometry(const NurbsCurve& curve, NurbsGeometry& g);
+NurbsCurve from_geometry(const NurbsGeometry& g);
+
+}  // namespace pcnc

@@ -1,0 +1,72 @@
+// nurbs_interpolator.hpp — real-time NURBS interpolation (pcnc-rt, every 500 µs cycle).
+//
+// nurbs_parameter_step() advances the curve parameter so that the chord to the next
+// setpoint has a given length ds: a second-order Taylor step
+//   u+ = u + ds/|C'| - ds^2 (C'.C'') / (2 |C'|^4)
+// followed by Newton iterations on the chord length |C(u+) - C(u)| = ds (usually one, which
+// brings the relative error far below 1e-9).
+//
+// NurbsFollower is the per-block state the rt executor keeps for a running NURBS block:
+// each cycle it picks the path speed (the block's feed schedule at the current parameter,
+// scaled by the feed override, never more than one cycle's acceleration above the last
+// speed, and never more than what still allows reaching the required end speed within the
+// remaining path), then steps the parameter by the trapezoid distance (v + v+)/2 T.
+// Everything here is trivially copyable and allocation-free.
+#pragma once
+
+#include "ipc/block.hpp"
+#include "geometry/nurbs.hpp"
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+struct NurbsStep {
+  double u = 0.0;       // new parameter
+  NurbsEval eval{};     // curve at u (point = the new setpoint)
+  double chord = 0.0;   // |C(u) - C(u_old)|, mm
+  bool at_end = false;  // the end of the curve was reached (chord may be shorter than ds)
+};
+
+/// Advances from parameter u (where the curve is `at`) by a chord of length ds > 0. If the
+/// end of the curve is closer than ds, returns the end with at_end set.
+NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at, double ds);
+
+/// The block schedule's speed at u (linear between points). `hint` is a schedule index kept
+/// by the caller between calls so that a monotone walk costs O(1); start it at 0.
+double block_schedule_speed(const NurbsGeometry& g, double u, int& hint);
+
+class NurbsFollower {
+ public:
+  /// Starts at the beginning of the block's curve with path speed v_start (mm/s).
+  void start(const Block& block, double v_start);
+
+  /// One interpolation cycle of period T. `v_end` is the speed the block must end with
+  /// (0 to stop at its end, the junction speed when the next block continues it);
+  /// `feed_scale` is the feed override (0 holds the feed: the motion decelerates along the
+  /// path and waits; values above 1 have no effect since the schedule sits at the machine's
+  /// limits). Returns the new setpoint. After the end is reached, done() turns true and the
+  /// setpoint stays at the block end.
+  Vec3 step(const Block& block, double period_s, double v_end, double feed_scale);
+
+  bool done() const { return done_; }
+  double u() const { return u_; }
+  double speed() const { return v_; }            // path speed of the last cycle, mm/s
+  double travelled() const { return s_; }        // path length so far (sum of chords), mm
+  double remaining() const { return length_ - s_ > 0.0 ? length_ - s_ : 0.0; }
+  /// Path length by which the last cycle's step overshot the block end (to be carried into
+  /// the next block in the same cycle); 0 before the end.
+  double leftover() const { return leftover_; }
+  const NurbsEval& at() const { return at_; }    // curve at u(): point, C', C''
+
+ private:
+  double u_ = 0.0;
+  double s_ = 0.0;
+  double v_ = 0.0;
+  double length_ = 0.0;
+  double leftover_ = 0.0;
+  NurbsEval at_{};
+  int hint_ = 0;
+  bool done_ = false;
+};
+
+}  // namespace pcnc

@@ -1,0 +1,112 @@
+// block.hpp — the preprocessed move: what pcnc-host puts in a ring slot and pcnc-rt executes.
+//
+// A block is self-contained (DESIGN.md "What a block holds"): the rt needs nothing but the
+// block and the machine config. All positions are machine coordinates in mm (work offset and
+// any --fit scale already applied), speeds mm/s, accelerations mm/s², angles rad, times s.
+// The struct is trivially copyable and fixed size so it can live in shared memory as is.
+#pragma once
+
+#include <cstdint>
+#include <type_traits>
+
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+enum class BlockKind : std::uint8_t {
+  kRapid = 0,  // G00: straight line at the machine's rapid speed
+  kLine = 1,   // G01: straight line at the programmed feed
+  kArc = 2,    // G02/G03: circular arc or helix
+  kNurbs = 3,  // G5.2/G06.2: NURBS curve
+  kDwell = 4,  // G04: stand still for dwell_s
+  kPause = 5,  // M00/M01: stop at rest and wait for resume
+  kEnd = 6,    // M02/M30: program end
+};
+
+// How many axes a straight move uses (seed: myline / myplane / myspace).
+enum class MotionClass : std::uint8_t { kNone = 0, kSingleAxis = 1, kPlane = 2, kSpace = 3 };
+
+/// Arc geometry (kArc). The arc lies in the plane normal to `normal_axis` (2 = Z for G17,
+/// 1 = Y for G18, 0 = X for G19); angles are measured in that plane from its first axis
+/// (X for G17, Z for G18, Y for G19) toward its second (Y, X, Z), so that the right-hand
+/// rule about the normal axis gives positive angles, as in RS274 G03.
+struct ArcGeometry {
+  Vec3 center{};             // on the start point's level along the normal axis
+  double radius = 0.0;       // mm
+  double start_angle = 0.0;  // rad
+  double sweep = 0.0;        // rad, signed: > 0 counter-clockwise (G03), < 0 clockwise (G02)
+  double helix = 0.0;        // mm travelled along the normal axis over the whole sweep
+  double angular_speed = 0.0;       // rad/s, |sweep| direction, limited by every axis
+  double angular_accel = 0.0;       // rad/s²
+  double decel_start_angle = 0.0;   // rad from start (unsigned) where a stop at the end must begin
+  std::uint8_t normal_axis = 2;
+  std::uint8_t pad_[7]{};
+};
+
+/// NURBS curve (kNurbs). Curves with more control points than kMaxNurbsPoints are split
+/// at knots by the host so that each piece fits one slot.
+constexpr int kMaxNurbsPoints = 32;
+constexpr int kMaxNurbsDegree = 5;
+constexpr int kMaxNurbsKnots = kMaxNurbsPoints + kMaxNurbsDegree + 1;
+constexpr int kMaxFeedSchedule = 64;
+
+struct NurbsGeometry {
+  Vec3 points[kMaxNurbsPoints]{};
+  double weights[kMaxNurbsPoints]{};
+  double knots[kMaxNurbsKnots]{};
+  // Feed schedule: the speed limit (mm/s) at parameter values u[i], increasing; linear in
+  // between. It already holds the forward/backward acceleration passes.
+  double schedule_u[kMaxFeedSchedule]{};
+  double schedule_speed[kMaxFeedSchedule]{};
+  std::uint16_t point_count = 0;
+  std::uint16_t knot_count = 0;
+  std::uint16_t schedule_count = 0;
+  std::uint8_t degree = 0;
+  std::uint8_t pad_[1]{};
+};
+
+struct Block {
+  std::uint64_t seq = 0;        // ring sequence number, 1, 2, 3, ... per program
+  std::uint32_t line = 0;       // source line number (1-based) in the G-code file
+  BlockKind kind = BlockKind::kLine;
+  MotionClass motion_class = MotionClass::kNone;
+  std::uint8_t contouring = 0;  // M21 in effect: may pass the end junction without stopping
+  std::uint8_t optional_stop = 0;  // kPause from M01 rather than M00
+
+  Vec3 start{};  // mm, machine coordinates
+  Vec3 end{};    // mm
+
+  // Path kinematics, for every motion kind: the programmed feed projected so that no axis
+  // exceeds its velocity or acceleration limit anywhere on the move.
+  double length = 0.0;  // mm of path
+  double speed = 0.0;   // mm/s, path speed limit of this block
+  double accel = 0.0;   // mm/s², path acceleration limit of this block
+
+  // The seed's driving-axis plan for straight moves (and the helical axis of an arc):
+  // the axis with the largest travel, its direction flag, its own speed and acceleration,
+  // and the coordinate on it where deceleration must start to stop at `end`.
+  std::uint8_t driving_axis = 0;
+  std::int8_t driving_dir = 1;  // +1: the driving coordinate increases toward end
+  std::uint8_t pad0_[6]{};
+  double driving_speed = 0.0;   // mm/s
+  double driving_accel = 0.0;   // mm/s²
+  double decel_start = 0.0;     // mm, coordinate of the driving axis
+
+  // Direction cosines of the path tangent at start and end (unit vectors), for the
+  // contouring angle test between consecutive blocks. Zero for dwell/pause/end.
+  Vec3 dir_start{};
+  Vec3 dir_end{};
+
+  double dwell_s = 0.0;  // kDwell
+
+  ArcGeometry arc{};      // kArc only
+  NurbsGeometry nurbs{};  // kNurbs only
+};
+
+static_assert(std::is_trivially_copyable_v<Block>, "Block lives in shared memory");
+static_assert(std::is_standard_layout_v<Block>, "Block lives in shared memory");
+
+const char* to_string(BlockKind kind);
+const char* to_string(MotionClass motion_class);
+
+}  // namespace pcnc

@@ -1,0 +1,106 @@
+// segment.hpp — the shared-memory segment where pcnc-host and pcnc-rt meet (the seed's
+// dual-port RAM): header, 4-slot motion ring, command mailbox, status snapshot.
+//
+// pcnc-rt creates it (RtSegment) and removes it on a clean exit; pcnc-host opens it
+// (HostSegment) and refuses anything whose magic, layout version or size differ from its own.
+// A segment left by a crashed rt (its pid no longer alive) is recognised and recreated.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "ipc/block.hpp"
+#include "ipc/command.hpp"
+#include "ipc/seqlock.hpp"
+#include "ipc/spsc_ring.hpp"
+#include "ipc/status.hpp"
+#include "ipc/wakeup.hpp"
+
+namespace pcnc {
+
+constexpr std::uint64_t kSegmentMagic = 0x314D48534E434350ull;  // "PCCNSHM1" little-endian
+constexpr std::uint32_t kLayoutVersion = 2;  // bump on any change of the types below
+constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
+constexpr std::size_t kMailboxSlots = 64;
+
+struct SegmentHeader {
+  std::uint64_t magic = 0;
+  std::uint32_t layout_version = 0;
+  std::uint32_t pad_ = 0;
+  std::uint64_t total_size = 0;
+  std::atomic<std::int32_t> rt_pid{0};
+  std::atomic<std::int32_t> host_pid{0};
+  std::atomic<std::uint64_t> rt_heartbeat_ns{0};    // CLOCK_MONOTONIC of the rt's last cycle
+  std::atomic<std::uint64_t> host_heartbeat_ns{0};  // CLOCK_MONOTONIC of the host's last beat
+  std::atomic<std::uint64_t> slot_freed_ns{0};      // CLOCK_MONOTONIC when the rt last freed a ring slot
+  std::atomic<std::uint32_t> ready{0};              // 1 once the rt initialised everything
+};
+
+struct SharedSegment {
+  SegmentHeader header;
+  SpscRing<Block, kRingSlots> motion;        // host -> rt, preprocessed blocks
+  Wakeup slot_freed;                         // rt -> host: a ring slot was freed
+  Wakeup block_published;                    // host -> rt: a block was published (virtual clock)
+  SpscRing<Command, kMailboxSlots> commands; // host -> rt
+  Seqlock<Status> status;                    // rt -> host
+};
+
+static_assert(std::atomic<std::int32_t>::is_always_lock_free);
+static_assert(std::atomic<std::uint64_t>::is_always_lock_free);
+static_assert(std::atomic<std::uint32_t>::is_always_lock_free);
+
+struct SegmentError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// CLOCK_MONOTONIC in nanoseconds (system-wide, comparable between processes).
+std::uint64_t monotonic_ns();
+/// True when a process with this pid exists (kill(pid, 0)).
+bool process_alive(int pid);
+
+/// The rt's side: creates the segment, owns it, removes it when destroyed.
+class RtSegment {
+ public:
+  /// Creates `name`. An existing segment whose rt is still alive is an error; one whose rt
+  /// is gone (stale, after a crash) or that is not ours at all is removed and recreated.
+  /// `note` receives a human-readable line about any stale segment recovered.
+  explicit RtSegment(const std::string& name, std::string* note = nullptr);
+  ~RtSegment();
+  RtSegment(const RtSegment&) = delete;
+  RtSegment& operator=(const RtSegment&) = delete;
+
+  SharedSegment& shm() { return *seg_; }
+  const std::string& name() const { return name_; }
+
+ private:
+  std::string name_;
+  SharedSegment* seg_ = nullptr;
+  struct Mapping;
+  std::unique_ptr<Mapping> mapping_;
+};
+
+/// The host's side: opens an existing segment after checking magic, version and size.
+class HostSegment {
+ public:
+  /// Throws SegmentError naming what is missing or what differs.
+  explicit HostSegment(const std::string& name);
+  ~HostSegment();
+  HostSegment(const HostSegment&) = delete;
+  HostSegment& operator=(const HostSegment&) = delete;
+
+  SharedSegment& shm() { return *seg_; }
+  const SharedSegment& shm() const { return *seg_; }
+
+ private:
+  SharedSegment* seg_ = nullptr;
+  struct Mapping;
+  std::unique_ptr<Mapping> mapping_;
+};
+
+/// Removes a segment by name (no error if absent). For tests and tools.
+void remove_segment(const std::string& name);
+
+}  // namespace pcnc
