@@ -16,7 +16,7 @@
 
 #include "check.hpp"
 #include "gcode_test_util.hpp"
-#include "loop/safety.hpp"
+#include "ipc/block_check.hpp"
 
 namespace pcnc {
 namespace {

@@ -7,6 +7,7 @@
 
 #include "motion/executor.hpp"
 #include "motion/junction.hpp"
+#include "geometry/plane.hpp"
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
 
@@ -177,8 +178,7 @@ TEST(Executor, ArcsInEveryPlaneStayOnTheCircle) {
   for (int normal = 0; normal < 3; ++normal) {
     for (bool cw : {true, false}) {
       Vec3 center{12.5, 12.5, 12.5};
-      int a1 = 0, a2 = 1;
-      arc_plane_axes(normal, a1, a2);
+      const int a1 = plane_axes(normal)[0], a2 = plane_axes(normal)[1];
       Vec3 start = center;
       start[a1] += 4.0;
       Vec3 end = center;

@@ -221,9 +221,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
           const auto pa = plane_axes(normal);
           return fail(l, col,
                       std::string(1, c) + " word is not an offset in the " +
-                          (normal == 2   ? "G17"
-                           : normal == 1 ? "G18"
-                                         : "G19") +
+                          plane_name(normal) +
                           " plane of this arc; expected " + center_letter(std::min(pa[0], pa[1])) + " and " +
                           center_letter(std::max(pa[0], pa[1])));
         }
@@ -449,7 +447,7 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   const auto pa = plane_axes(n);
   const auto a0 = static_cast<std::size_t>(pa[0]);
   const auto a1 = static_cast<std::size_t>(pa[1]);
-  const char* plane_name = n == 2 ? "G17" : n == 1 ? "G18" : "G19";
+  const char* plane = plane_name(n);
   Vec3 e = q_;
   std::uint8_t known = known_;
   int column = motion == l.g[kGMotion] ? l.g_col[kGMotion] : 0;
@@ -483,7 +481,7 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
                      "R and I/J/K words on one arc; expected either the center (I/J/K) or the radius (R)");
   if (!has_r && !has_ijk) {
     return fail_here(column, std::string("I, J, K and R words all missing for arc; expected ") + l0 + "/" + l1 +
-                                 " (center offset) or R in the " + plane_name + " plane");
+                                 " (center offset) or R in the " + plane + " plane");
   }
   Move m = base_move(MoveKind::kArc, l, column);
   if (!feed_for_move(l, column, m.feed_mm_s)) {
@@ -791,7 +789,7 @@ bool Interpreter::nurbs_point_line(const ParsedLine& l) {
   if (!g.fanuc) {
     const auto pa = plane_axes(g.normal_axis);
     const char a0 = axis_name(pa[0]), a1 = axis_name(pa[1]), an = axis_name(g.normal_axis);
-    const char* plane = g.normal_axis == 2 ? "G17" : g.normal_axis == 1 ? "G18" : "G19";
+    const char* plane = plane_name(g.normal_axis);
     if (l.has(an)) {
       return group_fail(l.column(an), std::string(1, an) + " word in a " + plane +
                                           " NURBS curve; expected only " + a0 + " and " + a1 +

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "geometry/plane.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -48,12 +49,5 @@ struct Move {
 /// never sent to the machine.
 bool is_null_move(const Move& m);
 
-/// The two axes of the arc plane in angle order: angles run from plane_axes(n)[0] toward
-/// plane_axes(n)[1] (G17: X->Y, G18: Z->X, G19: Y->Z).
-inline constexpr std::array<int, 2> plane_axes(int normal_axis) {
-  return normal_axis == 2   ? std::array<int, 2>{0, 1}
-         : normal_axis == 1 ? std::array<int, 2>{2, 0}
-                            : std::array<int, 2>{1, 2};
-}
 
 }  // namespace pcnc

@@ -26,6 +26,7 @@
 #include "motion/feed_override.hpp"
 #include "motion/jog.hpp"
 #include "drive/plant.hpp"
+#include "ipc/block_check.hpp"
 #include "loop/safety.hpp"
 #include "drive/servo_pid.hpp"
 

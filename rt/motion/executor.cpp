@@ -7,7 +7,7 @@
 
 #include "motion/junction.hpp"
 #include "geometry/nurbs_interpolator.hpp"
-#include "loop/safety.hpp"
+#include "ipc/block_check.hpp"
 
 namespace pcnc {
 

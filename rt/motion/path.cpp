@@ -7,16 +7,9 @@
 #include <numbers>
 
 #include "geometry/arc_limits.hpp"
+#include "geometry/plane.hpp"
 
 namespace pcnc {
-
-void arc_plane_axes(int normal_axis, int& first, int& second) {
-  switch (normal_axis) {
-    case 0: first = 1; second = 2; break;   // G19: Y, Z
-    case 1: first = 2; second = 0; break;   // G18: Z, X
-    default: first = 0; second = 1; break;  // G17: X, Y
-  }
-}
 
 namespace {
 
@@ -98,7 +91,8 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
   }
   if (b.kind == BlockKind::kArc) {
     pb.an = b.arc.normal_axis;
-    arc_plane_axes(pb.an, pb.a1, pb.a2);
+    pb.a1 = plane_axes(pb.an)[0];
+    pb.a2 = plane_axes(pb.an)[1];
     pb.c1 = b.arc.center[pb.a1];
     pb.c2 = b.arc.center[pb.a2];
     const double s1 = b.start[pb.a1] - pb.c1, s2 = b.start[pb.a2] - pb.c2;

@@ -49,7 +49,5 @@ PreparedBlock prepare_block(const Block& block, const MachineConfig& config);
 /// Point, tangent and curvature at path length s (clamped to [0, length]).
 PathPoint evaluate(const PreparedBlock& b, double s);
 
-/// The arc's in-plane axes for a normal axis (2: X,Y; 1: Z,X; 0: Y,Z).
-void arc_plane_axes(int normal_axis, int& first, int& second);
 
 }  // namespace pcnc

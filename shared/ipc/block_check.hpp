@@ -1,0 +1,37 @@
+// block_check.hpp — what a valid block is: the one check that the rt runs on every block it
+// takes from the ring and that `pcnc check` runs on every block the front end makes, so that
+// what check accepts is exactly what the rt executes. Pure, allocation-free.
+//
+//  * check_block: a block is refused (kBadBlock / kSequence) when it is
+//    corrupt or impossible: non-finite numbers, unknown kind, a sequence gap or repeat, a start
+//    that does not continue from the previous end, a length inconsistent with its geometry,
+//    points (or an arc's bulge) outside the travel, speed/accel <= 0 on a motion, arc radius
+//    or angle mismatch. The reason is a static string (no allocation in the cycle).
+//  * outside_travel: soft-limit test of a point.
+#pragma once
+
+#include <cstdint>
+
+#include "ipc/block.hpp"
+#include "config/config.hpp"
+#include "ipc/status.hpp"
+
+namespace pcnc {
+
+struct BlockVerdict {
+  FaultCode fault = FaultCode::kNone;  // kNone: accepted
+  const char* reason = "";             // static text naming the defect
+  std::uint8_t axis = 0;               // axis concerned, when one is
+  double value = 0.0;                  // the offending number, when one is
+};
+
+/// `expected_start`: where the previous block ended (or the machine stands);
+/// `expected_seq`: the sequence number this block must carry.
+BlockVerdict check_block(const Block& block, const Vec3& expected_start, std::uint64_t expected_seq,
+                         const MachineConfig& config);
+
+/// Soft limits: returns the first axis outside [travel_min − tol, travel_max + tol], or −1.
+int outside_travel(const Vec3& p, const MachineConfig& config, double tol_mm);
+
+
+}  // namespace pcnc
