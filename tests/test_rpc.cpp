@@ -47,6 +47,37 @@ TEST(RpcParse, InvalidJsonSaysWhere) {
   EXPECT_TRUE(p.request.id.is_null());
 }
 
+// Issue 19: {"x":1e309} killed the host (an out_of_range escaped parse_request).
+TEST(RpcParse, NumbersOutsideDoubleRangeAreAParseErrorNotACrash) {
+  for (const char* text : {"{\"id\":7,\"method\":\"status\",\"x\":1e309}", "{\"id\":1e309,\"method\":\"status\"}",
+                           "{\"id\":1,\"method\":\"override\",\"params\":{\"percent\":-1e400}}",
+                           "{\"id\":1,\"method\":\"jog\",\"params\":{\"axis\":\"x\",\"distance\":[1e999]}}"}) {
+    rpc::ParsedRequest p;
+    ASSERT_NO_THROW(p = rpc::parse_request(text)) << text;
+    ASSERT_TRUE(p.error) << text;
+    EXPECT_EQ(p.error->code, rpc::kParseError) << text;
+    EXPECT_NE(p.error->message.find("number overflow"), std::string::npos) << p.error->message;
+  }
+}
+
+TEST(RpcParse, RepeatedMembersAreRefused) {
+  auto p = rpc::parse_request("{\"id\":3,\"method\":\"status\",\"method\":\"estop\"}");
+  ASSERT_TRUE(p.error);
+  EXPECT_EQ(p.error->code, rpc::kInvalidRequest);
+  EXPECT_NE(p.error->message.find("'method' appears more than once"), std::string::npos) << p.error->message;
+  EXPECT_EQ(p.request.id, 3);
+  // inside params too, and the same key in two different objects is fine
+  p = rpc::parse_request("{\"id\":4,\"method\":\"override\",\"params\":{\"percent\":50,\"percent\":150}}");
+  ASSERT_TRUE(p.error);
+  EXPECT_NE(p.error->message.find("'percent'"), std::string::npos) << p.error->message;
+  p = rpc::parse_request("{\"id\":5,\"method\":\"set_offset\",\"params\":{\"x\":1,\"y\":{\"x\":2}}}");
+  EXPECT_FALSE(p.error && p.error->code == rpc::kInvalidRequest) << p.error->message;
+  // a repeated id is not echoed
+  p = rpc::parse_request("{\"id\":6,\"id\":7,\"method\":\"status\"}");
+  ASSERT_TRUE(p.error);
+  EXPECT_TRUE(p.request.id.is_null());
+}
+
 TEST(RpcParse, NotARequestObject) {
   for (const char* text : {"[1,2,3]", "42", "\"status\"", "null"}) {
     auto p = rpc::parse_request(text);

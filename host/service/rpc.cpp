@@ -160,17 +160,45 @@ bool is_method(const std::string& name) {
 ParsedRequest parse_request(std::string_view line) {
   ParsedRequest out;
   out.request.id = nullptr;
-  json j = json::parse(line.begin(), line.end(), nullptr, false);
+  // Parsed without exceptions; a key repeated inside one object is remembered (nlohmann
+  // keeps the last one, so {"method":"status","method":"estop"} would silently become estop).
+  std::vector<std::vector<std::string>> keys;  // the keys seen so far, per open object
+  std::string repeated;
+  const json::parser_callback_t watch_keys = [&](int, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::object_start) keys.emplace_back();
+    if (event == json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+    if (event == json::parse_event_t::key && !keys.empty() && parsed.is_string()) {
+      const std::string& k = parsed.get_ref<const std::string&>();
+      if (std::find(keys.back().begin(), keys.back().end(), k) != keys.back().end()) {
+        if (repeated.empty()) repeated = k;
+      } else {
+        keys.back().push_back(k);
+      }
+    }
+    return true;
+  };
+  json j = json::parse(line.begin(), line.end(), watch_keys, false);
   if (j.is_discarded()) {
-    // Say where: re-parse with exceptions for the message (cheap; the line is bounded).
+    // Say where: re-parse with exceptions for the message (cheap; the line is bounded). Any
+    // json::exception counts: a number outside double range (1e309) is an out_of_range, not
+    // a parse_error, and must never escape to the caller.
     std::string where;
     try {
       const json ignored = json::parse(line.begin(), line.end());
       (void)ignored;
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
       where = e.what();
     }
     out.error = Error{kParseError, "invalid JSON: " + where, nullptr};
+    return out;
+  }
+  if (!repeated.empty()) {
+    out.error = Error{kInvalidRequest, "member '" + repeated + "' appears more than once in one object", nullptr};
+    if (j.is_object()) {
+      // The id cannot be trusted either when it is the repeated one.
+      if (auto it = j.find("id"); it != j.end() && repeated != "id" && (it->is_number() || it->is_string()))
+        out.request.id = *it;
+    }
     return out;
   }
   if (!j.is_object()) {
