@@ -15,16 +15,33 @@ export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
 
 step() { printf '\n==== %s ====\n' "$*"; }
 
+# The suite must leave nothing behind: no shared-memory segment, no temporary folder.
+leftovers() { { ls -d /dev/shm/pcnc-* /tmp/pcnc-test-* 2>/dev/null || true; } | sort; }
+leftovers >"${TMPDIR:-/tmp}/pcnc-leftovers-before.$$"
+check_leftovers() {
+  local new
+  new=$(leftovers | comm -13 "${TMPDIR:-/tmp}/pcnc-leftovers-before.$$" -)
+  if [ -n "$new" ]; then
+    echo "test.sh: the $1 suite left these behind:"
+    echo "$new"
+    exit 1
+  fi
+  echo "test.sh: the $1 suite left nothing behind in /dev/shm or /tmp"
+}
+trap 'rm -f "${TMPDIR:-/tmp}/pcnc-leftovers-before.$$"' EXIT
+
 step "build (RelWithDebInfo) and ctest"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPCNC_WERROR=ON >/dev/null
 cmake --build build -j "$JOBS"
 ctest --test-dir build --output-on-failure -j "$JOBS"
+check_leftovers normal
 
 if [ "${PCNC_SKIP_SANITIZERS:-0}" != "1" ]; then
   step "AddressSanitizer + UndefinedBehaviorSanitizer build and ctest"
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPCNC_SANITIZE=address,undefined >/dev/null
   cmake --build build-asan -j "$JOBS"
   PCNC_RING_TEST_BLOCKS=200000 ctest --test-dir build-asan --output-on-failure -j "$JOBS"
+  check_leftovers ASan
 
   step "ThreadSanitizer: shared-memory, ring, segment and rt tests"
   cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPCNC_SANITIZE=thread >/dev/null

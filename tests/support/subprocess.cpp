@@ -2,12 +2,15 @@
 #include "subprocess.hpp"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
+#include <mutex>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -24,6 +27,39 @@ int decode(int status) {
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return -1;
 }
+
+// What the tests of this process created: removed when the process exits normally, so a
+// suite leaves no /tmp/pcnc-test-* folder and no /dev/shm/pcnc-t-* segment behind (also when
+// a test killed the rt that owned the segment). PCNC_KEEP_TEST_FILES=1 keeps them for a look.
+class LeftoverRegistry {
+ public:
+  static LeftoverRegistry& get() {
+    static LeftoverRegistry r;
+    return r;
+  }
+  void add_dir(const std::string& d) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    dirs_.push_back(d);
+  }
+  void add_shm(const std::string& n) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    shms_.push_back(n);
+  }
+  ~LeftoverRegistry() {
+    if (getpid() != owner_) return;  // a forked child never removes its parent's files
+    const char* keep = std::getenv("PCNC_KEEP_TEST_FILES");
+    if (keep && std::string(keep) == "1") return;
+    std::error_code ec;
+    for (const auto& d : dirs_) std::filesystem::remove_all(d, ec);
+    for (const auto& n : shms_) shm_unlink(n.c_str());
+  }
+
+ private:
+  LeftoverRegistry() : owner_(getpid()) {}
+  pid_t owner_;
+  std::mutex mutex_;
+  std::vector<std::string> dirs_, shms_;
+};
 
 std::vector<char*> make_argv(const std::vector<std::string>& argv) {
   std::vector<char*> v;
@@ -123,10 +159,15 @@ std::string read_file(const std::string& path) {
 std::string make_temp_dir(const std::string& tag) {
   std::string templ = "/tmp/pcnc-test-" + tag + "-XXXXXX";
   if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
+  LeftoverRegistry::get().add_dir(templ);
   return templ;
 }
 
-std::string test_shm_name(const std::string& tag) { return "/pcnc-t-" + tag + "-" + std::to_string(getpid()); }
+std::string test_shm_name(const std::string& tag) {
+  std::string name = "/pcnc-t-" + tag + "-" + std::to_string(getpid());
+  LeftoverRegistry::get().add_shm(name);
+  return name;
+}
 
 std::string write_test_config(const std::string& dir, const std::string& tag,
                               const std::vector<std::pair<std::string, std::string>>& extra_replacements) {

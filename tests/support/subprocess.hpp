@@ -39,7 +39,8 @@ std::string write_test_config(const std::string& dir, const std::string& tag,
 /// The shm name write_test_config used for `tag`.
 std::string test_shm_name(const std::string& tag);
 
-/// A fresh temporary directory (removed by the caller if wanted).
+/// A fresh temporary directory, removed with everything in it when the test process exits
+/// (PCNC_KEEP_TEST_FILES=1 keeps it). The same holds for the segment named by test_shm_name.
 std::string make_temp_dir(const std::string& tag);
 
 std::string read_file(const std::string& path);
