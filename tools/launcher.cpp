@@ -1,5 +1,6 @@
-// launcher.cpp — process management for `pcnc run`: fork/exec, readiness pipe, signal
-// forwarding, and reporting which process ended and how.
+// launcher.cpp — process management for `pcnc run` and `pcnc serve` (see launcher.hpp):
+// fork/exec, readiness pipe, signal forwarding, restarts when supervising, and reporting
+// which process ended and how.
 #include "launcher.hpp"
 
 #include <fcntl.h>
@@ -84,18 +85,14 @@ std::string executable_dir() {
   return ec ? std::string(".") : exe.parent_path().string();
 }
 
-int launch_pair(const LaunchOptions& options) {
-  struct sigaction sa {};
-  sa.sa_handler = forward_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  sigaction(SIGHUP, &sa, nullptr);
+namespace {
 
+// Starts pcnc-rt and waits for its "ready" line. Returns its pid, or 0 after saying why not.
+pid_t start_rt(const LaunchOptions& options) {
   int ready[2];
   if (pipe2(ready, O_CLOEXEC) != 0) {
     std::fprintf(stderr, "pcnc: pipe: %s\n", std::strerror(errno));
-    return 3;
+    return 0;
   }
   std::vector<std::string> rt_args = options.rt_args;
   rt_args.push_back("--ready-fd");
@@ -107,22 +104,56 @@ int launch_pair(const LaunchOptions& options) {
   // Wait for "ready" from pcnc-rt, or its death, or the timeout.
   char buf[16];
   pollfd pfd{ready[0], POLLIN, 0};
-  const int pr = poll(&pfd, 1, static_cast<int>(options.rt_start_timeout_s * 1000));
-  const ssize_t n = pr > 0 ? read(ready[0], buf, sizeof buf) : 0;
+  int pr;
+  do {
+    pr = poll(&pfd, 1, static_cast<int>(options.rt_start_timeout_s * 1000));
+  } while (pr < 0 && errno == EINTR && !g_signal);
+  const ssize_t n = pr > 0 ? read(ready[0], buf, sizeof buf) : -1;
   close(ready[0]);
-  if (n <= 0) {
-    // EOF (n == 0): pcnc-rt closed the pipe without "ready", i.e. it is exiting; wait for it.
-    // Timeout (n < 0 or no data): it hangs; stop it.
-    int status = 0;
-    const bool exited = n == 0 ? waitpid(rt, &status, 0) == rt : waitpid(rt, &status, WNOHANG) == rt;
-    if (exited) {
-      std::fprintf(stderr, "pcnc: pcnc-rt failed to start: it %s\n", describe_end(status).c_str());
-    } else {
-      stop_and_reap(rt, 2.0);
-      std::fprintf(stderr, "pcnc: pcnc-rt did not become ready within %.1f s\n", options.rt_start_timeout_s);
-    }
-    return g_signal ? 128 + g_signal : 3;
+  if (n > 0) return rt;
+  // EOF (n == 0): pcnc-rt closed the pipe without "ready", i.e. it is exiting; wait for it.
+  // Timeout (no data): it hangs; stop it.
+  int status = 0;
+  const bool exited = n == 0 ? waitpid(rt, &status, 0) == rt : waitpid(rt, &status, WNOHANG) == rt;
+  if (exited) {
+    std::fprintf(stderr, "pcnc: pcnc-rt failed to start: it %s\n", describe_end(status).c_str());
+  } else {
+    stop_and_reap(rt, 2.0);
+    if (!g_signal) std::fprintf(stderr, "pcnc: pcnc-rt did not become ready within %.1f s\n", options.rt_start_timeout_s);
   }
+  g_children[0] = 0;
+  return 0;
+}
+
+// Restarts of one process within the sliding window.
+struct RestartBudget {
+  std::vector<std::chrono::steady_clock::time_point> times;
+  bool take(const LaunchOptions& o) {
+    const auto now = std::chrono::steady_clock::now();
+    const auto window = std::chrono::duration<double>(o.restart_window_s);
+    std::erase_if(times, [&](auto t) { return now - t > window; });
+    if (static_cast<int>(times.size()) >= o.max_restarts) return false;
+    times.push_back(now);
+    return true;
+  }
+};
+
+bool ended_on_its_own(int status) {
+  return !g_signal && !(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+}
+
+}  // namespace
+
+int launch_pair(const LaunchOptions& options) {
+  struct sigaction sa {};
+  sa.sa_handler = forward_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGHUP, &sa, nullptr);
+
+  pid_t rt = start_rt(options);
+  if (rt == 0) return g_signal ? 128 + g_signal : 3;
 
   // progress channel (a socket pair): the host writes lines, a thread here hands them on
   // until the host exits, and answers "done" so the display is cleared before the report
@@ -132,7 +163,7 @@ int launch_pair(const LaunchOptions& options) {
     host_args.push_back("--progress-fd");
     host_args.push_back(std::to_string(progress[1]));
   }
-  const pid_t host = spawn(options.host_path, host_args, progress[1]);
+  pid_t host = spawn(options.host_path, host_args, progress[1]);
   g_children[1] = host;
   std::thread progress_reader;
   if (progress[0] >= 0) {
@@ -158,6 +189,7 @@ int launch_pair(const LaunchOptions& options) {
     });
   }
 
+  RestartBudget rt_restarts, host_restarts;
   int exit_code = 0;
   for (;;) {
     int status = 0;
@@ -168,13 +200,34 @@ int launch_pair(const LaunchOptions& options) {
     }
     if (who == host) {
       g_children[1] = 0;
-      const int rt_status = stop_and_reap(rt, 5.0);
+      if (options.supervise && ended_on_its_own(status)) {
+        // The rt has noticed (or will, within process.host_timeout_s) and brings the machine
+        // to rest on the path; the new host finds it HOST_LOST and can resume.
+        if (host_restarts.take(options)) {
+          std::fprintf(stderr, "pcnc: pcnc-host %s; pcnc-rt stays up and holds the machine; starting pcnc-host again\n",
+                       describe_end(status).c_str());
+          std::this_thread::sleep_for(std::chrono::duration<double>(options.restart_delay_s));
+          if (!g_signal) {
+            host = spawn(options.host_path, options.host_args, -1);
+            g_children[1] = host;
+            continue;
+          }
+        } else {
+          std::fprintf(stderr, "pcnc: pcnc-host %s after %d restarts within %.0f s; giving up\n",
+                       describe_end(status).c_str(), options.max_restarts, options.restart_window_s);
+          exit_code = 3;
+        }
+      }
+      // SIGTERM asks the rt to bring a moving machine to rest before it exits.
+      const int rt_status = stop_and_reap(rt, 10.0);
       g_children[0] = 0;
-      if (WIFEXITED(status)) {
-        exit_code = WEXITSTATUS(status);
-      } else {
-        std::fprintf(stderr, "pcnc: pcnc-host %s\n", describe_end(status).c_str());
-        exit_code = WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 1;
+      if (exit_code == 0) {
+        if (WIFEXITED(status)) {
+          exit_code = WEXITSTATUS(status);
+        } else {
+          std::fprintf(stderr, "pcnc: pcnc-host %s\n", describe_end(status).c_str());
+          exit_code = WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 1;
+        }
       }
       const bool rt_clean = (WIFEXITED(rt_status) && WEXITSTATUS(rt_status) == 0) ||
                             (WIFSIGNALED(rt_status) && WTERMSIG(rt_status) == SIGTERM);
@@ -186,7 +239,21 @@ int launch_pair(const LaunchOptions& options) {
     }
     if (who == rt) {
       g_children[0] = 0;
-      if (!g_signal) std::fprintf(stderr, "pcnc: pcnc-rt %s; stopping pcnc-host\n", describe_end(status).c_str());
+      if (options.supervise && ended_on_its_own(status)) {
+        // The host refuses motion while the rt is gone and attaches to the new one.
+        if (rt_restarts.take(options)) {
+          std::fprintf(stderr, "pcnc: pcnc-rt %s; starting pcnc-rt again (pcnc-host stays up and re-attaches)\n",
+                       describe_end(status).c_str());
+          std::this_thread::sleep_for(std::chrono::duration<double>(options.restart_delay_s));
+          if (!g_signal && (rt = start_rt(options)) != 0) continue;
+          if (!g_signal) std::fprintf(stderr, "pcnc: pcnc-rt could not be started again; stopping pcnc-host\n");
+        } else {
+          std::fprintf(stderr, "pcnc: pcnc-rt %s after %d restarts within %.0f s; giving up\n",
+                       describe_end(status).c_str(), options.max_restarts, options.restart_window_s);
+        }
+      } else if (!g_signal) {
+        std::fprintf(stderr, "pcnc: pcnc-rt %s; stopping pcnc-host\n", describe_end(status).c_str());
+      }
       const int host_status = stop_and_reap(host, 5.0);
       g_children[1] = 0;
       if (!g_signal) std::fprintf(stderr, "pcnc: pcnc-host %s\n", describe_end(host_status).c_str());

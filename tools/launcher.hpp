@@ -1,6 +1,15 @@
-// launcher.hpp — `pcnc run`: starts pcnc-rt and pcnc-host as two real processes, forwards
-// Ctrl-C/SIGTERM to both, waits, and turns their endings into one meaningful exit status.
-// If either dies, it stops the other and says which one died and why.
+// launcher.hpp — `pcnc run` and `pcnc serve`: starts pcnc-rt and pcnc-host as two real
+// processes, forwards Ctrl-C/SIGTERM to both, waits, and turns their endings into one
+// meaningful exit status.
+//
+// `pcnc run` (one job): when either process dies, the other is asked to end (SIGTERM: the rt
+// first brings a moving machine to rest) and the launcher says which one died and why.
+// `pcnc serve` (supervise): a process that dies on its own is started again and the other is
+// left alone, because each survives the other's loss by itself: the rt brings the machine to
+// rest on the path when the host is lost (HOST_LOST; a new host can resume), and the host
+// refuses motion while the rt is gone and re-attaches to the new one. Power is never cut to
+// a moving process. More than `max_restarts` restarts within `restart_window_s` end the
+// service (exit 3): a process that cannot stay up is a fault to look at, not to hide.
 #pragma once
 
 #include <functional>
@@ -20,10 +29,14 @@ struct LaunchOptions {
   // handed to this function, from a reader thread, until the host exits. After the line
   // "done" the launcher answers "ok" (the host waits for it before printing its report).
   std::function<void(std::string_view line)> on_progress_line;
+  bool supervise = false;              // pcnc serve: restart a process that died on its own
+  int max_restarts = 5;                // per process, within restart_window_s
+  double restart_window_s = 60.0;
+  double restart_delay_s = 0.2;        // before a restart (the rt needs none to stop the machine)
 };
 
 /// Exit status: the host's status when both end normally; 3 when pcnc-rt died or failed to
-/// start; 128+N when interrupted by signal N.
+/// start (or, supervising, kept dying); 128+N when interrupted by signal N.
 int launch_pair(const LaunchOptions& options);
 
 /// Directory of the running executable (to find pcnc-rt and pcnc-host beside pcnc).

@@ -30,6 +30,7 @@ void add_serve_subcommand(CLI::App& app, int& exit_code) {
     lo.rt_args = {"--config", config_path, "--clock", clock};
     if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
     lo.host_args = {"--config", config_path, "--serve"};
+    lo.supervise = true;  // a process that dies on its own is started again; the other stays up
     exit_code = launch_pair(lo);
   });
 }
