@@ -41,6 +41,24 @@ CtlClient::CtlClient(const std::string& socket_path) {
     throw std::runtime_error("cannot connect to pcnc-host at " + socket_path + ": " + why +
                              " (is `pcnc-host --serve` running with this config?)");
   }
+  // Talk only to a server that runs as root or as ourselves: a socket another user created
+  // first (squatting a world-writable directory) must not receive our commands or feed us
+  // a fake status.
+  ucred peer{};
+  socklen_t len = sizeof peer;
+  if (getsockopt(fd_, SOL_SOCKET, SO_PEERCRED, &peer, &len) != 0 || len != sizeof peer) {
+    const std::string why = std::strerror(errno);
+    close(fd_);
+    fd_ = -1;
+    throw std::runtime_error("cannot tell who serves " + socket_path + ": " + why);
+  }
+  if (peer.uid != 0 && peer.uid != geteuid()) {
+    close(fd_);
+    fd_ = -1;
+    throw std::runtime_error("refusing to talk to " + socket_path + ": it is served by uid " + std::to_string(peer.uid) +
+                             " (pid " + std::to_string(peer.pid) + "), neither root nor you (uid " +
+                             std::to_string(geteuid()) + "); another user may have created the socket first");
+  }
 }
 
 CtlClient::~CtlClient() {

@@ -19,7 +19,8 @@ namespace pcnc {
 /// arrive in between are handed to `on_notification`).
 class CtlClient {
  public:
-  /// Connects; throws std::runtime_error naming the path and the reason.
+  /// Connects; throws std::runtime_error naming the path and the reason. The server must run
+  /// as root or as this process's user (SO_PEERCRED): anything else is refused.
   explicit CtlClient(const std::string& socket_path);
   ~CtlClient();
   CtlClient(const CtlClient&) = delete;
