@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/mman.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -53,6 +54,27 @@ TEST(Segment, HostOpensWhatTheRtCreatedAndSeesTheRtPid) {
   // the two mappings are the same memory
   rt.shm().header.host_heartbeat_ns.store(12345);
   EXPECT_EQ(host.shm().header.host_heartbeat_ns.load(), 12345u);
+}
+
+// Issue 19, squatting: a segment that is writable by others, or owned by another uid, is
+// refused even when its contents look right.
+TEST(Segment, HostRefusesASegmentOthersCanWriteOrAnotherUidOwns) {
+  const std::string name = unique_name("squat");
+  RtSegment rt(name);
+  const int fd = shm_open(name.c_str(), O_RDWR, 0);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(fchmod(fd, 0666), 0);
+  std::string err = host_open_error(name);
+  EXPECT_NE(err.find("mode 0666"), std::string::npos) << err;
+  ASSERT_EQ(fchmod(fd, 0600), 0);
+  EXPECT_EQ(host_open_error(name), "");
+  if (geteuid() == 0) {
+    ASSERT_EQ(fchown(fd, 65534, 65534), 0);
+    err = host_open_error(name);
+    EXPECT_NE(err.find("owned by uid 65534"), std::string::npos) << err;
+    ASSERT_EQ(fchown(fd, 0, 0), 0);
+  }
+  close(fd);
 }
 
 TEST(Segment, MissingSegmentIsNamed) {

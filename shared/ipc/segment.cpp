@@ -2,6 +2,7 @@
 #include "ipc/segment.hpp"
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include <boost/interprocess/mapped_region.hpp>
@@ -163,6 +164,19 @@ HostSegment::HostSegment(const std::string& name) {
     mapping_->object = bip::shared_memory_object(bip::open_only, name.c_str(), bip::read_write);
   } catch (const bip::interprocess_exception&) {
     throw SegmentError("shared-memory segment '" + name + "' does not exist: is pcnc-rt running with this config?");
+  }
+  // Only a segment that pcnc-rt of this user (or root) created, writable by nobody else: a
+  // segment another uid created first (squatting the name) would feed us a fake machine.
+  struct stat st {};
+  if (fstat(mapping_->object.get_mapping_handle().handle, &st) != 0) {
+    throw SegmentError("cannot inspect shared-memory segment '" + name + "': " + std::strerror(errno));
+  }
+  if ((st.st_uid != 0 && st.st_uid != geteuid()) || (st.st_mode & 0077) != 0) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
+    throw SegmentError("refusing shared-memory segment '" + name + "': owned by uid " + std::to_string(st.st_uid) +
+                       " with mode " + mode + "; pcnc-rt creates it as root or as you (uid " +
+                       std::to_string(geteuid()) + ") with mode 0600");
   }
   bip::offset_t size = 0;
   mapping_->object.get_size(size);
