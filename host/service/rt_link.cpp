@@ -10,7 +10,11 @@
 namespace pcnc {
 
 RtLink::RtLink(const MachineConfig& config) : config_(config), segment_(config.process.shm_name) {
-  shm().header.host_pid.store(getpid());
+  // One host at a time: a second one would mask the first one's loss with its heartbeat.
+  if (const int holder = claim_host(shm().header, getpid()); holder != 0) {
+    throw SegmentError("pcnc-rt (pid " + std::to_string(shm().header.rt_pid.load()) + ") is already served by pcnc-host pid " +
+                       std::to_string(holder) + "; stop that one first");
+  }
   shm().header.host_heartbeat_ns.store(monotonic_ns());
   heartbeat_ = std::thread([this] { beat(); });
 }
@@ -18,8 +22,7 @@ RtLink::RtLink(const MachineConfig& config) : config_(config), segment_(config.p
 RtLink::~RtLink() {
   stop_ = true;
   if (heartbeat_.joinable()) heartbeat_.join();
-  int self = getpid();
-  shm().header.host_pid.compare_exchange_strong(self, 0);
+  release_host(shm().header, getpid());
 }
 
 std::unique_ptr<RtLink> RtLink::attach(const MachineConfig& config, double wait_s) {

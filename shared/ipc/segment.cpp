@@ -43,6 +43,21 @@ bool process_alive(int pid) {
   return paren[2] != 'Z' && paren[2] != 'X';
 }
 
+int claim_host(SegmentHeader& h, int pid) {
+  for (;;) {
+    std::int32_t holder = h.host_pid.load();
+    if (holder == pid) return 0;
+    if (holder > 0 && process_alive(holder)) return holder;
+    // free, or its holder is gone (killed): take it over, unless someone was faster
+    if (h.host_pid.compare_exchange_strong(holder, pid)) return 0;
+  }
+}
+
+void release_host(SegmentHeader& h, int pid) {
+  std::int32_t self = pid;
+  h.host_pid.compare_exchange_strong(self, 0);
+}
+
 namespace {
 
 // What an existing segment's header says, read without trusting anything else in it.

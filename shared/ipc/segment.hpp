@@ -58,8 +58,15 @@ struct SegmentError : std::runtime_error {
 
 /// CLOCK_MONOTONIC in nanoseconds (system-wide, comparable between processes).
 std::uint64_t monotonic_ns();
-/// True when a process with this pid exists (kill(pid, 0)).
+/// True when a process with this pid runs (kill(pid, 0), and not a zombie in /proc).
 bool process_alive(int pid);
+
+/// The rt serves one host at a time: header.host_pid is a claim. claim_host takes it for
+/// `pid` when it is free or its holder no longer runs, and returns 0; when another running
+/// process holds it, it returns that process's pid and changes nothing. release_host gives
+/// it back (only if `pid` still holds it).
+int claim_host(SegmentHeader& header, int pid);
+void release_host(SegmentHeader& header, int pid);
 
 /// The rt's side: creates the segment, owns it, removes it when destroyed.
 class RtSegment {
