@@ -29,89 +29,6 @@ std::string num(double v) {
   return s;
 }
 
-// nullptr when the G code (x10) is executed or warned about; else why it is rejected.
-const char* rejected_g(int c) {
-  switch (c) {
-    case 100:
-      return "setting offsets or tool data from the program (G10) is not supported; expected offsets in the config, "
-             "--offset or the control socket";
-    case 281:
-    case 301: return "storing a home position (G28.1/G30.1) is not supported; expected G28 G91 Z0 for a safe retract";
-    case 300: return "a second home position (G30) is not supported; expected G28 G91 Z0 for a safe retract";
-    case 520:
-    case 920:
-    case 921:
-    case 922:
-    case 923:
-      return "coordinate offsets from the program (G52/G92) are not supported; expected G54-G59 (offsets from the "
-             "config), --offset or the control socket";
-    case 50:
-    case 51: return "cubic and quadratic splines (G5/G5.1) are not supported; expected G1/G2/G3 moves";
-    case 330:
-    case 331:
-      return "spindle-synchronized motion (G33) is not supported: the machine has no spindle; expected G0/G1/G2/G3 "
-             "moves";
-    case 382:
-    case 383:
-    case 384:
-    case 385: return "probing (G38.x) is not supported: the machine has no probe; expected G0/G1/G2/G3 moves";
-    case 730:
-    case 740:
-    case 760:
-    case 810:
-    case 820:
-    case 830:
-    case 840:
-    case 850:
-    case 860:
-    case 870:
-    case 880:
-    case 890:
-      return "canned cycles are not supported; expected the CAM post-processor to write drilling as G0/G1 moves";
-    case 171:
-    case 181:
-    case 191: return "the UV/WU/VW planes (G17.1/G18.1/G19.1) are not supported; expected G17, G18 or G19";
-    case 901: return "absolute arc centers (G90.1) are not supported; expected G91.1 (I/J/K relative to the arc start)";
-    case 930: return "inverse time feed (G93) is not supported; expected G94 (F in units per minute)";
-    case 950: return "feed per revolution (G95) is not supported: the machine has no spindle; expected G94";
-    case 410:
-    case 411:
-    case 420:
-    case 421:
-      return "cutter radius compensation (G41/G42) is not supported; expected a tool path already offset by the CAM "
-             "system";
-    case 431:
-    case 432: return "dynamic tool length offsets (G43.1/G43.2) are not supported; expected G43 H or G49";
-    case 980:
-    case 990:
-      return "canned-cycle return modes (G98/G99) are not supported: there are no canned cycles; expected G0/G1 "
-             "retracts";
-    case 591:
-    case 592:
-    case 593: return "work offsets G59.1-G59.3 are not supported; expected G54-G59";
-    case 960:
-      return "constant surface speed (G96) is not supported: the machine has no spindle; expected G97 or nothing";
-    case 70:
-    case 80: return "lathe diameter/radius modes (G7/G8) are not supported on this mill; expected a milling program";
-    default: return nullptr;
-  }
-}
-
-const char* rejected_m(int c) {
-  if (c == 60) return "pallet change (M60) is not supported; expected M0 to pause the program";
-  if (c == 19)
-    return "spindle orientation (M19) is not supported: the machine has no spindle; expected no spindle words";
-  if (c >= 48 && c <= 53)
-    return "override switches (M48-M53) are not supported; expected overrides from the control socket";
-  if (c >= 62 && c <= 68)
-    return "digital and analog I/O (M62-M68) is not supported; expected a program without I/O words";
-  if (c >= 70 && c <= 73)
-    return "saving and restoring modal state (M70-M73) is not supported; expected explicit modal words";
-  if (c >= 100 && c <= 199)
-    return "user M codes (M100-M199) are not supported; expected M codes listed in docs/gcode.md";
-  return nullptr;
-}
-
 bool is_arc(int motion) { return motion == 20 || motion == 30; }
 bool is_straight(int motion) { return motion == 0 || motion == 10; }
 char center_letter(int axis) { return static_cast<char>('I' + axis); }
@@ -160,12 +77,12 @@ bool Interpreter::check_words(const ParsedLine& l) {
   for (std::uint32_t bits = l.g_groups; bits; bits &= bits - 1) {
     const int g = __builtin_ctz(bits);
     const int c = l.g[static_cast<std::size_t>(g)];
-    if (const char* why = rejected_g(c)) return fail(l, l.g_col[static_cast<std::size_t>(g)], g_name(c) + ": " + why);
+    if (const char* why = g_rejected(c)) return fail(l, l.g_col[static_cast<std::size_t>(g)], g_name(c) + ": " + why);
   }
   for (std::uint32_t bits = l.m_groups; bits; bits &= bits - 1) {
     const int g = __builtin_ctz(bits);
     const int c = l.m[static_cast<std::size_t>(g)];
-    if (const char* why = rejected_m(c))
+    if (const char* why = m_rejected(c))
       return fail(l, l.m_col[static_cast<std::size_t>(g)], "M" + std::to_string(c) + ": " + why);
   }
   const int motion_word = l.g[kGMotion];
