@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "geometry/nurbs.hpp"
-#include "geometry/nurbs_interpolator.hpp"
+#include "motion/nurbs_follower.hpp"
 #include "gcode/nurbs_schedule.hpp"
 
 using namespace pcnc;

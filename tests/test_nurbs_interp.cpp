@@ -13,7 +13,7 @@
 
 #include "geometry/nurbs.hpp"
 #include "nurbs_circles.hpp"
-#include "geometry/nurbs_interpolator.hpp"
+#include "motion/nurbs_follower.hpp"
 #include "gcode/nurbs_schedule.hpp"
 
 namespace pcnc {

@@ -1,6 +1,6 @@
-// nurbs_interpolator.cpp — the block schedule's speed and the per-cycle speed follower of a
-// NURBS block. See nurbs_interpolator.hpp. No allocation, no I/O.
-#include "geometry/nurbs_interpolator.hpp"
+// nurbs_follower.cpp — the block schedule's speed and the per-cycle speed follower of a
+// NURBS block. See nurbs_follower.hpp. No allocation, no I/O.
+#include "motion/nurbs_follower.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,5 @@
-// nurbs_interpolator.hpp — real-time NURBS interpolation (pcnc-rt, every 500 µs cycle).
+// nurbs_follower.hpp — real-time NURBS interpolation (pcnc-rt, every 500 µs cycle): the
+// block's feed schedule read at a parameter, and the per-block speed follower.
 //
 // The parameter step itself (a chord of given length along the curve) is pure geometry:
 // geometry/nurbs_step.hpp.
