@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "motion/nurbs_follower.hpp"
 #include "gcode/nurbs_schedule.hpp"
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "nurbs_circles.hpp"
 #include "motion/nurbs_follower.hpp"
 #include "gcode/nurbs_schedule.hpp"

@@ -283,7 +283,7 @@ NurbsBlocks plan_nurbs_blocks(const NurbsCurve& curve, const NurbsLimits& limits
   // start speed and to the end speed itself, with the same acceleration.
   out.schedule = plan_nurbs_feed(curve, limits, kInf, kInf);
   const std::vector<double> corners = corner_knots(curve);
-  const std::vector<NurbsCurve> pieces = split_nurbs(curve, kMaxNurbsPoints);
+  const std::vector<NurbsCurve> pieces = split_for_blocks(curve);
   for (const NurbsCurve& piece : pieces) {
     Block b;
     b.kind = BlockKind::kNurbs;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "ipc/block.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/nurbs_step.hpp"
 #include "geometry/vec3.hpp"
