@@ -14,27 +14,16 @@ using namespace interp;
 
 bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   const double u = inches_ ? kInch : 1.0;
-  const Vec3 wofs = config_.gcode.work_offsets[static_cast<std::size_t>(work_index_)] - config_.gcode.work_offsets[0];
   const int n = normal_axis_;
   const auto pa = plane_axes(n);
   const auto a0 = static_cast<std::size_t>(pa[0]);
   const auto a1 = static_cast<std::size_t>(pa[1]);
   const char* plane = plane_name(n);
-  Vec3 e = q_;
   std::uint8_t known = known_;
   int column = motion == l.g[kGMotion] ? l.g_col[kGMotion] : 0;
-  for (int i = 0; i < kAxes; ++i) {
-    const char c = static_cast<char>('X' + i);
-    if (!l.has(c)) continue;
-    if (column == 0) column = l.column(c);
-    const double v = l.get(c) * u;
-    if (incremental_) {
-      e[static_cast<std::size_t>(i)] += v;
-    } else {
-      e[static_cast<std::size_t>(i)] = v + wofs[static_cast<std::size_t>(i)];
-      known = static_cast<std::uint8_t>(known | (1u << i));
-    }
-  }
+  int first_col = 0;
+  const Vec3 e = axis_target(l, q_, known, first_col);
+  if (column == 0) column = first_col;
   // On an error the position still moves to the programmed end point, so that the lines after
   // it are checked from where the program believes it is (no cascade of follow-up errors).
   auto fail_here = [&](int col, std::string message) {

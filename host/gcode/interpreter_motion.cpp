@@ -33,31 +33,54 @@ bool Interpreter::feed_for_move(const ParsedLine& l, int column, double& feed_mm
   return true;
 }
 
-bool Interpreter::straight(const ParsedLine& l, int motion, bool g53, MoveList& out) {
+// The program point (job frame, mm) the X/Y/Z words of `l` name, starting from `from` (an
+// axis not written keeps its value): the program's units (G20/G21), distance mode (G90/G91)
+// and work offset (G54-G59, relative to G54). Axes written in G90 become known; first_col is
+// the column of the first axis word (0: none).
+Vec3 Interpreter::axis_target(const ParsedLine& l, const Vec3& from, std::uint8_t& known, int& first_col) const {
   const double u = inches_ ? kInch : 1.0;
   const Vec3 wofs = config_.gcode.work_offsets[static_cast<std::size_t>(work_index_)] - config_.gcode.work_offsets[0];
+  Vec3 q = from;
+  first_col = 0;
+  for (int i = 0; i < kAxes; ++i) {
+    const char c = static_cast<char>('X' + i);
+    if (!l.has(c)) continue;
+    if (first_col == 0) first_col = l.column(c);
+    const auto k = static_cast<std::size_t>(i);
+    const double v = l.get(c) * u;
+    if (incremental_) {
+      q[k] += v;
+    } else {
+      q[k] = v + wofs[k];
+      known = static_cast<std::uint8_t>(known | (1u << i));
+    }
+  }
+  return q;
+}
+
+bool Interpreter::straight(const ParsedLine& l, int motion, bool g53, MoveList& out) {
   Vec3 q = q_;
   Vec3 end = to_machine(q_);
   std::uint8_t known = known_;
   int column = motion == l.g[kGMotion] ? l.g_col[kGMotion] : 0;
   if (g53 && incremental_) return fail(l, l.g_col[kGNonModal], "G53 in incremental mode (G91); expected G90 with G53");
-  for (int i = 0; i < kAxes; ++i) {
-    const char c = static_cast<char>('X' + i);
-    if (!l.has(c)) continue;
-    if (column == 0) column = l.column(c);
-    const double v = l.get(c) * u;
-    if (g53) {
-      end[static_cast<std::size_t>(i)] = v;
-      q[static_cast<std::size_t>(i)] = (v - frame_.offset[static_cast<std::size_t>(i)]) / frame_.scale;
-      known = static_cast<std::uint8_t>(known | (1u << i));
-    } else if (incremental_) {
-      q[static_cast<std::size_t>(i)] += v;
-    } else {
-      q[static_cast<std::size_t>(i)] = v + wofs[static_cast<std::size_t>(i)];
+  if (g53) {
+    // machine coordinates: units only, no offset, no --fit frame
+    const double u = inches_ ? kInch : 1.0;
+    for (int i = 0; i < kAxes; ++i) {
+      const char c = static_cast<char>('X' + i);
+      if (!l.has(c)) continue;
+      const auto k = static_cast<std::size_t>(i);
+      end[k] = l.get(c) * u;
+      q[k] = (end[k] - frame_.offset[k]) / frame_.scale;
       known = static_cast<std::uint8_t>(known | (1u << i));
     }
+    column = l.g_col[kGNonModal];
+  } else {
+    int first_col = 0;
+    q = axis_target(l, q_, known, first_col);
+    if (column == 0) column = first_col;
   }
-  if (g53) column = l.g_col[kGNonModal];
   Move m = base_move(motion == 0 ? MoveKind::kRapid : MoveKind::kLine, l, column);
   if (motion == 10 && !feed_for_move(l, column, m.feed_mm_s)) {
     q_ = q;  // keep following the program after the error

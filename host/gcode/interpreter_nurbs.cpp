@@ -87,19 +87,8 @@ bool Interpreter::nurbs_open(const ParsedLine& l, int motion, MoveList& out) {
   } else {
     // G6.2 [P] [K] [X Y Z] [R] [F]: the first control point must be the current position.
     if (axis_words(l)) {
-      const double u = inches_ ? kInch : 1.0;
-      const Vec3 wofs =
-          config_.gcode.work_offsets[static_cast<std::size_t>(work_index_)] - config_.gcode.work_offsets[0];
-      Vec3 q = q_;
       int first_col = 0;
-      for (int i = 0; i < kAxes; ++i) {
-        const char c = static_cast<char>('X' + i);
-        if (!l.has(c)) continue;
-        if (first_col == 0) first_col = l.column(c);
-        const auto k = static_cast<std::size_t>(i);
-        q[k] = incremental_ ? q_[k] + l.get(c) * u : l.get(c) * u + wofs[k];
-        if (!incremental_) g.known = static_cast<std::uint8_t>(g.known | (1u << i));
-      }
+      const Vec3 q = axis_target(l, q_, g.known, first_col);
       if (norm(q - q_) * frame_.scale > config_.motion.block_tolerance_mm) {
         return fail(l, first_col,
                     "the first control point of a G6.2 curve is " + num(norm(q - q_)) +
@@ -194,10 +183,6 @@ bool Interpreter::nurbs_point_line(const ParsedLine& l) {
     return group_fail(first_col, "more than " + std::to_string(kMaxNurbsCurvePoints) +
                                      " control points in one NURBS curve; expected the curve split into several");
   }
-  const double u = inches_ ? kInch : 1.0;
-  const Vec3 wofs = config_.gcode.work_offsets[static_cast<std::size_t>(work_index_)] - config_.gcode.work_offsets[0];
-  const Vec3 prev = g.points.back();
-  Vec3 q = prev;
   if (!g.fanuc) {
     const auto pa = plane_axes(g.normal_axis);
     const char a0 = axis_name(pa[0]), a1 = axis_name(pa[1]), an = axis_name(g.normal_axis);
@@ -222,14 +207,8 @@ bool Interpreter::nurbs_point_line(const ParsedLine& l) {
     return group_fail(l.column(weight_letter), std::string("NURBS weight ") + weight_letter + num(w) +
                                                    " is not positive; expected " + weight_letter + " > 0");
   }
-  for (int i = 0; i < kAxes; ++i) {
-    const char c = static_cast<char>('X' + i);
-    if (!l.has(c)) continue;
-    const auto k = static_cast<std::size_t>(i);
-    q[k] = incremental_ ? prev[k] + l.get(c) * u : l.get(c) * u + wofs[k];
-    if (!incremental_) g.known = static_cast<std::uint8_t>(g.known | (1u << i));
-  }
-  g.points.push_back(q);
+  int axis_col = 0;
+  g.points.push_back(axis_target(l, g.points.back(), g.known, axis_col));
   g.weights.push_back(w);
   return true;
 }
