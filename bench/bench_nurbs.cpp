@@ -14,7 +14,8 @@
 #include <vector>
 
 #include "geometry/nurbs.hpp"
-#include "geometry/nurbs_interpolator.hpp"
+#include "ipc/block_nurbs.hpp"
+#include "motion/nurbs_follower.hpp"
 #include "gcode/nurbs_schedule.hpp"
 
 using namespace pcnc;

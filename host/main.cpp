@@ -5,7 +5,6 @@
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -16,6 +15,7 @@
 #include <sstream>
 
 #include "config/config.hpp"
+#include "config/process_start.hpp"
 #include "service/job_runner.hpp"
 #include "gcode/program.hpp"
 #include "service/progress_update.hpp"
@@ -72,19 +72,13 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  spdlog::set_default_logger(spdlog::stderr_color_mt("pcnc-host"));  // stdout stays for reports
-  spdlog::set_pattern("[%H:%M:%S.%e] [pcnc-host] [%^%l%$] %v");
-  spdlog::set_level(spdlog::level::from_str(log_level));
+  pcnc::start_logging("pcnc-host", log_level);  // stdout stays for reports
   if (run_file.empty() == !serve) {
     std::fprintf(stderr, "pcnc-host: give either --run FILE or --serve (see --help)\n");
     return 2;
   }
 
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  pcnc::on_stop_signals(on_signal);
 
   pcnc::MachineConfig config;
   try {

@@ -2,7 +2,6 @@
 // scheduling and locked memory, and runs the 2 kHz loop until SIGINT/SIGTERM.
 #include <sched.h>
 #include <signal.h>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -13,6 +12,7 @@
 #include <cstring>
 
 #include "config/config.hpp"
+#include "config/process_start.hpp"
 #include "loop/rt_loop.hpp"
 #include "ipc/segment.hpp"
 
@@ -60,9 +60,7 @@ int main(int argc, char** argv) {
   app.add_option("--ready-fd", ready_fd, "write 'ready' to this file descriptor once the segment exists (for launchers)");
   CLI11_PARSE(app, argc, argv);
 
-  spdlog::set_default_logger(spdlog::stderr_color_mt("pcnc-rt"));  // stdout stays for reports
-  spdlog::set_pattern("[%H:%M:%S.%e] [pcnc-rt] [%^%l%$] %v");
-  spdlog::set_level(spdlog::level::from_str(log_level));
+  pcnc::start_logging("pcnc-rt", log_level);  // stdout stays for reports
 
   pcnc::MachineConfig config;
   try {
@@ -72,11 +70,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  pcnc::on_stop_signals(on_signal);
 
   const bool virtual_clock = clock == "virtual";
   if (!virtual_clock) request_realtime(config.process.rt_priority);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "nurbs_circles.hpp"
 #include "gcode/nurbs_reader.hpp"
 #include "gcode/nurbs_rough.hpp"
@@ -223,7 +224,7 @@ TEST(NurbsKnotInsertion, LeavesCurveUnchanged) {
 TEST(NurbsSplit, PiecesFitABlockAndReproduceTheCurve) {
   for (int degree = 1; degree <= 5; ++degree) {
     const NurbsCurve c = random_curve(100, degree, 30 + static_cast<unsigned>(degree));
-    const std::vector<NurbsCurve> pieces = split_nurbs(c, kMaxNurbsPoints);
+    const std::vector<NurbsCurve> pieces = split_for_blocks(c);
     ASSERT_GT(pieces.size(), 1u);
     double u = c.u_min();
     for (std::size_t i = 0; i < pieces.size(); ++i) {
@@ -250,10 +251,10 @@ TEST(NurbsSplit, PiecesFitABlockAndReproduceTheCurve) {
 
 TEST(NurbsSplit, CurveThatFitsStaysWholeAndCornersAreCut) {
   const NurbsCurve xy = nurbs_xy();
-  EXPECT_EQ(split_nurbs(xy).size(), 1u);
+  EXPECT_EQ(split_for_blocks(xy).size(), 1u);
   // Degree 1: a polyline; every interior knot is a corner.
   const NurbsCurve poly = make_nurbs({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 1, 0}}, {1, 1, 1, 1}, 2);
-  const auto lines = split_nurbs(poly);
+  const auto lines = split_for_blocks(poly);
   ASSERT_EQ(lines.size(), 3u);
   for (const auto& l : lines) EXPECT_EQ(l.points.size(), 2u);
   // Degree 2 with a double knot at a real corner.
@@ -264,9 +265,9 @@ TEST(NurbsSplit, CurveThatFitsStaysWholeAndCornersAreCut) {
   kink.knots = {0, 0, 0, 1, 1, 2, 2, 2};
   ASSERT_EQ(validate(kink), "");
   EXPECT_EQ(corner_knots(kink), (std::vector<double>{1.0}));
-  EXPECT_EQ(split_nurbs(kink).size(), 2u);
+  EXPECT_EQ(split_for_blocks(kink).size(), 2u);
   // The full circle has double knots but no corner: one piece.
-  EXPECT_EQ(split_nurbs(full_circle(4)).size(), 1u);
+  EXPECT_EQ(split_for_blocks(full_circle(4)).size(), 1u);
 }
 
 TEST(NurbsGeometry, RoundTripThroughBlock) {

@@ -20,6 +20,7 @@
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "gcode/program.hpp"
 
 namespace pcnc {

@@ -11,6 +11,7 @@
 
 #include "gcode_test_util.hpp"
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "gcode/nurbs_move.hpp"
 
 namespace pcnc {

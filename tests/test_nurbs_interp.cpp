@@ -12,8 +12,9 @@
 #include <vector>
 
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "nurbs_circles.hpp"
-#include "geometry/nurbs_interpolator.hpp"
+#include "motion/nurbs_follower.hpp"
 #include "gcode/nurbs_schedule.hpp"
 
 namespace pcnc {

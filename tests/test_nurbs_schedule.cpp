@@ -11,6 +11,7 @@
 
 #include "config/config.hpp"
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "nurbs_circles.hpp"
 #include "gcode/nurbs_schedule.hpp"
 #include "test_paths.hpp"

@@ -76,8 +76,8 @@ RunSummary sample_summary() {
   return s;
 }
 
-TraceRow row(double t, std::uint32_t line, MachineState state, Vec3 act, Vec3 ferr, double speed) {
-  TraceRow r;
+TraceSample row(double t, std::uint32_t line, MachineState state, Vec3 act, Vec3 ferr, double speed) {
+  TraceSample r;
   r.t = t;
   r.line = line;
   r.state = state;
@@ -126,7 +126,7 @@ TEST(TraceReader, ParsesTheWritersRows) {
   s.actual = {1.4999, -2.2501, 2.9999};
   s.following_error = {0.0001, 0.0001, 0.0001};
   s.speed = 12.5;
-  TraceRow r;
+  TraceSample r;
   ASSERT_TRUE(parse_trace_row(trace_csv_row(s), r)) << trace_csv_row(s);
   EXPECT_DOUBLE_EQ(r.t, 1.2345);
   EXPECT_EQ(r.line, 17u);
@@ -159,7 +159,7 @@ TEST(TraceReader, StreamsAFileAndRefusesOtherFiles) {
     }
   }
   TraceReader reader(path);
-  TraceRow r;
+  TraceSample r;
   double sum = 0.0;
   while (reader.next(r)) sum += r.speed;
   EXPECT_EQ(reader.rows(), 1000u);

@@ -10,6 +10,7 @@
 
 #include "config/config.hpp"
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "gcode/nurbs_reader.hpp"
 #include "gcode/nurbs_rough.hpp"
 
@@ -69,7 +70,7 @@ int run_nurbs_rough(const NurbsToolOptions& o, std::ostream& out, std::ostream& 
     const RoughPolyline rough = rough_interpolate(c, step, tol);
     // Bisection alone (one step over the whole curve): the fewest G01 blocks of this method.
     const RoughPolyline cam = rough_interpolate(c, 2.0 * length + 1.0, tol);
-    const std::size_t blocks = split_nurbs(c).size();
+    const std::size_t blocks = split_for_blocks(c).size();
     out << "  feed " << fmt("%g", feed_mm_s * 60.0) << " mm/min: rough step " << fmt("%.6g", step) << " mm ("
         << fmt("%g", o.period_s * 1000.0) << " ms per rough sample), tolerance " << fmt("%g", tol) << " mm\n";
     out << "  rough interpolation: " << rough.segments << " segments (" << rough.bisections

@@ -76,6 +76,7 @@ class Interpreter {
   bool arc(const ParsedLine& l, int motion, MoveList& out);
   bool home(const ParsedLine& l, MoveList& out);
   bool feed_for_move(const ParsedLine& l, int column, double& feed_mm_s);
+  Vec3 axis_target(const ParsedLine& l, const Vec3& from, std::uint8_t& known, int& first_col) const;
   Vec3 to_machine(const Vec3& q) const { return frame_.scale * q + frame_.offset; }
   Vec3 to_job(const Vec3& m) const { return (1.0 / frame_.scale) * (m - frame_.offset); }
   Move base_move(MoveKind kind, const ParsedLine& l, int column) const;

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "geometry/nurbs_interpolator.hpp"
+#include "geometry/nurbs_step.hpp"
 
 namespace pcnc {
 namespace {

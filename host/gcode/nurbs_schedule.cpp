@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/axis_caps.hpp"
+
 namespace pcnc {
 namespace {
 
@@ -47,15 +49,11 @@ SampleLimit limit_at(const NurbsEval& e, const NurbsLimits& lim) {
   out.t = t;
   out.k = k;
   const double kappa = norm(k);
-  for (int i = 0; i < kAxes; ++i) {
-    const double ti = std::fabs(t[static_cast<std::size_t>(i)]);
-    if (ti > 0.0) take(lim.axis_velocity_mm_s[static_cast<std::size_t>(i)] / ti, FeedLimit::kAxisVelocity);
-    const double ki = std::fabs(k[static_cast<std::size_t>(i)]);
-    if (ki > 0.0) {
-      take(std::sqrt(lim.normal_accel_share * lim.axis_accel_mm_s2[static_cast<std::size_t>(i)] / ki),
-           FeedLimit::kCentripetal);
-    }
-  }
+  take(axis_cap(t, lim.axis_velocity_mm_s), FeedLimit::kAxisVelocity);
+  // centripetal: axis i sees v²·|k_i|, within its share of the axis's acceleration
+  AxisLimits normal_accel{};
+  for (int i = 0; i < kAxes; ++i) normal_accel[i] = lim.normal_accel_share * lim.axis_accel_mm_s2[i];
+  take(std::sqrt(axis_cap(k, normal_accel)), FeedLimit::kCentripetal);
   if (kappa > 0.0) {
     const double rho = 1.0 / kappa;
     const double d = lim.chord_tolerance_mm;
@@ -285,7 +283,7 @@ NurbsBlocks plan_nurbs_blocks(const NurbsCurve& curve, const NurbsLimits& limits
   // start speed and to the end speed itself, with the same acceleration.
   out.schedule = plan_nurbs_feed(curve, limits, kInf, kInf);
   const std::vector<double> corners = corner_knots(curve);
-  const std::vector<NurbsCurve> pieces = split_nurbs(curve, kMaxNurbsPoints);
+  const std::vector<NurbsCurve> pieces = split_for_blocks(curve);
   for (const NurbsCurve& piece : pieces) {
     Block b;
     b.kind = BlockKind::kNurbs;

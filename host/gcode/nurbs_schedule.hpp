@@ -18,6 +18,7 @@
 #include "ipc/block.hpp"
 #include "config/config.hpp"
 #include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {

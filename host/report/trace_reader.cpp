@@ -1,8 +1,7 @@
-// trace_reader.cpp — streaming trace CSV parser and the one-pass digest for the run report.
+// trace_reader.cpp — streaming trace file reader (rows parsed by ipc/trace_format) and the one-pass digest for the run report.
 #include "report/trace_reader.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -11,62 +10,11 @@ namespace pcnc {
 
 namespace {
 
-constexpr const char* kHeader = "t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed";
 constexpr std::size_t kMaxIdleTail = 20000;  // 10 s at 2 kHz: longer idle closes the program window
-
-// Next comma-separated field of `s` from `pos`; advances pos past the comma.
-std::string_view field(std::string_view s, std::size_t& pos) {
-  if (pos > s.size()) return {};  // past the last field
-  const std::size_t start = pos;
-  const std::size_t comma = s.find(',', pos);
-  if (comma == std::string_view::npos) {
-    pos = s.size() + 1;
-    return s.substr(start);
-  }
-  pos = comma + 1;
-  return s.substr(start, comma - start);
-}
-
-bool to_double(std::string_view f, double& v) {
-  if (f.empty()) return false;
-  const char* b = f.data();
-  if (*b == '+') ++b;
-  const auto r = std::from_chars(b, f.data() + f.size(), v);
-  return r.ec == std::errc() && r.ptr == f.data() + f.size();
-}
 
 bool busy(MachineState s) { return s != MachineState::kIdle && s != MachineState::kStarting; }
 
 }  // namespace
-
-bool parse_state_name(std::string_view name, MachineState& state) {
-  for (int i = 0; i <= static_cast<int>(MachineState::kHostLost); ++i) {
-    const auto s = static_cast<MachineState>(i);
-    if (name == to_string(s)) {
-      state = s;
-      return true;
-    }
-  }
-  return false;
-}
-
-bool parse_trace_row(std::string_view text, TraceRow& row) {
-  if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
-  std::size_t pos = 0;
-  if (!to_double(field(text, pos), row.t)) return false;
-  const std::string_view line = field(text, pos);
-  const auto r = std::from_chars(line.data(), line.data() + line.size(), row.line);
-  if (r.ec != std::errc() || r.ptr != line.data() + line.size()) return false;
-  if (!parse_state_name(field(text, pos), row.state)) return false;
-  Vec3* vecs[3] = {&row.commanded, &row.actual, &row.following_error};
-  for (Vec3* v : vecs) {
-    for (std::size_t i = 0; i < 3; ++i) {
-      if (!to_double(field(text, pos), (*v)[i])) return false;
-    }
-  }
-  if (!to_double(field(text, pos), row.speed)) return false;
-  return pos == text.size() + 1;  // nothing after the last field
-}
 
 TraceReader::TraceReader(const std::string& path) : path_(path) {
   file_ = std::fopen(path.c_str(), "r");
@@ -78,7 +26,7 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
   }
   std::string_view h(buf_.data());
   while (!h.empty() && (h.back() == '\n' || h.back() == '\r')) h.remove_suffix(1);
-  if (h != kHeader) {
+  if (h != kTraceCsvHeader) {
     std::fclose(file_);
     throw std::runtime_error("'" + path + "' is not a pcnc trace: its first line is not the trace header");
   }
@@ -88,7 +36,7 @@ TraceReader::~TraceReader() {
   if (file_) std::fclose(file_);
 }
 
-bool TraceReader::next(TraceRow& row) {
+bool TraceReader::next(TraceSample& row) {
   for (;;) {
     if (!std::fgets(buf_.data(), static_cast<int>(buf_.size()), file_)) return false;
     std::string_view s(buf_.data());
@@ -114,7 +62,7 @@ TraceDigester::TraceDigester(DigestOptions options) : o_(std::move(options)) {
   path_tol_ = o_.path_tolerance_mm;
 }
 
-void TraceDigester::add(const TraceRow& row) {
+void TraceDigester::add(const TraceSample& row) {
   ++d_.rows;
   if (ended_) return;
   if (!started_) {
@@ -130,7 +78,7 @@ void TraceDigester::add(const TraceRow& row) {
     idle_tail_.push_back(row);
     return;
   }
-  for (const TraceRow& r : idle_tail_) {
+  for (const TraceSample& r : idle_tail_) {
     add_to_buckets(r, r.t - t_start_);
     add_to_path(r);
   }
@@ -139,7 +87,7 @@ void TraceDigester::add(const TraceRow& row) {
   add_to_path(row);
 }
 
-void TraceDigester::add_to_buckets(const TraceRow& row, double t) {
+void TraceDigester::add_to_buckets(const TraceSample& row, double t) {
   ++d_.program_rows;
   d_.duration_s = t;
   d_.last = row;
@@ -194,7 +142,7 @@ void TraceDigester::add_to_buckets(const TraceRow& row, double t) {
   }
 }
 
-void TraceDigester::add_to_path(const TraceRow& row) {
+void TraceDigester::add_to_path(const TraceSample& row) {
   const bool rapid = o_.is_rapid_line && o_.is_rapid_line(row.line);
   auto& path = d_.path;
   if (!path.empty()) {
@@ -228,7 +176,7 @@ TraceDigest TraceDigester::finish() {
 TraceDigest digest_trace(const std::string& path, const DigestOptions& options) {
   TraceReader reader(path);
   TraceDigester digester(options);
-  TraceRow row;
+  TraceSample row;
   while (reader.next(row)) digester.add(row);
   return digester.finish();
 }

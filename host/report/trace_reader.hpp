@@ -16,26 +16,10 @@
 #include <string_view>
 #include <vector>
 
-#include "ipc/status.hpp"
+#include "ipc/trace_format.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
-
-/// One trace row (DESIGN.md: t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed).
-struct TraceRow {
-  double t = 0.0;
-  std::uint32_t line = 0;
-  MachineState state = MachineState::kIdle;
-  Vec3 commanded{};
-  Vec3 actual{};
-  Vec3 following_error{};
-  double speed = 0.0;
-};
-
-/// Parses one CSV data row. False (and `row` unspecified) when it is malformed.
-bool parse_trace_row(std::string_view text, TraceRow& row);
-/// The state's trace name back to the enum ("RUNNING" -> kRunning). False when unknown.
-bool parse_state_name(std::string_view name, MachineState& state);
 
 /// Streams a trace file row by row. Throws std::runtime_error when the file cannot be read
 /// or its header is not the trace header; next() throws on a malformed row, naming its line.
@@ -45,7 +29,7 @@ class TraceReader {
   ~TraceReader();
   TraceReader(const TraceReader&) = delete;
   TraceReader& operator=(const TraceReader&) = delete;
-  bool next(TraceRow& row);
+  bool next(TraceSample& row);
   std::uint64_t rows() const { return rows_; }
 
  private:
@@ -88,7 +72,7 @@ struct TraceDigest {
   std::vector<TraceBucket> buckets;
   std::vector<ToolPathPoint> path;
   double path_tolerance_mm = 0.0;   // the tolerance finally used
-  TraceRow last{};                  // the last row of the window
+  TraceSample last{};                  // the last row of the window
   bool saw_fault = false;           // FAULT, ESTOP or HOST_LOST appeared
 };
 
@@ -99,12 +83,12 @@ TraceDigest digest_trace(const std::string& path, const DigestOptions& options =
 class TraceDigester {
  public:
   explicit TraceDigester(DigestOptions options);
-  void add(const TraceRow& row);
+  void add(const TraceSample& row);
   TraceDigest finish();
 
  private:
-  void add_to_buckets(const TraceRow& row, double t);
-  void add_to_path(const TraceRow& row);
+  void add_to_buckets(const TraceSample& row, double t);
+  void add_to_path(const TraceSample& row);
   void thin_path();
 
   DigestOptions o_;
@@ -114,7 +98,7 @@ class TraceDigester {
   double bucket_width_ = 0.0005;  // s; doubles as buckets merge
   double path_tol_ = 0.0;
   // IDLE rows after the last busy row: part of the program only if a busy row follows.
-  std::vector<TraceRow> idle_tail_;
+  std::vector<TraceSample> idle_tail_;
   bool ended_ = false;  // a long idle stretch closed the window
 };
 

@@ -15,22 +15,11 @@
 #include "config/config.hpp"
 #include "ipc/segment.hpp"
 #include "ipc/status.hpp"
+#include "ipc/trace_format.hpp"
 
 namespace pcnc {
 
 using MotionRing = SpscRing<Block, kRingSlots>;
-
-/// One cycle's record for the trace (DESIGN.md trace format).
-struct TraceSample {
-  double t = 0.0;
-  std::uint32_t line = 0;
-  MachineState state = MachineState::kIdle;
-  Vec3 commanded{};
-  Vec3 actual{};
-  Vec3 following_error{};
-  double speed = 0.0;
-};
-static_assert(std::is_trivially_copyable_v<TraceSample>);
 
 class Machine {
  public:

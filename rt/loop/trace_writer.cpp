@@ -1,4 +1,4 @@
-// trace_writer.cpp — the trace queue's consumer thread and the CSV format (see trace_writer.hpp).
+// trace_writer.cpp — the trace queue's consumer thread (see trace_writer.hpp; the row's text is ipc/trace_format).
 #include "loop/trace_writer.hpp"
 
 #include <cerrno>
@@ -7,23 +7,6 @@
 #include <stdexcept>
 
 namespace pcnc {
-
-const char* trace_csv_header() { return "t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed"; }
-
-namespace {
-int format_row(char* buf, std::size_t n, const TraceSample& s) {
-  // positions to 0.1 µm resolution and beyond (encoder steps are 0.1 µm): %.7f mm
-  return std::snprintf(buf, n, "%.4f,%u,%s,%.7f,%.7f,%.7f,%.7f,%.7f,%.7f,%.7f,%.7f,%.7f,%.5f", s.t, s.line,
-                       to_string(s.state), s.commanded[0], s.commanded[1], s.commanded[2], s.actual[0], s.actual[1],
-                       s.actual[2], s.following_error[0], s.following_error[1], s.following_error[2], s.speed);
-}
-}  // namespace
-
-std::string trace_csv_row(const TraceSample& s) {
-  char buf[512];
-  format_row(buf, sizeof buf, s);
-  return buf;
-}
 
 TraceWriter::TraceWriter(const std::string& path)
     : path_(path), queue_(std::make_unique<SpscRing<TraceSample, kQueueSlots>>()) {
@@ -51,7 +34,7 @@ void TraceWriter::drain() {
   TraceSample s;
   char buf[512];
   while (queue_->try_pop(s)) {
-    const int n = format_row(buf, sizeof buf, s);
+    const int n = format_trace_row(buf, sizeof buf, s);
     if (n > 0) {
       std::fwrite(buf, 1, static_cast<std::size_t>(n), file_);
       std::fputc('\n', file_);

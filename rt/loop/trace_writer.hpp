@@ -4,9 +4,8 @@
 // a lock-free single-producer/single-consumer queue and never blocks, allocates or does I/O;
 // when the queue is full the sample is dropped and counted (under --clock virtual the loop
 // uses push_wait, which waits for room instead: the trace of a replay is complete). A background thread drains the
-// queue into a CSV file with the header
-//   t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed
-// (mm, s, mm/s; state by name). close() (or the destructor) drains what is left and joins.
+// queue into a CSV file in the trace format (ipc/trace_format.hpp, the row and header shared
+// with the report's reader). close() (or the destructor) drains what is left and joins.
 #pragma once
 
 #include <atomic>
@@ -16,8 +15,8 @@
 #include <string>
 #include <thread>
 
-#include "loop/machine.hpp"
 #include "ipc/spsc_ring.hpp"
+#include "ipc/trace_format.hpp"
 
 namespace pcnc {
 
@@ -57,10 +56,5 @@ class TraceWriter {
   std::atomic<std::uint64_t> written_{0};
   std::thread thread_;
 };
-
-/// One CSV row (no newline) for a sample, as the trace file holds it. For tests and tools.
-std::string trace_csv_row(const TraceSample& s);
-/// The CSV header line (no newline).
-const char* trace_csv_header();
 
 }  // namespace pcnc

@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "motion/junction.hpp"
-#include "geometry/nurbs_interpolator.hpp"
+#include "motion/nurbs_follower.hpp"
 #include "ipc/block_check.hpp"
 
 namespace pcnc {

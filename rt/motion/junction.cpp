@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/axis_caps.hpp"
+
 namespace pcnc {
 
 double stop_speed(double distance_mm, double v_end_mm_s, double a, double dt, double k) {
@@ -42,12 +44,10 @@ bool junction_flows(bool contouring, const Vec3& dir_end, const Vec3& dir_start,
 
 double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
                           double dt, double fraction) {
-  double cap = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < kAxes; ++i) {
-    const double jump = std::abs(dir_start[i] - dir_end[i]);
-    if (jump > 1e-12) cap = std::fmin(cap, fraction * axis_accel[i] * dt / jump);
-  }
-  return cap;
+  // the velocity step each axis may take in one cycle
+  AxisLimits step{};
+  for (int i = 0; i < kAxes; ++i) step[i] = fraction * axis_accel[i] * dt;
+  return axis_cap(dir_start - dir_end, step);
 }
 
 double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
@@ -60,11 +60,7 @@ double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, cons
   const double radius = tolerance_mm * sin_half / (1.0 - sin_half);
   const Vec3 change = dir_start - dir_end;
   const double n = norm(change);
-  double a = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < kAxes; ++i) {
-    const double ui = std::abs(change[i]) / n;
-    if (ui > 1e-12) a = std::fmin(a, axis_accel[i] / ui);
-  }
+  const double a = axis_cap({change[0] / n, change[1] / n, change[2] / n}, axis_accel);
   return std::sqrt(a * radius);
 }
 

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "geometry/arc_limits.hpp"
+#include "geometry/axis_caps.hpp"
 #include "geometry/plane.hpp"
 
 namespace pcnc {
@@ -22,21 +23,20 @@ double wrap_pi(double a) {
 }
 
 void line_caps(PreparedBlock& pb, const MachineConfig& cfg) {
-  const Vec3 u = pb.dir_start;
-  double v = std::numeric_limits<double>::infinity(), a = v;
+  AxisLimits v{}, a{};
   for (int i = 0; i < kAxes; ++i) {
-    const double c = std::abs(u[i]);
-    if (c < 1e-12) continue;
-    v = std::min(v, cfg.axes[i].max_velocity_mm_s / c);
-    a = std::min(a, cfg.axes[i].max_accel_mm_s2 / c);
+    v[i] = cfg.axes[i].max_velocity_mm_s;
+    a[i] = cfg.axes[i].max_accel_mm_s2;
   }
-  pb.v_machine = v;
-  pb.accel = std::min(pb.accel, a);
+  pb.v_machine = axis_cap(pb.dir_start, v);
+  pb.accel = std::min(pb.accel, axis_cap(pb.dir_start, a));
 }
 
 // Arcs: the in-plane axes see the tangential acceleration plus the centripetal v²/r: the
 // centripetal part gets at most kArcCentripetalShare of the smaller plane axis's
-// acceleration, the tangential part what is left of its magnitude (shared/arc_limits.hpp).
+// acceleration, the tangential part what is left of its magnitude (geometry/arc_limits.hpp).
+// The in-plane axes' velocity is bounded as if either axis could carry the whole in-plane
+// speed somewhere on the arc.
 void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
   const double r_min = std::min(pb.r0, pb.r1);
   const double r_max = std::max(pb.r0, pb.r1);
@@ -45,20 +45,10 @@ void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
   const auto& A = cfg.axes;
   const double a_plane = std::min(A[pb.a1].max_accel_mm_s2, A[pb.a2].max_accel_mm_s2);
   const double v_plane = std::min(A[pb.a1].max_velocity_mm_s, A[pb.a2].max_velocity_mm_s);
-  double v = std::numeric_limits<double>::infinity(), a = v;
-  if (q > 1e-12) {
-    v = std::min(v, v_plane / q);
-    v = std::min(v, std::sqrt(kArcCentripetalShare * a_plane * r_min) / q);
-    // tangential: what the plane has left at the top speed this block can run at
-    const double v_top = std::min(v, kArcMaxFeedOverride * pb.speed);
-    a = std::min(a, arc_tangential_accel(a_plane, r_min, v_top * q) / q);
-  }
-  if (h > 1e-12) {
-    v = std::min(v, A[pb.an].max_velocity_mm_s / h);
-    a = std::min(a, A[pb.an].max_accel_mm_s2 / h);
-  }
-  pb.v_machine = v;
-  pb.accel = std::min(pb.accel, a);
+  const ArcCaps c = pcnc::arc_caps(r_min, q, h, q > 1e-12 ? v_plane / q : 0.0, a_plane, A[pb.an].max_velocity_mm_s,
+                                   A[pb.an].max_accel_mm_s2, pb.speed);
+  pb.v_machine = c.speed;
+  pb.accel = std::min(pb.accel, c.accel);
 }
 
 }  // namespace

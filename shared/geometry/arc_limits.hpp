@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pcnc {
 
@@ -28,6 +29,36 @@ inline double arc_tangential_accel(double a_plane, double r_mm, double v_top_pla
   if (!(r_mm > 0.0)) return a_plane;
   const double a_n = std::min(v_top_plane_mm_s * v_top_plane_mm_s / r_mm, kArcCentripetalShare * a_plane);
   return std::sqrt(a_plane * a_plane - a_n * a_n);
+}
+
+/// The machine's caps on an arc or helix, as path rates.
+struct ArcCaps {
+  double speed = std::numeric_limits<double>::infinity();  // what the axes allow, mm/s
+  double accel = std::numeric_limits<double>::infinity();  // path acceleration, mm/s²
+};
+
+/// What the arc's shape and the axes give: `r_mm` the (smallest) in-plane radius, `q` and
+/// `h` the in-plane and normal shares of the path speed (r/ρ and |pitch|/ρ on a helix),
+/// `v_plane` the path speed the in-plane axes' velocities allow (the caller's bound along
+/// its sweep), `a_plane` the smaller in-plane axis acceleration, `v_normal` and `a_normal`
+/// the normal axis's limits, `speed` the block's programmed path speed. The speed cap adds
+/// the centripetal share and the normal axis; the tangential acceleration is what the plane
+/// has left at the top speed the block can run at (feed override included), the normal axis
+/// taking its projected share.
+inline ArcCaps arc_caps(double r_mm, double q, double h, double v_plane, double a_plane, double v_normal,
+                        double a_normal, double speed) {
+  ArcCaps c;
+  if (q > 1e-12) {
+    c.speed = std::min(c.speed, v_plane);
+    c.speed = std::min(c.speed, std::sqrt(kArcCentripetalShare * a_plane * r_mm) / q);
+  }
+  if (h > 1e-12) c.speed = std::min(c.speed, v_normal / h);
+  if (q > 1e-12) {
+    const double v_top = std::min(c.speed, kArcMaxFeedOverride * std::min(speed, c.speed));
+    c.accel = arc_tangential_accel(a_plane, r_mm, v_top * q) / q;
+  }
+  if (h > 1e-12) c.accel = std::min(c.accel, a_normal / h);
+  return c;
 }
 
 }  // namespace pcnc

@@ -52,10 +52,6 @@ int multiplicity(const std::vector<double>& knots, double u) {
 
 }  // namespace
 
-NurbsView view_of(const NurbsGeometry& g) {
-  return {g.points, g.weights, g.knots, static_cast<int>(g.point_count), static_cast<int>(g.degree)};
-}
-
 // ---- knot vectors -----------------------------------------------------------------------
 
 std::vector<double> open_uniform_knots(int count, int degree) {
@@ -469,34 +465,6 @@ std::vector<NurbsCurve> split_nurbs(const NurbsCurve& curve, int max_points) {
   }
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) pieces.push_back(nurbs_segment(curve, cuts[i], cuts[i + 1]));
   return pieces;
-}
-
-// ---- block storage ----------------------------------------------------------------------
-
-std::string to_geometry(const NurbsCurve& curve, NurbsGeometry& g) {
-  if (curve.points.size() > static_cast<std::size_t>(kMaxNurbsPoints)) {
-    char buf[120];
-    std::snprintf(buf, sizeof buf, "NURBS piece has %zu control points; a block holds at most %d (split it first)",
-                  curve.points.size(), kMaxNurbsPoints);
-    return buf;
-  }
-  if (std::string err = validate(curve); !err.empty()) return err;
-  g.degree = static_cast<std::uint8_t>(curve.degree);
-  g.point_count = static_cast<std::uint16_t>(curve.points.size());
-  g.knot_count = static_cast<std::uint16_t>(curve.knots.size());
-  std::copy(curve.points.begin(), curve.points.end(), g.points);
-  std::copy(curve.weights.begin(), curve.weights.end(), g.weights);
-  std::copy(curve.knots.begin(), curve.knots.end(), g.knots);
-  return {};
-}
-
-NurbsCurve from_geometry(const NurbsGeometry& g) {
-  NurbsCurve c;
-  c.degree = g.degree;
-  c.points.assign(g.points, g.points + g.point_count);
-  c.weights.assign(g.weights, g.weights + g.point_count);
-  c.knots.assign(g.knots, g.knots + g.knot_count);
-  return c;
 }
 
 }  // namespace pcnc

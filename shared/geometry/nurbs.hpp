@@ -3,10 +3,10 @@
 // validation, knot insertion and splitting into ring-sized pieces.
 //
 // Used on both sides of the ring: the host builds a NurbsCurve from G5.2/G06.2 words,
-// validates it, splits it into pieces of at most kMaxNurbsPoints control points and copies
-// each piece into a Block's NurbsGeometry; the rt evaluates the NurbsGeometry in place every
-// cycle through a NurbsView. Evaluation allocates nothing (fixed arrays sized by
-// kMaxNurbsDegree) and works the same on either storage.
+// validates it, splits it into pieces that fit a block and copies each piece into the block
+// (ipc/block_nurbs.hpp); the rt evaluates the block's arrays in place every cycle through a
+// NurbsView. Evaluation allocates nothing (fixed arrays sized by kMaxNurbsDegree) and works
+// the same on either storage. Pure mathematics: nothing here knows blocks or the ring.
 //
 // Conventions: degree p in 1..kMaxNurbsDegree (order p+1 in 2..6), n+1 control points,
 // n+p+2 knots, non-decreasing. The parameter domain is [knots[p], knots[n+1]].
@@ -15,14 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "ipc/block.hpp"
+#include "geometry/nurbs_order.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
-
-constexpr int kMinNurbsDegree = 1;
-constexpr int kMinNurbsOrder = kMinNurbsDegree + 1;  // 2
-constexpr int kMaxNurbsOrder = kMaxNurbsDegree + 1;  // 6
 
 /// How knots are made when a program gives none (GcodeConfig::nurbs_knots).
 enum class KnotRule : int {
@@ -31,7 +27,7 @@ enum class KnotRule : int {
 };
 
 /// Read-only view of a curve's arrays: what evaluation works on. Cheap to copy; it points
-/// into a NurbsCurve or a NurbsGeometry, which must outlive it.
+/// into a NurbsCurve or a block's NurbsGeometry (view_of), which must outlive it.
 struct NurbsView {
   const Vec3* points = nullptr;
   const double* weights = nullptr;
@@ -64,9 +60,6 @@ struct NurbsCurve {
   double u_min() const { return knots[static_cast<std::size_t>(degree)]; }
   double u_max() const { return knots[points.size()]; }
 };
-
-/// View of the curve stored in a block (the rt evaluates this directly).
-NurbsView view_of(const NurbsGeometry& g);
 
 // ---- knot vectors -----------------------------------------------------------------------
 
@@ -138,13 +131,6 @@ std::vector<double> corner_knots(const NurbsCurve& curve);
 /// multiplicity >= degree where the tangent direction turns, so that no piece contains a
 /// tangent discontinuity (the rt then treats the corner like any block junction). Pieces
 /// are the original curve restricted to [u_i, u_{i+1}], so they join with its continuity.
-std::vector<NurbsCurve> split_nurbs(const NurbsCurve& curve, int max_points = kMaxNurbsPoints);
-
-// ---- block storage ----------------------------------------------------------------------
-
-/// Copies degree, points, weights and knots into `g` (schedule fields untouched). Returns
-/// an error sentence when the curve does not fit one block (more than kMaxNurbsPoints).
-std::string to_geometry(const NurbsCurve& curve, NurbsGeometry& g);
-NurbsCurve from_geometry(const NurbsGeometry& g);
+std::vector<NurbsCurve> split_nurbs(const NurbsCurve& curve, int max_points);
 
 }  // namespace pcnc

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "geometry/nurbs_order.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -46,7 +47,6 @@ struct ArcGeometry {
 /// NURBS curve (kNurbs). Curves with more control points than kMaxNurbsPoints are split
 /// at knots by the host so that each piece fits one slot.
 constexpr int kMaxNurbsPoints = 32;
-constexpr int kMaxNurbsDegree = 5;
 constexpr int kMaxNurbsKnots = kMaxNurbsPoints + kMaxNurbsDegree + 1;
 constexpr int kMaxFeedSchedule = 64;
 

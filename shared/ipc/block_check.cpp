@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "geometry/nurbs.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "geometry/plane.hpp"
 
 namespace pcnc {

@@ -1,10 +1,8 @@
-// nurbs_interpolator.hpp — real-time NURBS interpolation (pcnc-rt, every 500 µs cycle).
+// nurbs_follower.hpp — real-time NURBS interpolation (pcnc-rt, every 500 µs cycle): the
+// block's feed schedule read at a parameter, and the per-block speed follower.
 //
-// nurbs_parameter_step() advances the curve parameter so that the chord to the next
-// setpoint has a given length ds: a second-order Taylor step
-//   u+ = u + ds/|C'| - ds^2 (C'.C'') / (2 |C'|^4)
-// followed by Newton iterations on the chord length |C(u+) - C(u)| = ds (usually one, which
-// brings the relative error far below 1e-9).
+// The parameter step itself (a chord of given length along the curve) is pure geometry:
+// geometry/nurbs_step.hpp.
 //
 // NurbsFollower is the per-block state the rt executor keeps for a running NURBS block:
 // each cycle it picks the path speed (the block's feed schedule at the current parameter,
@@ -15,21 +13,12 @@
 #pragma once
 
 #include "ipc/block.hpp"
+#include "ipc/block_nurbs.hpp"
 #include "geometry/nurbs.hpp"
+#include "geometry/nurbs_step.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
-
-struct NurbsStep {
-  double u = 0.0;       // new parameter
-  NurbsEval eval{};     // curve at u (point = the new setpoint)
-  double chord = 0.0;   // |C(u) - C(u_old)|, mm
-  bool at_end = false;  // the end of the curve was reached (chord may be shorter than ds)
-};
-
-/// Advances from parameter u (where the curve is `at`) by a chord of length ds > 0. If the
-/// end of the curve is closer than ds, returns the end with at_end set.
-NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at, double ds);
 
 /// The block schedule's speed at u (linear between points). `hint` is a schedule index kept
 /// by the caller between calls so that a monotone walk costs O(1); start it at 0.

@@ -1,0 +1,138 @@
+// interpreter_motion.cpp — straight moves (G0/G1, G53) and the G28 retract: the axis words
+// of a line in the program's units (G20/G21), distance mode (G90/G91) and work offset
+// (G54-G59), turned into machine millimetres; and the feed a move runs at.
+#include <string>
+
+#include "gcode/interpreter.hpp"
+#include "gcode/interpreter_text.hpp"
+
+namespace pcnc {
+
+using namespace interp;
+
+bool Interpreter::feed_for_move(const ParsedLine& l, int column, double& feed_mm_s) {
+  if (!(feed_ > 0.0)) {
+    return fail(l, column,
+                "feed move with no feed rate in effect (F0 or no F yet); expected an F word > 0 (units per minute)");
+  }
+  double f = feed_ * (inches_ ? kInch : 1.0) / 60.0;
+  if (f > max_feed_mm_s_ * (1.0 + 1e-12)) {
+    if (!config_.gcode.clamp_excess_feed) {
+      return fail(l, column,
+                  "F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " +
+                      num(max_feed_mm_s_) +
+                      " mm/s; expected F <= " + num(max_feed_mm_s_ * 60.0 / (inches_ ? kInch : 1.0)));
+    }
+    warn(l, column, "feed-clamp", [&] {
+      return std::string("F" + num(feed_) + " (" + num(f) + " mm/s) exceeds the machine maximum feed of " +
+                         num(max_feed_mm_s_) + " mm/s; clamped to the maximum");
+    });
+    f = max_feed_mm_s_;
+  }
+  feed_mm_s = f;
+  return true;
+}
+
+// The program point (job frame, mm) the X/Y/Z words of `l` name, starting from `from` (an
+// axis not written keeps its value): the program's units (G20/G21), distance mode (G90/G91)
+// and work offset (G54-G59, relative to G54). Axes written in G90 become known; first_col is
+// the column of the first axis word (0: none).
+Vec3 Interpreter::axis_target(const ParsedLine& l, const Vec3& from, std::uint8_t& known, int& first_col) const {
+  const double u = inches_ ? kInch : 1.0;
+  const Vec3 wofs = config_.gcode.work_offsets[static_cast<std::size_t>(work_index_)] - config_.gcode.work_offsets[0];
+  Vec3 q = from;
+  first_col = 0;
+  for (int i = 0; i < kAxes; ++i) {
+    const char c = static_cast<char>('X' + i);
+    if (!l.has(c)) continue;
+    if (first_col == 0) first_col = l.column(c);
+    const auto k = static_cast<std::size_t>(i);
+    const double v = l.get(c) * u;
+    if (incremental_) {
+      q[k] += v;
+    } else {
+      q[k] = v + wofs[k];
+      known = static_cast<std::uint8_t>(known | (1u << i));
+    }
+  }
+  return q;
+}
+
+bool Interpreter::straight(const ParsedLine& l, int motion, bool g53, MoveList& out) {
+  Vec3 q = q_;
+  Vec3 end = to_machine(q_);
+  std::uint8_t known = known_;
+  int column = motion == l.g[kGMotion] ? l.g_col[kGMotion] : 0;
+  if (g53 && incremental_) return fail(l, l.g_col[kGNonModal], "G53 in incremental mode (G91); expected G90 with G53");
+  if (g53) {
+    // machine coordinates: units only, no offset, no --fit frame
+    const double u = inches_ ? kInch : 1.0;
+    for (int i = 0; i < kAxes; ++i) {
+      const char c = static_cast<char>('X' + i);
+      if (!l.has(c)) continue;
+      const auto k = static_cast<std::size_t>(i);
+      end[k] = l.get(c) * u;
+      q[k] = (end[k] - frame_.offset[k]) / frame_.scale;
+      known = static_cast<std::uint8_t>(known | (1u << i));
+    }
+    column = l.g_col[kGNonModal];
+  } else {
+    int first_col = 0;
+    q = axis_target(l, q_, known, first_col);
+    if (column == 0) column = first_col;
+  }
+  Move m = base_move(motion == 0 ? MoveKind::kRapid : MoveKind::kLine, l, column);
+  if (motion == 10 && !feed_for_move(l, column, m.feed_mm_s)) {
+    q_ = q;  // keep following the program after the error
+    known_ = known;
+    return false;
+  }
+  if (!g53) end = to_machine(q);
+  m.end = end;
+  m.machine_frame = g53;
+  m.known = known;
+  q_ = q;
+  known_ = known;
+  out.push(m);  // even with no displacement: under --fit the same line may move (the stream skips it)
+  return true;
+}
+
+bool Interpreter::home(const ParsedLine& l, MoveList& out) {
+  const int col = l.g_col[kGNonModal];
+  std::uint8_t axes = 0;
+  for (int i = 0; i < kAxes; ++i) {
+    const char c = static_cast<char>('X' + i);
+    if (!l.has(c)) continue;
+    if (!incremental_) {
+      return fail(l, l.column(c),
+                  "G28 with an intermediate point in G90 is not supported; expected the CAM retract form G28 G91 Z0");
+    }
+    if (l.get(c) != 0.0) {
+      return fail(l, l.column(c),
+                  "G28 with a nonzero intermediate move is not supported; expected the CAM retract form G28 G91 Z0");
+    }
+    axes = static_cast<std::uint8_t>(axes | (1u << i));
+  }
+  if (axes == 0) axes = 7;  // G28 alone: every axis
+  const Vec3 home = home_position();
+  Move m = base_move(MoveKind::kRapid, l, col);
+  std::string what;
+  for (int i = 0; i < kAxes; ++i) {
+    if (!((axes >> i) & 1u)) continue;
+    m.end[static_cast<std::size_t>(i)] = home[static_cast<std::size_t>(i)];
+    q_[static_cast<std::size_t>(i)] =
+        (home[static_cast<std::size_t>(i)] - frame_.offset[static_cast<std::size_t>(i)]) / frame_.scale;
+    what += std::string(what.empty() ? "" : " ") + axis_name(i) + num(home[static_cast<std::size_t>(i)]);
+  }
+  known_ = static_cast<std::uint8_t>(known_ | axes);
+  m.known = known_;
+  m.machine_frame = true;
+  warn(l, col, "G28" + what, [&] {
+    return std::string("G28: rapid to the home position " + what +
+                       " (machine coordinates; Z home is the top of its travel)");
+  });
+  out.push(m);
+  return true;
+}
+
+}  // namespace pcnc
