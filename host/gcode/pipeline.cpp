@@ -19,11 +19,15 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       validator_(config_, frame.start),
       to_merge_([this](Move& m) { return checked_move(m); }) {}
 
-// source -> [geometry stages: cutter compensation, surface correction, smoothing] -> preflight.
-// A geometry stage links in here: its next(pull, m) pulls from source_ and preflight_ sees its output.
+// The interpreter's moves through the geometry stages, in their order. None exists yet; each
+// will link here as `return <stage>_.next(<pull from the stage before>, m);`:
+//   cutter compensation, then surface correction, then smoothing.
+bool Pipeline::geometry_move(Move& m) { return source_.next(m); }
+
+// ... then the preflight, which sees every move; a move without displacement ends there.
 bool Pipeline::checked_move(Move& m) {
   for (;;) {
-    if (source_ended_ || !source_.next(m)) {
+    if (source_ended_ || !geometry_move(m)) {
       if (!source_ended_) {
         source_ended_ = true;
         source_.check_trailing();

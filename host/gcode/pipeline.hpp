@@ -1,6 +1,7 @@
 // pipeline.hpp — the one definition of the G-code front end, from source text to ring blocks.
-// `pcnc check`, `pcnc run`, the service's jobs (and MDI, and the report through what check
-// records) all run this chain; program.hpp's check_program and BlockStream are thin users.
+// `pcnc check`, `pcnc run` and the service's jobs run this chain through program.hpp's
+// check_program and BlockStream, its two thin users (MDI is to use them too: a line of text is
+// a program); the run report draws on what the run's check recorded, not on a chain of its own.
 //
 // The stages, in their one fixed order; each hands plain values (Move, Block) to the next:
 //
@@ -16,8 +17,8 @@
 //   BlockValidator the rt's own block check, seq 1, 2, 3, ...          (block_validator.hpp)
 //
 // A new geometry stage is a class with `bool next(const MovePull& pull, Move& out)` (the shape
-// of SegmentMerger) linked in Pipeline's constructor between the source and the preflight, so
-// that the preflight checks the path that will be cut and the rt's check sees its blocks.
+// of SegmentMerger), a member of Pipeline, linked in Pipeline::geometry_move in its place in
+// the order: the preflight then checks the path that will be cut, and the rt's check its blocks.
 //
 // Errors: every stage reports to the DiagnosticSink. From the first error on, no block is
 // made: next() returns false and failed() is true; drain() then runs the front end to the end
@@ -66,7 +67,8 @@ class Pipeline {
   std::uint64_t lines() const { return source_.lines(); }
 
  private:
-  bool checked_move(Move& m);  // the link source -> [geometry stages] -> preflight
+  bool geometry_move(Move& m);  // the source through the geometry stages
+  bool checked_move(Move& m);   // ... through the preflight (null moves end there)
   bool accept(Block& b);       // the block check; false (and an error) when refused
 
   MachineConfig config_;
