@@ -392,8 +392,12 @@ TEST(Interpreter, ArcToleranceRuleFollowsLinuxCnc) {
   EXPECT_FALSE(run_program("G0 X0 Y0\nG2 X10.05 Y0 I5 F100\nM2\n", c).check.ok);
   // Above 100 x the absolute tolerance: rejected whatever the radius.
   EXPECT_FALSE(run_program("G0 X0 Y0\nG2 X20002 Y0 I10000 F100\nM2\n", c).check.ok);
-  // Inch programs: the absolute threshold is 2.54 times the metric one (as in LinuxCNC).
-  EXPECT_TRUE(run_program("G20 G0 X0 Y0\nG2 X0.2009 Y0 I0.1 F10\nM2\n", c).check.ok);    // 0.0229 mm
+  // Inch programs: the interpreter's absolute threshold is 2.54 times the metric one (as in
+  // LinuxCNC), but the rt's block check knows no units and holds the metric one, so check,
+  // which runs to the blocks and validates them as the rt does, refuses the block instead.
+  const auto inch = run_program("G20 G0 X0 Y0\nG2 X0.2009 Y0 I0.1 F10\nM2\n", c);  // 0.0229 mm
+  EXPECT_FALSE(inch.has_error("radius to end of arc differs"));
+  EXPECT_TRUE(inch.has_error("refused by the rt's block check: arc: end point is not on the radius"));
   EXPECT_FALSE(run_program("G21 G0 X0 Y0\nG2 X5.1029 Y0 I2.54 F10\nM2\n", c).check.ok);  // same in mm
 }
 

@@ -176,6 +176,11 @@ TEST_P(CamCorpus, ReplaysToTheEndWithinBounds) {
   ASSERT_TRUE(fs::exists(html_path));
   const std::string html = read_file(html_path);
   EXPECT_NE(html.find("<polyline class=\"feed\""), std::string::npos) << "the tool path is drawn";
+  // rapids from the lines the run's check recorded (the report runs no front end of its own)
+  EXPECT_EQ(s.rapid_lines.size(), check.rapid_lines.size());
+  if (!s.rapid_lines.empty()) {
+    EXPECT_NE(html.find("class=\"rapid\""), std::string::npos) << "rapids are drawn";
+  }
   EXPECT_NE(html.find("id=\"final-tool\""), std::string::npos);
   EXPECT_NE(html.find("class=\"speed-plot\""), std::string::npos);
   EXPECT_NE(html.find("class=\"ferr-plot\""), std::string::npos);

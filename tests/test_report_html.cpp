@@ -453,5 +453,21 @@ TEST(ReportChromium, RendersAScreenshotThatIsNotBlank) {
   fs::remove_all(dir);
 }
 
+// The report draws rapids from the lines the run's check recorded (no front end of its own).
+TEST(RunSummary, RapidLinesRoundTripAndOlderSummariesHaveNone) {
+  RunSummary a = sample_summary();
+  a.rapid_lines = {{1, 1}, {7, 9}};
+  const RunSummary b = run_summary_from_json(nlohmann::json::parse(to_json(a).dump()));
+  ASSERT_EQ(b.rapid_lines.size(), 2u);
+  EXPECT_EQ(b.rapid_lines[1].first, 7u);
+  EXPECT_EQ(b.rapid_lines[1].last, 9u);
+  nlohmann::json older = to_json(a);
+  older["check"].erase("rapid_lines");
+  EXPECT_TRUE(run_summary_from_json(older).rapid_lines.empty());
+  RunReport r;
+  r.check.rapid_lines = {{3, 4}};
+  EXPECT_EQ(make_run_summary(r, MachineConfig{}, "c.toml", false).rapid_lines.size(), 1u);
+}
+
 }  // namespace
 }  // namespace pcnc

@@ -1,8 +1,9 @@
 // check.hpp — `pcnc check FILE`: the whole G-code front end without a machine.
 //
-// Runs lexer, parser, interpreter and preflight over the program (pass 1), prints errors and
+// Runs the whole front-end pipeline over the program (pass 1: lexer, parser, interpreter,
+// preflight, preprocessor, and the rt's own block check on every block), prints errors and
 // warnings ("file:line:col: error: ..."), the transform, extents and feed time, and with
-// --print-blocks streams the preprocessed blocks (pass 2) in their stable text form.
+// --print-blocks streams the very same blocks (pass 2) in their stable text form.
 #pragma once
 
 #include <array>

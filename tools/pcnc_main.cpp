@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "pcnc: no HTML report: the program did not run (see above)\n");
       } else {
         try {
-          pcnc::build_report_file(summary_file, trace_file, pcnc::load_config(config_path), report);
+          pcnc::build_report_file(summary_file, trace_file, report);
           std::printf("  html report       %s\n", report.c_str());
         } catch (const std::exception& e) {
           std::fprintf(stderr, "pcnc: the HTML report was not written: %s\n", e.what());

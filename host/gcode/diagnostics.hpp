@@ -1,9 +1,10 @@
 // diagnostics.hpp — errors and warnings of the G-code front end ("file:line:col: error: ...").
 //
-// Every stage (lexer, parser, interpreter, preflight) reports through a DiagnosticSink. The sink
-// keeps memory bounded on programs of any length: errors are kept up to a cap (the rest are
-// counted), and a warning that repeats (same key, e.g. "spindle words ignored") is kept once with
-// the line of its first occurrence and a repeat count.
+// Every pipeline stage (lexer, parser, interpreter, preflight, preprocessor, block check)
+// reports through a DiagnosticSink. The sink keeps memory bounded on programs of any length:
+// errors are kept up to a cap (the rest are counted), and a warning that repeats (same key,
+// e.g. "spindle words ignored") is kept once with the line of its first occurrence and a
+// repeat count.
 #pragma once
 
 #include <cstdint>

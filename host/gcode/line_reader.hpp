@@ -1,4 +1,5 @@
-// line_reader.hpp — streams a G-code file (or text in memory) line by line in bounded memory.
+// line_reader.hpp — the input of the front-end pipeline (gcode/pipeline.hpp): streams a G-code
+// file (or text in memory) line by line in bounded memory.
 //
 // Reads the file in fixed chunks with read(2) and hands out string_views into its buffer: no
 // allocation per line, no iostreams. Lines end at '\n' (a '\r' before it is dropped). A line

@@ -1,4 +1,5 @@
-// move.hpp — what the interpreter hands the preprocessor: one move in machine coordinates (mm).
+// move.hpp — the value the pipeline's move stages hand on (interpreter -> ... -> preprocessor):
+// one move in machine coordinates (mm).
 //
 // The interpreter has already applied units (G20/G21), distance mode (G90/G91), the work offset
 // (G54-G59 or --offset) and the --fit scale, and resolved arcs (I/J/K or R form) to a center,

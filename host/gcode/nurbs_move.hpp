@@ -1,6 +1,6 @@
-// nurbs_move.hpp — a NURBS move (G5.2 ... G5.3 or G6.2) on the host side of the pipeline:
-// its extreme points for the soft limits and --fit (pass 1, host/preflight), and its ring
-// blocks (pass 2, host/program's BlockStream).
+// nurbs_move.hpp — a NURBS move (G5.2 ... G5.3 or G6.2) in the front-end pipeline
+// (gcode/pipeline.hpp): its extreme points for the soft limits and --fit (the preflight
+// stage), and its ring blocks (the preprocessor stage).
 //
 // The curve arrives from the interpreter validated and in machine coordinates. The rt
 // accepts a NURBS block only when its control polygon lies inside the travel (the curve lies

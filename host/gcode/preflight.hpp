@@ -1,4 +1,5 @@
-// preflight.hpp — checks every move of a program before anything moves.
+// preflight.hpp — pipeline stage after the interpreter (and the geometry stages to come;
+// gcode/pipeline.hpp): checks every move of a program before anything moves.
 //
 // Soft limits (every end point, every arc's extreme points and every NURBS curve's extreme
 // points against the configured travel, in machine coordinates after work offset and --fit
@@ -35,7 +36,10 @@ struct Box {
 };
 
 /// Calls f(point) for the end point and every extreme point of an arc (where an in-plane
-/// coordinate peaks), in machine coordinates.
+/// coordinate peaks), in machine coordinates. An arc whose end radius differs from its start
+/// radius (within the arc tolerance) is taken at the larger of the two, as the rt's block
+/// check takes its bulge (ipc/block_check.cpp), so that what the preflight and --fit let
+/// through the rt accepts too.
 template <class F>
 void for_each_extreme(const Move& m, F&& f);
 
@@ -94,11 +98,13 @@ void for_each_extreme(const Move& m, F&& f) {
   const double lo = std::min(t0, t0 + m.sweep);
   const double hi = std::max(t0, t0 + m.sweep);
   const double helix = m.end[nk] - m.start[nk];
+  const double r_end = std::hypot(m.end[a0] - m.center[a0], m.end[a1] - m.center[a1]);
+  const double r = std::max(m.radius, r_end);
   for (double k = std::ceil(lo / kHalfPi); k * kHalfPi <= hi; k += 1.0) {
     const double t = k * kHalfPi;
     Vec3 p = m.center;
-    p[a0] = m.center[a0] + m.radius * std::cos(t);
-    p[a1] = m.center[a1] + m.radius * std::sin(t);
+    p[a0] = m.center[a0] + r * std::cos(t);
+    p[a1] = m.center[a1] + r * std::sin(t);
     p[nk] = m.start[nk] + (m.sweep != 0.0 ? helix * (t - t0) / m.sweep : 0.0);
     f(p);
   }

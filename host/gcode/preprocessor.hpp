@@ -1,4 +1,5 @@
-// preprocessor.hpp — fourth stage: one Move to one self-contained ring Block (pure functions).
+// preprocessor.hpp — pipeline stage after the preflight and the segment merge (gcode/pipeline.hpp):
+// one Move to one self-contained ring Block (pure functions).
 //
 // The seed paper's per-move plan: motion class, driving axis and its direction flag, the
 // programmed feed projected so that no axis exceeds its velocity or acceleration limit anywhere

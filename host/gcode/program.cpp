@@ -1,4 +1,6 @@
-// program.cpp — wires the front-end stages over a streamed file: check pass and block stream.
+// program.cpp — check_program and BlockStream: the two uses of the one front-end pipeline
+// (gcode/pipeline.hpp). Check runs it to the blocks and keeps only figures and diagnostics;
+// the stream hands the very same blocks on to the ring.
 #include "gcode/program.hpp"
 
 #include <algorithm>
@@ -6,111 +8,11 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "gcode/interpreter.hpp"
-#include "gcode/lexer.hpp"
 #include "gcode/line_reader.hpp"
-#include "gcode/nurbs_move.hpp"
-#include "gcode/parser.hpp"
-#include "gcode/preflight.hpp"
-#include "gcode/preprocessor.hpp"
-#include "gcode/segment_merge.hpp"
+#include "gcode/pipeline.hpp"
 
 namespace pcnc {
 namespace {
-
-// Lines -> Moves: the shared loop of both passes. Handles '%' delimiters, '/' block delete,
-// over-long lines, program end (M2/M30) and a missing end.
-class MoveSource {
- public:
-  MoveSource(LineReader& reader, const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink)
-      : reader_(reader), sink_(sink), interp_(config, frame, sink) {}
-
-  // Next move; false once the End move has been returned.
-  bool next(Move& m) {
-    while (pos_ >= pending_.count) {
-      if (done_) return false;
-      pending_.clear();
-      pos_ = 0;
-      read_line();
-    }
-    m = pending_.moves[pos_++];
-    if (m.kind == MoveKind::kEnd) {
-      done_ = true;
-      pending_.clear();
-      pos_ = 0;
-    }
-    return true;
-  }
-
-  // After the End move: warns once if the file holds anything but blanks and comments after it.
-  void check_trailing() {
-    if (!ended_by_m2_) return;
-    std::string_view text;
-    bool too_long = false;
-    DiagnosticSink scratch;
-    while (reader_.next(text, too_long)) {
-      const int line_no = static_cast<int>(reader_.line_number());
-      if (!lex_line(text, line_no, lexed_, scratch) || lexed_.count > 0 || lexed_.block_delete) {
-        sink_.warning(line_no, 0, "after-end", "text after the program end (M2/M30) is not executed");
-        return;
-      }
-    }
-  }
-
-  std::uint64_t lines() const { return reader_.line_number(); }
-
- private:
-  void read_line() {
-    std::string_view text;
-    bool too_long = false;
-    if (!percent_closed_ && reader_.next(text, too_long)) {
-      const int line_no = static_cast<int>(std::min<std::uint64_t>(reader_.line_number(), 0x7fffffff));
-      last_line_ = line_no;
-      if (too_long) {
-        sink_.error(line_no, static_cast<int>(LineReader::kMaxLine),
-                    "line too long; expected at most 65536 characters per line");
-        return;
-      }
-      if (!lex_line(text, line_no, lexed_, sink_)) return;
-      if (lexed_.block_delete) {
-        sink_.warning(line_no, 1, "block-delete",
-                      "'/' block delete: the line is skipped (the block delete switch is always on)");
-        return;
-      }
-      if (lexed_.percent) {
-        if (seen_content_ || seen_percent_) {
-          percent_closed_ = true;  // the closing '%': the program ends here
-        }
-        seen_percent_ = true;
-        return;
-      }
-      if (lexed_.count == 0) return;
-      seen_content_ = true;
-      if (!parse_line(lexed_, line_no, parsed_, sink_)) return;
-      interp_.execute(parsed_, pending_);
-      if (interp_.ended()) ended_by_m2_ = true;
-      return;
-    }
-    // End of input (or closing '%') without M2/M30.
-    interp_.end_of_input(last_line_);
-    sink_.warning(last_line_, 0, "no-end", "the program has no M2/M30; it ends at the end of the file");
-    pending_.push(interp_.end_move(last_line_));
-  }
-
-  LineReader& reader_;
-  DiagnosticSink& sink_;
-  Interpreter interp_;
-  LexedLine lexed_;
-  ParsedLine parsed_;
-  MoveList pending_;
-  int pos_ = 0;
-  int last_line_ = 0;
-  bool done_ = false;
-  bool ended_by_m2_ = false;
-  bool seen_content_ = false;
-  bool seen_percent_ = false;
-  bool percent_closed_ = false;
-};
 
 Vec3 clamp_to_travel(const Vec3& p, const MachineConfig& c) {
   Vec3 r = p;
@@ -140,67 +42,85 @@ struct Input {
   }
 };
 
-struct PassResult {
-  std::uint64_t lines = 0;
-  std::uint64_t moves = 0;
-  Box all;
-  Box fit;
-  Vec3 last{};
-  double feed_time = 0.0;
-};
+// Source lines that hold a rapid block, as runs: block lines never decrease, so a rapid on the
+// line after a run's last line extends the run.
+void note_rapid(std::vector<LineRange>& runs, std::uint32_t line) {
+  if (!runs.empty() && line >= runs.back().first && line <= runs.back().last + 1) {
+    runs.back().last = std::max(runs.back().last, line);
+    return;
+  }
+  runs.push_back({line, line});
+}
 
-PassResult run_pass(const Input& in, const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink,
-                    bool limits) {
-  std::unique_ptr<LineReader> reader = in.open();
-  MoveSource source(*reader, config, frame, sink);
-  Preflight pre(config, sink, limits);
-  Move m;
-  while (source.next(m)) pre.add(m);
-  source.check_trailing();
-  pre.finish();
-  PassResult r;
-  r.lines = source.lines();
-  r.moves = pre.moves();
-  r.all = pre.extents();
-  r.fit = pre.fit_extents();
-  r.last = pre.moves() > 0 ? pre.last_point() : frame.start;
-  r.feed_time = pre.feed_time_s();
-  return r;
+// Sorted, overlapping or adjacent runs joined (a no-op unless block lines went back).
+void tidy(std::vector<LineRange>& runs) {
+  if (std::is_sorted(runs.begin(), runs.end(), [](const LineRange& a, const LineRange& b) { return a.first < b.first; }))
+    return;
+  std::sort(runs.begin(), runs.end(), [](const LineRange& a, const LineRange& b) { return a.first < b.first; });
+  std::vector<LineRange> joined;
+  for (const LineRange& r : runs) {
+    if (!joined.empty() && r.first <= joined.back().last + 1) {
+      joined.back().last = std::max(joined.back().last, r.last);
+    } else {
+      joined.push_back(r);
+    }
+  }
+  runs = std::move(joined);
+}
+
+// --fit: the transform that brings the program's own points into the travel, measured by a
+// pass of the pipeline up to the preflight (no soft limits, no blocks, diagnostics dropped).
+Transform fit_transform(const Input& in, const std::string& name, const MachineConfig& config,
+                        const JobOptions& options, Transform t) {
+  DiagnosticSink scratch(name);
+  Pipeline measure(in.open(), config, make_frame(config, options, t), scratch, false);
+  measure.drain();
+  const FitResult f = fit_to_travel(measure.preflight().fit_extents(), t.offset, config);
+  t.offset = f.offset;
+  t.scale = f.scale;
+  return t;
 }
 
 CheckResult check_input(const Input& in, const std::string& name, const MachineConfig& config,
-                        const JobOptions& options) {
+                        const JobOptions& options, const std::function<void(const Block&)>* on_block) {
   CheckResult result;
   DiagnosticSink sink(name);
   try {
     Transform t;
     t.offset = options.offset ? *options.offset : config.gcode.work_offsets[0];
     if (options.fit) {
-      DiagnosticSink scratch(name);
-      const PassResult a = run_pass(in, config, make_frame(config, options, t), scratch, false);
-      const FitResult f = fit_to_travel(a.fit, t.offset, config);
-      t.offset = f.offset;
-      t.scale = f.scale;
+      t = fit_transform(in, name, config, options, t);
       if (options.offset)
         sink.warning(0, 0, "fit-offset", "--fit recentres the program: the --offset value is not used");
     }
-    const PassResult b = run_pass(in, config, make_frame(config, options, t), sink, true);
-    result.transform = t;
-    result.lines = b.lines;
-    result.moves = b.moves;
-    if (b.moves > 0) {
-      result.min_point = b.all.min;
-      result.max_point = b.all.max;
-    } else {
-      result.min_point = result.max_point = b.last;
+    const JobFrame frame = make_frame(config, options, t);
+    Pipeline pipeline(in.open(), config, frame, sink);
+    Block b;
+    while (pipeline.next(b)) {
+      ++result.blocks;
+      if (b.kind == BlockKind::kRapid) note_rapid(result.rapid_lines, b.line);
+      if (on_block) (*on_block)(b);
     }
-    result.last_point = b.last;
-    result.feed_length_time_s = b.feed_time;
+    if (pipeline.failed()) pipeline.drain();  // the rest of the program's diagnostics
+    const Preflight& pre = pipeline.preflight();
+    result.transform = t;
+    result.lines = pipeline.lines();
+    result.moves = pre.moves();
+    result.last_point = pre.moves() > 0 ? pre.last_point() : frame.start;
+    if (pre.moves() > 0) {
+      result.min_point = pre.extents().min;
+      result.max_point = pre.extents().max;
+    } else {
+      result.min_point = result.max_point = result.last_point;
+    }
+    result.feed_length_time_s = pre.feed_time_s();
   } catch (const std::exception& e) {
     sink.error(0, 0, e.what());
   }
   result.ok = !sink.has_errors();
   result.diagnostics = sink.take();
+  if (!result.ok) result.rapid_lines.clear();
+  tidy(result.rapid_lines);
   return result;
 }
 
@@ -213,37 +133,35 @@ bool is_null_move(const Move& m) {
 CheckResult check_program(const std::string& path, const MachineConfig& config, const JobOptions& options) {
   Input in;
   in.path = &path;
-  return check_input(in, path, config, options);
+  return check_input(in, path, config, options, nullptr);
+}
+
+CheckResult check_program(const std::string& path, const MachineConfig& config, const JobOptions& options,
+                          const std::function<void(const Block&)>& on_block) {
+  Input in;
+  in.path = &path;
+  return check_input(in, path, config, options, &on_block);
 }
 
 CheckResult check_program_text(std::string_view text, const std::string& name, const MachineConfig& config,
                                const JobOptions& options) {
   Input in;
   in.text = text;
-  return check_input(in, name, config, options);
+  return check_input(in, name, config, options, nullptr);
+}
+
+CheckResult check_program_text(std::string_view text, const std::string& name, const MachineConfig& config,
+                               const JobOptions& options, const std::function<void(const Block&)>& on_block) {
+  Input in;
+  in.text = text;
+  return check_input(in, name, config, options, &on_block);
 }
 
 struct BlockStream::Impl {
-  Impl(std::unique_ptr<LineReader> r, const std::string& name, const MachineConfig& c, const JobFrame& frame)
-      : reader(std::move(r)),
-        config(c),
-        sink(name),
-        source(*reader, config, frame, sink),
-        merger(c.motion.corner_tolerance_mm),
-        pull([this](Move& m) {
-          do {
-            if (!source.next(m)) return false;
-          } while (is_null_move(m));
-          return true;
-        }) {}
-  std::unique_ptr<LineReader> reader;
-  MachineConfig config;  // a copy: the stream may outlive the caller's config (or a temporary)
+  Impl(std::unique_ptr<LineReader> reader, const std::string& name, const MachineConfig& config, const JobFrame& frame)
+      : sink(name), pipeline(std::move(reader), config, frame, sink) {}
   DiagnosticSink sink;
-  MoveSource source;
-  SegmentMerger merger;  // runs of collinear G1 moves under M21 -> one line (tolerance 0: off)
-  std::function<bool(Move&)> pull;  // the interpreter's moves without the null ones
-  std::vector<Block> nurbs;  // the blocks of the NURBS move being streamed (one curve at a time)
-  std::size_t nurbs_next = 0;
+  Pipeline pipeline;  // keeps its own copy of the config: the stream may outlive the caller's
 };
 
 BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
@@ -261,34 +179,19 @@ BlockStream::BlockStream(BlockStream&&) noexcept = default;
 BlockStream& BlockStream::operator=(BlockStream&&) noexcept = default;
 
 bool BlockStream::next(Block& out) {
-  if (impl_->nurbs_next < impl_->nurbs.size()) {
-    out = impl_->nurbs[impl_->nurbs_next++];
-    return true;
-  }
-  Move m;
-  if (!impl_->merger.next(impl_->pull, m)) return false;
-  if (impl_->sink.has_errors()) {
-    const std::vector<Diagnostic> d = impl_->sink.take();
-    throw std::runtime_error(format_diagnostic(d.front()) + " (the program changed since it was checked?)");
-  }
-  if (m.kind == MoveKind::kNurbs) {
-    NurbsMoveBlocks nb = plan_nurbs_move(m, impl_->config);
-    if (!nb.error.empty() || nb.blocks.empty()) {
-      throw std::runtime_error("line " + std::to_string(m.line) + ": NURBS curve could not be planned: " +
-                               (nb.error.empty() ? std::string("no blocks") : nb.error));
+  if (impl_->pipeline.next(out)) return true;
+  if (!impl_->pipeline.failed()) return false;
+  for (const Diagnostic& d : impl_->sink.take()) {
+    if (d.severity == Diagnostic::Severity::kError) {
+      throw std::runtime_error(format_diagnostic(d) + " (the program changed since it was checked?)");
     }
-    impl_->nurbs = std::move(nb.blocks);
-    impl_->nurbs_next = 1;
-    out = impl_->nurbs.front();
-    return true;
   }
-  make_block_into(m, impl_->config, out);
-  return true;
+  throw std::runtime_error("the program has an error (the program changed since it was checked?)");
 }
 
-std::uint64_t BlockStream::lines_read() const { return impl_->reader->line_number(); }
-std::uint64_t BlockStream::total_bytes() const { return impl_->reader->total_bytes(); }
-std::uint64_t BlockStream::bytes_read() const { return impl_->reader->bytes_read(); }
+std::uint64_t BlockStream::lines_read() const { return impl_->pipeline.reader().line_number(); }
+std::uint64_t BlockStream::total_bytes() const { return impl_->pipeline.reader().total_bytes(); }
+std::uint64_t BlockStream::bytes_read() const { return impl_->pipeline.reader().bytes_read(); }
 
 std::string format_block(const Block& b) {
   // One snprintf per part into a fixed buffer: --print-blocks prints millions of these.

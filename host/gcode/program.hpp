@@ -1,9 +1,12 @@
-// program.hpp — the streaming entry point of the G-code front end: check a whole program
-// (pass 1), then stream its ring Blocks (pass 2). Both passes read the file line by line with
-// O(1) memory: lexer -> parser -> interpreter -> preflight (pass 1) / preprocessor (pass 2).
+// program.hpp — the entry points of the G-code front end: check a whole program, then stream
+// its ring Blocks. Both run the one pipeline (gcode/pipeline.hpp: lexer -> parser ->
+// interpreter -> [geometry stages] -> preflight -> segment merge -> preprocessor -> the rt's
+// block check), reading the file line by line with O(1) memory. Check runs it to the blocks and
+// validates each with the rt's own check_block, so what check accepts is exactly what is sent.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,6 +35,12 @@ struct Transform {
   double scale = 1.0;
 };  // machine = scale * program + offset, reported to the user
 
+/// Source lines first..last (inclusive).
+struct LineRange {
+  std::uint32_t first = 0;
+  std::uint32_t last = 0;
+};
+
 struct CheckResult {
   std::vector<Diagnostic> diagnostics;
   bool ok = false;
@@ -41,19 +50,32 @@ struct CheckResult {
   Vec3 min_point{}, max_point{};  // program extents in machine coords
   Vec3 last_point{};
   double feed_length_time_s = 0.0;  // sum of length/F over feed moves
+  std::uint64_t blocks = 0;         // blocks made and accepted by the rt's check (what a run sends)
+  std::vector<LineRange> rapid_lines;  // source lines holding a rapid block, ascending runs (ok only)
 };
 
-/// Pass 1: reads the whole file, parses, interprets, checks soft limits (after offset/scale),
-/// feeds, everything. No Block is produced. Memory does not grow with file length.
+/// Pass 1: reads the whole file through the whole pipeline: parses, interprets, checks soft
+/// limits (after offset/scale), feeds, everything, makes every block and validates it with the
+/// rt's block check (seq 1, 2, 3, ..., each starting where the last ended, the first at the
+/// job's start position). A refused block is an error at its source line. The blocks are not
+/// kept: memory does not grow with file length (rapid_lines aside, one entry per run of rapids).
 /// A file that cannot be read gives ok = false with one error diagnostic.
 CheckResult check_program(const std::string& path, const MachineConfig& config, const JobOptions& options);
 /// The same over text in memory (tests, fuzzing); `name` is used in messages.
 CheckResult check_program_text(std::string_view text, const std::string& name, const MachineConfig& config,
                                const JobOptions& options);
+/// The same, handing every block check made and accepted to `on_block`, in order (for a
+/// program check accepts: exactly the blocks BlockStream streams).
+CheckResult check_program(const std::string& path, const MachineConfig& config, const JobOptions& options,
+                          const std::function<void(const Block&)>& on_block);
+CheckResult check_program_text(std::string_view text, const std::string& name, const MachineConfig& config,
+                               const JobOptions& options, const std::function<void(const Block&)>& on_block);
 
-/// Pass 2: streams Blocks in program order. Construct only after check_program(...).ok, with
-/// its transform. Throws std::runtime_error if the program turns out to have an error after
-/// all (e.g. the file changed since it was checked). The stream keeps its own copy of `config`.
+/// Pass 2: streams Blocks in program order through the same pipeline, each numbered (seq 1, 2,
+/// 3, ..., as the ring feeder numbers them) and accepted by the rt's block check. Construct only
+/// after check_program(...).ok, with its transform. Throws std::runtime_error if the program
+/// turns out to have an error after all (e.g. the file changed since it was checked). The
+/// stream keeps its own copy of `config`.
 class BlockStream {
  public:
   BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,

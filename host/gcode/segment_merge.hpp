@@ -1,6 +1,8 @@
-// segment_merge.hpp — the host's naive-CAM detector, between the interpreter and the
-// preprocessor: a run of short feed moves that lie on one straight line within a tolerance
-// becomes one line move.
+// segment_merge.hpp — the host's naive-CAM detector, the pipeline stage between the
+// preflight and the preprocessor (gcode/pipeline.hpp): a run of short feed moves that lie on
+// one straight line within a tolerance becomes one line move. It packs more path into each
+// ring slot; it comes after the preflight so that the program's figures and soft-limit
+// messages speak of the moves as programmed (the rt's block check still sees the merged ones).
 //
 // CAM programs often write curves as thousands of tiny G1 segments (tiny.ngc: 0.031 mm). The
 // rt sees only the 4 blocks in the ring and must always be able to stop within them, so 4

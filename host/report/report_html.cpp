@@ -7,11 +7,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
-#include "gcode/program.hpp"
 
 namespace pcnc {
 
@@ -602,29 +602,21 @@ std::string render_report_html(const ReportPage& page) {
   return o.str();
 }
 
-void build_report_file(const std::string& summary_path, const std::string& trace_path, const MachineConfig& config,
-                       const std::string& html_path) {
+void build_report_file(const std::string& summary_path, const std::string& trace_path, const std::string& html_path) {
   ReportPage page;
   page.summary = read_run_summary(summary_path);
   if (!trace_path.empty()) {
-    // which source lines hold rapids: the program's own blocks under the run's transform
-    std::vector<bool> rapid_line;
-    try {
-      JobOptions options;
-      options.contouring = page.summary.contouring_at_start;
-      BlockStream stream(page.summary.program, config, options, page.summary.transform);
-      Block b;
-      while (stream.next(b)) {
-        if (b.line >= rapid_line.size()) rapid_line.resize(b.line + 1, false);
-        if (b.kind == BlockKind::kRapid) rapid_line[b.line] = true;
-      }
-    } catch (const std::exception&) {
-      rapid_line.clear();  // the program changed or vanished: the path is drawn without rapids
-    }
+    // which source lines hold rapids: recorded from the blocks the run's check made (the
+    // blocks that were sent), so the report runs no front end of its own
+    const std::vector<LineRange>& rapid = page.summary.rapid_lines;
     DigestOptions d;
     const Vec3 size = page.summary.max_point - page.summary.min_point;
     d.path_tolerance_mm = std::max(1e-4, std::max({size[0], size[1], size[2]}) / 2000.0);
-    d.is_rapid_line = [&](std::uint32_t line) { return line < rapid_line.size() && rapid_line[line]; };
+    d.is_rapid_line = [&rapid](std::uint32_t line) {
+      const auto it = std::upper_bound(rapid.begin(), rapid.end(), line,
+                                       [](std::uint32_t l, const LineRange& r) { return l < r.first; });
+      return it != rapid.begin() && line <= std::prev(it)->last;
+    };
     page.trace = digest_trace(trace_path, d);
     page.has_trace = true;
   } else {

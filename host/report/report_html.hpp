@@ -1,8 +1,8 @@
 // report_html.hpp — the run report as one self-contained HTML page (`pcnc run --report`).
 //
 // Built after both processes have exited, from the run summary pcnc-host wrote (figures)
-// and the per-cycle trace pcnc-rt wrote (pictures), plus the program itself (which source
-// lines are rapids). The page holds inline SVG and CSS only: no script, no fonts, nothing
+// and the per-cycle trace pcnc-rt wrote (pictures). Which source lines are rapids comes from
+// the summary too (recorded from the blocks the run's check made): no front end runs here. The page holds inline SVG and CSS only: no script, no fonts, nothing
 // fetched from the network, so it opens anywhere with nothing but a browser.
 //
 // Pictures: the tool path as measured, in an isometric view (rapids dashed, feed moves
@@ -35,11 +35,10 @@ std::string render_toolpath_svg(const ReportPage& page);
 /// The tool path seen from above (X right, Y up, equal scales).
 std::string render_top_view_svg(const ReportPage& page);
 
-/// Reads summary and trace, classifies the program's lines (rapid or not) with a BlockStream
-/// over `program` under the summary's transform, renders and writes `html_path`.
+/// Reads summary and trace, classifies the trace's lines (rapid or not) by the summary's
+/// rapid_lines, renders and writes `html_path`.
 /// `trace_path` may be empty (no pictures). Throws std::runtime_error naming what failed.
-void build_report_file(const std::string& summary_path, const std::string& trace_path, const MachineConfig& config,
-                       const std::string& html_path);
+void build_report_file(const std::string& summary_path, const std::string& trace_path, const std::string& html_path);
 
 /// Formatting shared with the tests: fixed decimals, "-0.000" printed as "0.000".
 std::string fixed(double v, int decimals);

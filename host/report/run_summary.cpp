@@ -101,6 +101,19 @@ Status status_from(const json& j) {
   return s;
 }
 
+// [[first, last], ...]
+json rapid_lines_json(const std::vector<LineRange>& runs) {
+  json a = json::array();
+  for (const LineRange& r : runs) a.push_back(json::array({r.first, r.last}));
+  return a;
+}
+
+std::vector<LineRange> rapid_lines_from(const json& a) {
+  std::vector<LineRange> runs;
+  for (const json& r : a) runs.push_back({r.at(0).get<std::uint32_t>(), r.at(1).get<std::uint32_t>()});
+  return runs;
+}
+
 }  // namespace
 
 RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, const std::string& config_path,
@@ -126,6 +139,7 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.max_point = r.check.max_point;
   s.last_point = r.check.last_point;
   s.feed_length_time_s = r.check.feed_length_time_s;
+  s.rapid_lines = r.check.rapid_lines;
   s.end = to_string(r.job.end);
   s.message = r.job.message;
   s.blocks_sent = r.job.blocks_sent;
@@ -160,7 +174,8 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"min_point", s.min_point},
                 {"max_point", s.max_point},
                 {"last_point", s.last_point},
-                {"feed_length_time_s", s.feed_length_time_s}}},
+                {"feed_length_time_s", s.feed_length_time_s},
+                {"rapid_lines", rapid_lines_json(s.rapid_lines)}}},
               {"job",
                {{"end", s.end},
                 {"message", s.message},
@@ -198,6 +213,7 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.max_point = c.at("max_point").get<Vec3>();
   s.last_point = c.at("last_point").get<Vec3>();
   s.feed_length_time_s = c.at("feed_length_time_s").get<double>();
+  if (c.contains("rapid_lines")) s.rapid_lines = rapid_lines_from(c.at("rapid_lines"));  // absent in older summaries
   const json& b = j.at("job");
   s.end = b.at("end").get<std::string>();
   s.message = b.at("message").get<std::string>();

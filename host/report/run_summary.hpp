@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -28,13 +29,16 @@ struct RunSummary {
   double cycle_hz = 0.0;
   Vec3 travel_min{}, travel_max{};
 
-  // pass 1 (check_program)
+  // pass 1 (check_program: the whole pipeline to the blocks)
   std::uint64_t lines = 0;
   std::uint64_t moves = 0;
   std::uint64_t warnings = 0;
   Transform transform{};
   Vec3 min_point{}, max_point{}, last_point{};  // machine coordinates
   double feed_length_time_s = 0.0;
+  // source lines that hold a rapid block, from the blocks check made (what the run sent):
+  // the report draws those parts of the path as rapids
+  std::vector<LineRange> rapid_lines;
 
   // the job
   std::string end;            // to_string(JobEnd)

@@ -1,0 +1,26 @@
+// block_validator.cpp — the rt's block check as the pipeline's last stage (see block_validator.hpp).
+#include "gcode/block_validator.hpp"
+
+#include <cstdio>
+
+namespace pcnc {
+
+BlockVerdict BlockValidator::check(Block& b) {
+  b.seq = next_seq_;
+  const BlockVerdict verdict = check_block(b, tail_, next_seq_, config_);
+  if (verdict.fault != FaultCode::kNone) return verdict;
+  const bool moving = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc ||
+                      b.kind == BlockKind::kNurbs;
+  if (moving && b.length > 0.0) tail_ = b.end;  // as the rt's prepare_block sets PreparedBlock::motion
+  ++next_seq_;
+  return verdict;
+}
+
+std::string describe_refusal(const Block& b, const BlockVerdict& v) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, " (axis %c, value %.4f)", v.axis < kAxes ? axis_name(v.axis) : '?', v.value);
+  return "block " + std::to_string(b.seq) + " (" + to_string(b.kind) + ") is refused by the rt's block check: " +
+         v.reason + buf + "; the machine would fault here";
+}
+
+}  // namespace pcnc

@@ -1,0 +1,87 @@
+// pipeline.hpp — the one definition of the G-code front end, from source text to ring blocks.
+// `pcnc check`, `pcnc run` and the service's jobs run this chain through program.hpp's
+// check_program and BlockStream, its two thin users (MDI is to use them too: a line of text is
+// a program); the run report draws on what the run's check recorded, not on a chain of its own.
+//
+// The stages, in their one fixed order; each hands plain values (Move, Block) to the next:
+//
+//   LineReader   source text, line by line, in fixed memory            (line_reader.hpp)
+//   MoveSource   lexer -> parser -> interpreter: Moves in machine mm   (move_source.hpp)
+//   [geometry stages, each optional, in this order — none yet:
+//      cutter compensation, surface correction, smoothing]
+//   Preflight    the whole program: soft limits, extents, feed time    (preflight.hpp)
+//                (sees every programmed move; moves without displacement end here)
+//   SegmentMerger  packing for the ring: collinear G1 runs -> one line  (segment_merge.hpp)
+//   preprocessor one Move -> one Block; a NURBS move -> its pieces      (preprocessor.hpp,
+//                                                                        nurbs_move.hpp)
+//   BlockValidator the rt's own block check, seq 1, 2, 3, ...          (block_validator.hpp)
+//
+// A new geometry stage is a class with `bool next(const MovePull& pull, Move& out)` (the shape
+// of SegmentMerger), a member of Pipeline, linked in Pipeline::geometry_move in its place in
+// the order: the preflight then checks the path that will be cut, and the rt's check its blocks.
+//
+// Errors: every stage reports to the DiagnosticSink. From the first error on, no block is
+// made: next() returns false and failed() is true; drain() then runs the front end to the end
+// of the program for the rest of its diagnostics and figures.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "config/config.hpp"
+#include "gcode/block_validator.hpp"
+#include "gcode/diagnostics.hpp"
+#include "gcode/interpreter.hpp"
+#include "gcode/line_reader.hpp"
+#include "gcode/move_source.hpp"
+#include "gcode/preflight.hpp"
+#include "gcode/segment_merge.hpp"
+#include "ipc/block.hpp"
+
+namespace pcnc {
+
+/// One stage's input: yields the next Move and returns true, or returns false at the end.
+using MovePull = std::function<bool(Move&)>;
+
+class Pipeline {
+ public:
+  /// `soft_limits`: the preflight reports points outside the travel (off only while --fit
+  /// measures the program). The pipeline keeps its own copy of `config`.
+  Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& config, const JobFrame& frame,
+           DiagnosticSink& sink, bool soft_limits = true);
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  /// The next block, numbered (seq) and accepted by the rt's block check. False at the end of
+  /// the program, or once an error has been reported (then failed()).
+  bool next(Block& out);
+  /// Runs the front end (up to and including the preflight) to the end of the program
+  /// without making blocks: the --fit measuring pass, or the rest of a failed program.
+  void drain();
+
+  bool failed() const { return sink_.has_errors(); }
+  const Preflight& preflight() const { return preflight_; }
+  const LineReader& reader() const { return *reader_; }
+  std::uint64_t lines() const { return source_.lines(); }
+
+ private:
+  bool geometry_move(Move& m);  // the source through the geometry stages
+  bool checked_move(Move& m);   // ... through the preflight (null moves end there)
+  bool accept(Block& b);       // the block check; false (and an error) when refused
+
+  MachineConfig config_;
+  DiagnosticSink& sink_;
+  std::unique_ptr<LineReader> reader_;
+  MoveSource source_;
+  Preflight preflight_;
+  SegmentMerger merge_;
+  BlockValidator validator_;
+  MovePull to_merge_;           // the preflight's output, the merge's input
+  bool source_ended_ = false;   // the End move has passed and the program's end was checked
+  std::vector<Block> nurbs_;    // the blocks of the NURBS move being handed out (one curve at a time)
+  std::size_t nurbs_next_ = 0;
+};
+
+}  // namespace pcnc
