@@ -57,6 +57,20 @@ struct Builder {
     b.speed = v;
     b.accel = a;
     b.dir_start = b.dir_end = u;
+    // The seed's driving-axis plan, which the rt's block check cross-checks (block.hpp).
+    const Vec3 d = e - pos;
+    int w = 0, moving = 0;
+    for (int i = 0; i < kAxes; ++i) {
+      moving += std::abs(d[i]) > 1e-9;
+      if (std::abs(d[i]) > std::abs(d[w])) w = i;
+    }
+    b.motion_class = static_cast<MotionClass>(moving);
+    b.driving_axis = static_cast<std::uint8_t>(w);
+    b.driving_dir = d[w] < 0.0 ? -1 : 1;
+    b.driving_speed = v * std::abs(u[w]);
+    b.driving_accel = a * std::abs(u[w]);
+    const double brake = v * v / (2.0 * a);
+    b.decel_start = pos[w] + u[w] * (2.0 * brake >= b.length ? 0.5 * b.length : b.length - brake);
     out.push_back(b);
     pos = e;
   }
@@ -86,6 +100,18 @@ struct Builder {
     b.arc.normal_axis = 2;
     const Vec3 t = normalized(Vec3{-std::sin(th) * r * sweep, std::cos(th) * r * sweep, dz});
     b.dir_start = b.dir_end = t;
+    // The angular and driving-axis plans, which the rt's block check cross-checks (block.hpp).
+    const double rho = b.length / sweep;
+    b.arc.angular_speed = v / rho;
+    b.arc.angular_accel = a / rho;
+    const double brake = b.arc.angular_speed * b.arc.angular_speed / (2.0 * b.arc.angular_accel);
+    b.arc.decel_start_angle = 2.0 * brake >= sweep ? 0.5 * sweep : sweep - brake;
+    b.motion_class = std::abs(dz) > 1e-9 ? MotionClass::kSpace : MotionClass::kPlane;
+    b.driving_axis = 2;
+    b.driving_dir = dz < 0.0 ? -1 : 1;
+    b.driving_speed = v * h;
+    b.driving_accel = a * h;
+    b.decel_start = pos[2] + dz * b.arc.decel_start_angle / sweep;
     out.push_back(b);
     pos = b.end;
   }

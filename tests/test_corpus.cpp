@@ -56,16 +56,24 @@ MachineConfig linuxcnc_arc_config() {
   return c;
 }
 
-// Every block of a checked program satisfies the block contract (DESIGN.md, block.hpp).
+// Every block of a checked program satisfies the block contract (DESIGN.md, block.hpp) and
+// passes the rt's block check.
 void expect_blocks_valid(const std::string& path, const MachineConfig& c, const JobOptions& o, const Transform& t,
                          std::uint64_t* count = nullptr) {
   BlockStream s(path, c, o, t);
   Block b;
   std::uint64_t n = 0;
   BlockKind last = BlockKind::kLine;
+  Vec3 tail{};
   while (s.next(b)) {
     ++n;
     last = b.kind;
+    // the rt's own check, plan cross-checks included, as the executor runs it
+    b.seq = n;
+    if (n == 1) tail = b.start;  // the machine stands where the program starts
+    const BlockVerdict v = check_block(b, tail, n, c);
+    ASSERT_EQ(v.fault, FaultCode::kNone) << path << " line " << b.line << ": " << v.reason;
+    if (b.kind != BlockKind::kDwell && b.kind != BlockKind::kPause && b.kind != BlockKind::kEnd) tail = b.end;
     if (b.kind != BlockKind::kRapid && b.kind != BlockKind::kLine && b.kind != BlockKind::kArc) continue;
     ASSERT_GT(b.length, 0.0) << path << " line " << b.line;
     ASSERT_GT(b.speed, 0.0) << path << " line " << b.line;

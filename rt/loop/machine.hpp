@@ -4,7 +4,9 @@
 // The loop (rt_loop.cpp) owns time and the shared segment; Machine owns everything that
 // happens inside one cycle and is pure computation: no system calls, no allocation after
 // construction, no locks, no I/O. That keeps it testable without processes and deterministic
-// under --clock virtual.
+// under --clock virtual. Inside (machine_impl.hpp): the cycle in order (cycle.cpp), the
+// states and their transitions (state_machine.hpp), motion (rt/motion: executor, jog, feed
+// override) and the drive (rt/drive: servo and plant).
 #pragma once
 
 #include <cstdint>
@@ -19,7 +21,6 @@
 
 namespace pcnc {
 
-using MotionRing = SpscRing<Block, kRingSlots>;
 
 class Machine {
  public:

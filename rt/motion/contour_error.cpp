@@ -1,9 +1,12 @@
-// contour_error.cpp — Newton's method for the nearest point on a path (see contour_error.hpp).
+// contour_error.cpp — the nearest point on a path (closed form, or Newton on helices) and the
+// contour error of the move in execution (see contour_error.hpp).
 #include "motion/contour_error.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include "motion/executor.hpp"
 
 namespace pcnc {
 
@@ -74,6 +77,19 @@ PathDistance distance_to_path(const PreparedBlock& block, const Vec3& p, double 
     }
   }
   return r;
+}
+
+double contour_error(const Executor& exec, const Vec3& measured, double lag_mm) {
+  auto feed = [](const PreparedBlock* b) { return b && (b->kind == BlockKind::kLine || b->kind == BlockKind::kArc); };
+  double e = -1.0;
+  const PreparedBlock* cur = exec.current_motion();
+  if (feed(cur)) e = distance_to_path(*cur, measured, exec.progress()).distance;
+  const PreparedBlock* prev = exec.previous_motion();
+  if (feed(prev) && (!cur || (feed(cur) && exec.progress() < lag_mm))) {
+    const double d = distance_to_path(*prev, measured, prev->length).distance;
+    e = e < 0.0 ? d : std::min(e, d);
+  }
+  return e;
 }
 
 }  // namespace pcnc

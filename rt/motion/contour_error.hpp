@@ -19,4 +19,13 @@ struct PathDistance {
 /// machine lags behind it by the following error), clamped to [0, length].
 PathDistance distance_to_path(const PreparedBlock& block, const Vec3& p, double s_guess);
 
+class Executor;
+
+/// Distance from the measured position to the programmed path of the feed move in execution
+/// (lines and arcs; rapids and NURBS are not measured): the nearest point of the current
+/// block, or of the previous one while the axes, lagging the setpoint by up to `lag_mm`, may
+/// still be on it (not when a rapid follows: leaving a cut at rapid speed is not a contour
+/// error). −1 when there is no feed move to measure against.
+double contour_error(const Executor& exec, const Vec3& measured, double lag_mm);
+
 }  // namespace pcnc

@@ -39,9 +39,9 @@
 #include "ipc/block.hpp"
 #include "config/config.hpp"
 #include "motion/junction.hpp"
-#include "loop/machine.hpp"
 #include "geometry/nurbs.hpp"
 #include "motion/path.hpp"
+#include "ipc/segment.hpp"
 #include "ipc/status.hpp"
 
 namespace pcnc {

@@ -84,7 +84,10 @@ struct Block {
 
   // The seed's driving-axis plan for straight moves (and the helical axis of an arc):
   // the axis with the largest travel, its direction flag, its own speed and acceleration,
-  // and the coordinate on it where deceleration must start to stop at `end`.
+  // and the coordinate on it where deceleration must start to stop at `end`. The rt moves by
+  // path length; its block check (block_check.hpp) recomputes this plan from length, speed
+  // and accel and refuses a block that disagrees. NURBS: only the axis (widest extent of the
+  // control polygon) and its flag; speed, accel and decel_start are 0 (the schedule plans).
   std::uint8_t driving_axis = 0;
   std::int8_t driving_dir = 1;  // +1: the driving coordinate increases toward end
   std::uint8_t pad0_[6]{};

@@ -19,6 +19,148 @@ BlockVerdict bad(const char* reason, int axis = 0, double value = 0.0) {
 
 bool unit(const Vec3& v) { return std::abs(norm(v) - 1.0) < 1e-3; }
 
+// ---- The seed's driving-axis plan and the arc's angular plan, cross-checked against the
+// path-length plan (length, speed, accel, geometry) that the executor runs. The rt moves by
+// path length; these fields restate the same plan per axis or per radian (docs/gcode.md,
+// "Preprocessing"), so a host that computes either wrong is refused here. Each expected
+// value is recomputed with the host's rules (host/gcode/preprocessor.cpp); speeds and
+// accelerations must agree to 1e-9 relative, positions to motion.block_tolerance_mm.
+
+constexpr double kRel = 1e-9;        // relative tolerance of speeds and accelerations
+constexpr double kMovingMm = 1e-9;   // an axis moves when its travel exceeds this (host: kAxisEps)
+
+// |got − want| within kRel of `scale` (false for NaN).
+bool agrees(double got, double want, double scale) { return std::abs(got - want) <= kRel * std::abs(scale); }
+
+// Where on a path of `length` a stop from `speed` at `accel` must begin so as to end at rest
+// exactly at its end: the braking distance before the end, or the midpoint when the block is
+// too short to reach `speed` and stop again (triangular profile).
+double stop_begins_at(double length, double speed, double accel) {
+  const double braking = speed * speed / (2.0 * accel);
+  return 2.0 * braking >= length ? 0.5 * length : length - braking;
+}
+
+// Lines and rapids: the driving axis is the one with the largest travel (the first on a tie),
+// its flag the sign of that travel; its speed and acceleration are the path's times its
+// direction cosine; decel_start is its coordinate where the path's stop must begin.
+BlockVerdict check_line_plan(const Block& b, double tol) {
+  const Vec3 d = b.end - b.start;
+  const double length = norm(d);
+  int moving = 0, k = 0;
+  for (int i = 0; i < kAxes; ++i) {
+    if (std::abs(d[i]) > kMovingMm) ++moving;
+    if (std::abs(d[i]) > std::abs(d[k])) k = i;
+  }
+  if (b.motion_class != static_cast<MotionClass>(moving)) {
+    return bad("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
+  }
+  if (b.driving_axis != k) return bad("driving axis plan disagrees with the path: driving_axis", k, b.driving_axis);
+  if (b.driving_dir != (d[k] < 0.0 ? -1 : 1)) {
+    return bad("driving axis plan disagrees with the path: driving_dir", k, b.driving_dir);
+  }
+  const double u = length > 0.0 ? d[k] / length : 0.0;  // signed direction cosine of the driving axis
+  if (!agrees(b.driving_speed, b.speed * std::abs(u), b.speed)) {
+    return bad("driving axis plan disagrees with the path: driving_speed", k, b.driving_speed);
+  }
+  if (!agrees(b.driving_accel, b.accel * std::abs(u), b.accel)) {
+    return bad("driving axis plan disagrees with the path: driving_accel", k, b.driving_accel);
+  }
+  const double decel = b.start[k] + u * stop_begins_at(length, b.speed, b.accel);
+  if (!(std::abs(b.decel_start - decel) <= tol)) {
+    return bad("driving axis plan disagrees with the path: decel_start", k, b.decel_start);
+  }
+  return {};
+}
+
+// Arcs and helices: with pitch p = helix/|sweep| and rho = sqrt(r² + p²) (the path length per
+// radian), angular speed and acceleration are the path's divided by rho, decel_start_angle
+// the same stop rule in radians from the start. The driving axis is the normal (helical)
+// axis, its speed and acceleration the path's times |helix|/length, decel_start its
+// coordinate at decel_start_angle. The tangents at the ends are the direction cosines.
+BlockVerdict check_arc_plan(const Block& b, double tol) {
+  const ArcGeometry& g = b.arc;
+  const int n = g.normal_axis;
+  const double turn = std::abs(g.sweep);
+  const double pitch = g.helix / turn;
+  const double rho = std::sqrt(g.radius * g.radius + pitch * pitch);
+  const double length = rho * turn;
+  const MotionClass mc = std::abs(g.helix) > kMovingMm ? MotionClass::kSpace : MotionClass::kPlane;
+  if (b.motion_class != mc) return bad("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
+
+  const double w = b.speed / rho, alpha = b.accel / rho;
+  if (!agrees(g.angular_speed, w, w)) return bad("arc plan disagrees with the path: angular_speed", n, g.angular_speed);
+  if (!agrees(g.angular_accel, alpha, alpha)) {
+    return bad("arc plan disagrees with the path: angular_accel", n, g.angular_accel);
+  }
+  const double decel_angle = stop_begins_at(turn, w, alpha);
+  if (!(std::abs(g.decel_start_angle - decel_angle) * rho <= tol)) {
+    return bad("arc plan disagrees with the path: decel_start_angle", n, g.decel_start_angle);
+  }
+
+  if (b.driving_axis != n) return bad("driving axis plan disagrees with the path: driving_axis", n, b.driving_axis);
+  if (b.driving_dir != (g.helix < 0.0 ? -1 : 1)) {
+    return bad("driving axis plan disagrees with the path: driving_dir", n, b.driving_dir);
+  }
+  const double share = std::abs(g.helix) / length;
+  if (!agrees(b.driving_speed, b.speed * share, b.speed)) {
+    return bad("driving axis plan disagrees with the path: driving_speed", n, b.driving_speed);
+  }
+  if (!agrees(b.driving_accel, b.accel * share, b.accel)) {
+    return bad("driving axis plan disagrees with the path: driving_accel", n, b.driving_accel);
+  }
+  const double decel = b.start[n] + g.helix * decel_angle / turn;
+  if (!(std::abs(b.decel_start - decel) <= tol)) {
+    return bad("driving axis plan disagrees with the path: decel_start", n, b.decel_start);
+  }
+
+  // Direction cosines: the unit tangents in the direction of travel, sign(sweep)·dp/dθ.
+  if (!unit(b.dir_start) || !unit(b.dir_end)) return bad("arc: direction cosines are not unit vectors");
+  const auto pa = plane_axes(g.normal_axis);
+  const double sign = g.sweep < 0.0 ? -1.0 : 1.0;
+  auto tangent = [&](double theta) {
+    Vec3 t{0.0, 0.0, 0.0};
+    t[pa[0]] = -g.radius * std::sin(theta) * sign;
+    t[pa[1]] = g.radius * std::cos(theta) * sign;
+    t[n] = pitch;
+    return normalized(t);
+  };
+  if (b.length > 10.0 * tol &&
+      (dot(tangent(g.start_angle), b.dir_start) < 0.9999 || dot(tangent(g.start_angle + g.sweep), b.dir_end) < 0.9999)) {
+    return bad("arc: direction cosines disagree with the tangents");
+  }
+  return {};
+}
+
+// NURBS: the block's own feed schedule is its plan, so the driving-axis plan holds only the
+// axis (the widest extent of the control polygon, the first on a tie) and its flag; its
+// speed, acceleration and deceleration start are 0. The motion class counts the axes the
+// control polygon spans.
+BlockVerdict check_nurbs_plan(const Block& b) {
+  const NurbsGeometry& g = b.nurbs;
+  Vec3 lo = g.points[0], hi = g.points[0];
+  for (int j = 1; j < g.point_count; ++j) {
+    for (int i = 0; i < kAxes; ++i) {
+      lo[i] = std::min(lo[i], g.points[j][i]);
+      hi[i] = std::max(hi[i], g.points[j][i]);
+    }
+  }
+  int moving = 0, k = 0;
+  for (int i = 0; i < kAxes; ++i) {
+    if (hi[i] - lo[i] > 1e-12) ++moving;
+    if (hi[i] - lo[i] > hi[k] - lo[k]) k = i;
+  }
+  const MotionClass mc = moving <= 1 ? MotionClass::kSingleAxis : static_cast<MotionClass>(moving);
+  if (b.motion_class != mc) return bad("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
+  if (b.driving_axis != k) return bad("driving axis plan disagrees with the path: driving_axis", k, b.driving_axis);
+  if (b.driving_dir != (b.end[k] >= b.start[k] ? 1 : -1)) {
+    return bad("driving axis plan disagrees with the path: driving_dir", k, b.driving_dir);
+  }
+  if (b.driving_speed != 0.0) return bad("driving axis plan disagrees with the path: driving_speed", k, b.driving_speed);
+  if (b.driving_accel != 0.0) return bad("driving axis plan disagrees with the path: driving_accel", k, b.driving_accel);
+  if (b.decel_start != 0.0) return bad("driving axis plan disagrees with the path: decel_start", k, b.decel_start);
+  return {};
+}
+
 // Arc-only checks; the shared part (start, end, travel, speed...) is done by the caller.
 BlockVerdict check_arc(const Block& b, const MachineConfig& cfg, double tol) {
   const ArcGeometry& g = b.arc;
@@ -67,7 +209,7 @@ BlockVerdict check_arc(const Block& b, const MachineConfig& cfg, double tol) {
     const int ax = outside_travel(p, cfg, tol);
     if (ax >= 0) return bad("arc: bulges outside the travel", ax, p[ax]);
   }
-  return {};
+  return check_arc_plan(b, tol);
 }
 
 // NURBS-only checks (allocation-free): array sizes, knots, weights, the curve's ends, the
@@ -107,7 +249,7 @@ BlockVerdict check_nurbs(const Block& b, const MachineConfig& cfg, double tol) {
   }
   if (b.length + tol < norm(b.end - b.start)) return bad("nurbs: length shorter than the chord", 0, b.length);
   if (!unit(b.dir_start) || !unit(b.dir_end)) return bad("nurbs: direction cosines are not unit vectors");
-  return {};
+  return check_nurbs_plan(b);
 }
 
 }  // namespace
@@ -125,6 +267,9 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
     return {FaultCode::kSequence, b.seq < expected_seq ? "block repeated (sequence number went back)"
                                                        : "block missing (gap in sequence numbers)",
             0, static_cast<double>(b.seq)};
+  }
+  if (b.optional_stop > 1 || (b.optional_stop != 0 && b.kind != BlockKind::kPause)) {
+    return bad("optional_stop is set on a block that is not a pause, or is not 0 or 1", 0, b.optional_stop);
   }
   const double tol = cfg.motion.block_tolerance_mm;
   switch (b.kind) {
@@ -167,7 +312,7 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
       return bad("direction cosines disagree with start and end");
     }
   }
-  return {};
+  return check_line_plan(b, tol);
 }
 
 }  // namespace pcnc

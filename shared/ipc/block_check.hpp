@@ -6,7 +6,13 @@
 //    corrupt or impossible: non-finite numbers, unknown kind, a sequence gap or repeat, a start
 //    that does not continue from the previous end, a length inconsistent with its geometry,
 //    points (or an arc's bulge) outside the travel, speed/accel <= 0 on a motion, arc radius
-//    or angle mismatch. The reason is a static string (no allocation in the cycle).
+//    or angle mismatch, direction cosines that are not the path's tangents, or a plan that
+//    disagrees with the path: the seed's driving-axis plan (driving_axis, driving_dir,
+//    driving_speed, driving_accel, decel_start), an arc's angular plan (angular_speed,
+//    angular_accel, decel_start_angle) and the motion class are recomputed from the
+//    path-length plan the executor runs (length, speed, accel, geometry) with the host's
+//    rules, and the reason names the field that disagrees ("driving axis plan disagrees with
+//    the path: decel_start"). The reason is a static string (no allocation in the cycle).
 //  * outside_travel: soft-limit test of a point.
 #pragma once
 

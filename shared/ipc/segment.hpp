@@ -26,6 +26,9 @@ constexpr std::uint32_t kLayoutVersion = 2;  // bump on any change of the types 
 constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
 constexpr std::size_t kMailboxSlots = 64;
 
+/// The motion ring: host -> rt, preprocessed blocks (the executor consumes it).
+using MotionRing = SpscRing<Block, kRingSlots>;
+
 struct SegmentHeader {
   std::uint64_t magic = 0;
   std::uint32_t layout_version = 0;
@@ -41,7 +44,7 @@ struct SegmentHeader {
 
 struct SharedSegment {
   SegmentHeader header;
-  SpscRing<Block, kRingSlots> motion;        // host -> rt, preprocessed blocks
+  MotionRing motion;                         // host -> rt, preprocessed blocks
   Wakeup slot_freed;                         // rt -> host: a ring slot was freed
   Wakeup block_published;                    // host -> rt: a block was published (virtual clock)
   SpscRing<Command, kMailboxSlots> commands; // host -> rt

@@ -28,8 +28,22 @@ void driving_axis(Block& b) {
   const double brake = b.driving_accel > 0.0 ? b.driving_speed * b.driving_speed / (2.0 * b.driving_accel) : 0.0;
   b.decel_start = b.end[k] - b.driving_dir * std::min(brake, std::abs(d[k]) / 2.0);
   int moving = 0;
-  for (int i = 0; i < kAxes; ++i) moving += std::abs(d[i]) > 1e-12;
+  for (int i = 0; i < kAxes; ++i) moving += std::abs(d[i]) > 1e-9;
   b.motion_class = static_cast<MotionClass>(moving);
+}
+
+// An arc's driving axis is its normal (helical) axis; decel_start is that axis's coordinate
+// at decel_start_angle (docs/gcode.md, "Preprocessing").
+void arc_driving_axis(Block& b) {
+  const int n = b.arc.normal_axis;
+  const double helix = b.arc.helix, turn = std::abs(b.arc.sweep);
+  const double share = std::abs(helix) / b.length;
+  b.driving_axis = static_cast<std::uint8_t>(n);
+  b.driving_dir = helix < 0.0 ? -1 : 1;
+  b.driving_speed = b.speed * share;
+  b.driving_accel = b.accel * share;
+  b.decel_start = b.start[n] + helix * b.arc.decel_start_angle / turn;
+  b.motion_class = std::abs(helix) > 1e-9 ? MotionClass::kSpace : MotionClass::kPlane;
 }
 
 }  // namespace
@@ -124,7 +138,7 @@ ProgramBuilder& ProgramBuilder::arc(const Vec3& end, const Vec3& center_in, int 
   b.arc.angular_speed = v * q / r;
   b.arc.angular_accel = a * q / r;
   const double brake = b.arc.angular_speed * b.arc.angular_speed / (2.0 * b.arc.angular_accel);
-  b.arc.decel_start_angle = std::max(0.0, std::abs(sweep) - brake);
+  b.arc.decel_start_angle = 2.0 * brake >= std::abs(sweep) ? 0.5 * std::abs(sweep) : std::abs(sweep) - brake;
   // tangents
   const double sgn = sweep > 0.0 ? 1.0 : -1.0;
   auto tangent = [&](double th) {
@@ -136,7 +150,7 @@ ProgramBuilder& ProgramBuilder::arc(const Vec3& end, const Vec3& center_in, int 
   };
   b.dir_start = tangent(th0);
   b.dir_end = tangent(th0 + sweep);
-  driving_axis(b);
+  arc_driving_axis(b);
   blocks_.push_back(b);
   pos_ = end;
   return *this;

@@ -1,0 +1,40 @@
+// drive.cpp — the three axes' servo and plant stepped together (see drive.hpp).
+#include "drive/drive.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pcnc {
+namespace {
+
+AxisPlant make_plant(const MachineConfig& c, int i) {
+  const int sub = static_cast<int>(std::lround(c.motion.subsample_steps));
+  return AxisPlant(c.axes[i], c.cycle_period_s(), std::max(1, sub), c.axes[i].home_mm);
+}
+
+}  // namespace
+
+Drive::Drive(const MachineConfig& c)
+    : pid_{AxisPid(c.axes[0], c.cycle_period_s()), AxisPid(c.axes[1], c.cycle_period_s()),
+           AxisPid(c.axes[2], c.cycle_period_s())},
+      plant_{make_plant(c, 0), make_plant(c, 1), make_plant(c, 2)} {
+  for (int i = 0; i < kAxes; ++i) hold_a_[i] = c.axes[i].gravity_load_n / c.axes[i].force_constant_n_per_a;
+  reset_servo();
+}
+
+void Drive::reset_servo() {
+  for (int i = 0; i < kAxes; ++i) pid_[i].reset(hold_a_[i]);
+}
+
+void Drive::step(const Vec3& command, const Vec3& measured, const Vec3& velocity, const Vec3& accel, bool amps_on) {
+  for (int i = 0; i < kAxes; ++i) {
+    const double u = amps_on ? pid_[i].update(command[i], measured[i], velocity[i], accel[i]) : 0.0;
+    plant_[i].step(u, amps_on);
+  }
+}
+
+void Drive::set_blocked(int axis, bool blocked) {
+  if (axis >= 0 && axis < kAxes) plant_[static_cast<std::size_t>(axis)].set_blocked(blocked);
+}
+
+}  // namespace pcnc

@@ -1,0 +1,45 @@
+// drive.hpp — the drive: per axis the PID servo (servo_pid.hpp), the amplifier and the
+// simulated axis with its encoder (plant.hpp), as one part the cycle steps once per period.
+//
+// Role in the rt: the cycle hands it a setpoint (position, velocity and acceleration for the
+// feed-forward) and the encoder reading it took before; the drive runs one PID step per axis
+// and advances the plant by one period. Allocation-free after construction. Includes only the
+// config and the two drive parts: never loop/ or motion/.
+#pragma once
+
+#include <array>
+
+#include "config/config.hpp"
+#include "drive/plant.hpp"
+#include "drive/servo_pid.hpp"
+
+namespace pcnc {
+
+class Drive {
+ public:
+  /// The axes stand at their home positions, the servo integrators hold any gravity load.
+  explicit Drive(const MachineConfig& config);
+
+  /// The encoders: the quantised positions the servo reads, mm.
+  Vec3 encoder() const { return {plant_[0].encoder(), plant_[1].encoder(), plant_[2].encoder()}; }
+  /// The axes' true positions (not quantised), mm.
+  Vec3 true_position() const { return {plant_[0].position(), plant_[1].position(), plant_[2].position()}; }
+
+  /// Clears the servo loops; the integrators start holding any gravity load, as a drive does
+  /// when enabled (start-up, reset after a fault).
+  void reset_servo();
+
+  /// One servo period: PID on `command` against `measured` with velocity and acceleration
+  /// feed-forward, then the plant. With the amplifiers off no current flows.
+  void step(const Vec3& command, const Vec3& measured, const Vec3& velocity, const Vec3& accel, bool amps_on);
+
+  /// Fault injection: the axis stops moving (a crash or a jammed guide).
+  void set_blocked(int axis, bool blocked);
+
+ private:
+  std::array<double, kAxes> hold_a_{};  // current that holds each axis's gravity load, A
+  std::array<AxisPid, kAxes> pid_;
+  std::array<AxisPlant, kAxes> plant_;
+};
+
+}  // namespace pcnc
