@@ -24,7 +24,7 @@ struct JobProgress {
 };
 
 /// Where a job's blocks come from: normally a BlockStream over the checked file; the
-/// service also resumes a program from the middle of a block (service.cpp).
+/// service also resumes a program from the middle of a block (job_control.cpp).
 struct BlockSource {
   std::function<bool(Block&)> next;  // false after the last block (the End block included)
   std::function<JobProgress()> progress;  // lines/bytes so far (status is filled in by the runner)

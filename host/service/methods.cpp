@@ -12,18 +12,17 @@ using rpc::json;
 
 namespace {
 
-// Sends a command to the rt; the result carries its id, or the reply is "mailbox full".
-Outcome sent(RtLink& l, Command c, json result) {
-  const std::uint64_t id = l.send(c);
+// The reply to a command sent to the rt (`id` from RtLink::send): the result with the
+// command's id, or "mailbox full".
+Outcome sent(std::uint64_t id, json result) {
   if (id == 0) return Outcome::fail(mailbox_full());
   result["command_id"] = id;
   return Outcome::ok(std::move(result));
 }
 
-Outcome sent(RtLink& l, CommandKind kind, json result) {
-  Command c;
-  c.kind = kind;
-  return sent(l, c, std::move(result));
+template <typename C>
+Outcome sent(RtLink& l, C command, json result) {
+  return sent(l.send(command), std::move(result));
 }
 
 // run's parameters, and a file path the service can use (its working directory is not the
