@@ -6,7 +6,7 @@
 // Loop thread only. Replies that wait for the rt and the "jog_stopped" event go out through
 // the callbacks it is given; it reads the rt through the monitor and never blocks on it.
 //
-// May include: outcome.hpp, rpc.hpp, rt_monitor.hpp, shared/.
+// May include: outcome.hpp, rpc.hpp, rt_monitor.hpp, control_server.hpp (ClientId), shared/.
 #pragma once
 
 #include <chrono>
