@@ -1,10 +1,13 @@
 // run_report.hpp — the short report printed after `pcnc run`: how long the program took on
 // the machine, how much was run, where the tool ended, and how well the servo followed.
+//
+// May include: shared/, gcode/program.hpp (the check result), report/. Nothing from service/.
 #pragma once
 
 #include <string>
 
-#include "service/job_runner.hpp"
+#include "gcode/program.hpp"
+#include "report/job_result.hpp"
 
 namespace pcnc {
 

@@ -9,6 +9,8 @@
 // stall_timeout_s or exceeds the hard limit), and never blocks on any client: all sockets
 // are non-blocking. Other threads hand work to the loop
 // with post(), which wakes it through an eventfd.
+//
+// May include: the C++ and POSIX libraries only (no JSON, nothing of the machine).
 #pragma once
 
 #include <sys/types.h>

@@ -2,6 +2,8 @@
 // feeding (path, options, work offsets, start position, file size and time), so that a host
 // started after a crash of the previous one can re-stream the same program and resume it
 // where pcnc-rt held it (HOST_LOST). Written when a program starts, removed when it ends.
+//
+// May include: shared/geometry only (the file format is private to job_journal.cpp).
 #pragma once
 
 #include <array>

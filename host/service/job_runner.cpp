@@ -6,17 +6,6 @@
 
 namespace pcnc {
 
-const char* to_string(JobEnd end) {
-  switch (end) {
-    case JobEnd::kCompleted: return "completed";
-    case JobEnd::kFault: return "fault";
-    case JobEnd::kRtLost: return "pcnc-rt lost";
-    case JobEnd::kInterrupted: return "interrupted";
-    case JobEnd::kStopped: return "stopped";
-  }
-  return "?";
-}
-
 namespace {
 bool faulted(const Status& s) {
   return s.state == MachineState::kFault || s.state == MachineState::kEstop || s.state == MachineState::kHostLost;

@@ -1,6 +1,8 @@
 // job_runner.hpp — runs one checked program on the machine: tells the rt a program starts,
 // streams its blocks through the ring feeder, waits for the end (or a fault, a lost rt, or
 // an interrupt), and collects what the run report needs.
+//
+// May include: ring_feeder.hpp, rt_link.hpp, gcode/program.hpp, report/job_result.hpp, shared/.
 #pragma once
 
 #include <atomic>
@@ -8,23 +10,11 @@
 #include <string>
 
 #include "gcode/program.hpp"
+#include "report/job_result.hpp"
 #include "service/ring_feeder.hpp"
 #include "service/rt_link.hpp"
 
 namespace pcnc {
-
-enum class JobEnd { kCompleted, kFault, kRtLost, kInterrupted, kStopped };
-const char* to_string(JobEnd end);
-
-struct JobResult {
-  JobEnd end = JobEnd::kCompleted;
-  std::string message;    // why, when not completed
-  Status final_status{};  // the rt's status at the end
-  std::uint64_t blocks_sent = 0;
-  std::uint64_t lines_read = 0;
-  LatencyHistogram refill_latency;  // host slot-refill latency, µs
-  double wall_time_s = 0.0;
-};
 
 struct JobProgress {
   std::uint64_t lines_read = 0;
@@ -34,7 +24,7 @@ struct JobProgress {
 };
 
 /// Where a job's blocks come from: normally a BlockStream over the checked file; the
-/// service also resumes a program from the middle of a block (service.cpp).
+/// service also resumes a program from the middle of a block (job_control.cpp).
 struct BlockSource {
   std::function<bool(Block&)> next;  // false after the last block (the End block included)
   std::function<JobProgress()> progress;  // lines/bytes so far (status is filled in by the runner)

@@ -5,6 +5,8 @@
 // from the check pass, MACHINE_TIME_S the program time on the machine so far. When the job
 // has ended the host writes "done\n" and waits (briefly) for "ok\n" from the launcher, which
 // has then cleared its progress display: the run report that follows starts on a clean line.
+//
+// May include: the C++ library only (tools/ reads it too).
 #pragma once
 
 #include <cstdint>

@@ -5,6 +5,9 @@
 // continuation is that block's remaining part, re-planned from the standing point with the
 // same kind, end, feed limit and contouring flag (a pure function of the block and the
 // point). The blocks after it are re-streamed unchanged from the checked program.
+//
+// May include: shared/ (ipc/block, config); resume.cpp also gcode/move.hpp and
+// gcode/preprocessor.hpp, to re-plan the remaining part the way the front end plans a block.
 #pragma once
 
 #include <optional>

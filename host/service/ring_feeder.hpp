@@ -1,6 +1,8 @@
 // ring_feeder.hpp — puts preprocessed blocks into the 4-slot motion ring, in order, with
 // sequence numbers. When the ring is full it sleeps on the rt's slot-freed wake-up (no
 // polling), waking at most every `check_period_s` to notice a dead rt or an abort request.
+//
+// May include: rt_link.hpp, shared/ipc.
 #pragma once
 
 #include <atomic>

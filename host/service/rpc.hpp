@@ -6,6 +6,8 @@
 // This file is pure: parsing a request line, checking each method's parameters into a typed
 // value (types, ranges, unknown keys), and formatting replies and the status object. The
 // socket (control_server) and the machine-facing logic (service) sit on top of it.
+//
+// May include: nlohmann/json, shared/ (config, ipc/status). Nothing else of the service.
 #pragma once
 
 #include <nlohmann/json.hpp>

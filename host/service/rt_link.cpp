@@ -37,13 +37,15 @@ std::unique_ptr<RtLink> RtLink::attach(const MachineConfig& config, double wait_
       }
       return link;
     } catch (const SegmentError& e) {
-      const std::string why = e.what();
-      const bool transient = why.find("does not exist") != std::string::npos || why.find("never published") != std::string::npos ||
-                             why.find("not initialised") != std::string::npos;
-      if (!transient || monotonic_ns() >= deadline) throw;
+      if (!transient_failure(e.what()) || monotonic_ns() >= deadline) throw;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));  // start-up only, not a data path
   }
+}
+
+bool RtLink::transient_failure(const std::string& why) {
+  return why.find("does not exist") != std::string::npos || why.find("never published") != std::string::npos ||
+         why.find("not initialised") != std::string::npos;
 }
 
 void RtLink::beat() {

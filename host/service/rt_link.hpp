@@ -1,5 +1,7 @@
 // rt_link.hpp — pcnc-host's attachment to pcnc-rt: the opened segment, the host heartbeat
 // (a background thread), the mailbox sender, status reads, and rt liveness.
+//
+// May include: shared/ (ipc, config) only.
 #pragma once
 
 #include <atomic>
@@ -35,6 +37,12 @@ class RtLink {
   /// or 0 if the mailbox is full. Safe to call from several threads (the mailbox ring has a
   /// single producer; a mutex serialises the host's senders).
   std::uint64_t send(Command cmd);
+  /// The same for a command without arguments (pause, resume, stop, reset, jog stop...).
+  std::uint64_t send(CommandKind kind) {
+    Command c;
+    c.kind = kind;
+    return send(c);
+  }
   /// The rt's latest status snapshot.
   Status status() const;
   /// The rt heartbeat is fresh (within process.rt_timeout_s) and its pid is alive.
@@ -44,6 +52,11 @@ class RtLink {
   /// Why rt_alive() is false, in words ("" while alive).
   std::string rt_loss_reason() const;
   int rt_pid() const { return shm().header.rt_pid.load(); }
+
+  /// Whether an attach failure (a SegmentError's message) may go away by itself: the
+  /// segment does not exist yet or is not initialised yet (the rt starting up). A segment
+  /// refused for its magic, version or size is not.
+  static bool transient_failure(const std::string& why);
 
  private:
   void beat();

@@ -3,10 +3,14 @@
 // turns socket requests (rpc.hpp) into mailbox commands, runs programs in a worker thread
 // with the JobRunner, keeps continuous jogs alive while their client does, pushes status to
 // subscribers, and resumes a program a previous host left in HOST_LOST (job_journal.hpp).
+// service.cpp only assembles the parts that do this (host/service/README.md lists them).
 //
 // Threads: the socket event loop (all request handling), an rt monitor (liveness every few
 // ms, attach/re-attach), the job worker (preflight + ring feeding), and RtLink's heartbeat.
 // Nothing a client does can block the worker or the rt: the loop never waits on the rt.
+//
+// May include: control_server.hpp (its limits), shared/config. Callers (host/main.cpp)
+// need nothing else.
 #pragma once
 
 #include <atomic>

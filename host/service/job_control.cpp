@@ -1,0 +1,282 @@
+// job_control.cpp — run and resume in a worker thread, the job record, the journal (see
+// job_control.hpp).
+#include "service/job_control.hpp"
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "service/resume.hpp"
+
+namespace pcnc {
+
+using rpc::json;
+
+namespace {
+json diagnostics_json(const CheckResult& check, Diagnostic::Severity severity) {
+  json list = json::array();
+  for (const auto& d : check.diagnostics) {
+    if (d.severity == severity) list.push_back(format_diagnostic(d));
+  }
+  return list;
+}
+}  // namespace
+
+JobControl::JobControl(std::string journal_path, JobNotices notices)
+    : journal_(std::move(journal_path)), notices_(std::move(notices)) {}
+
+JobControl::~JobControl() {
+  interrupt();
+  join();
+}
+
+void JobControl::join() {
+  if (worker_.joinable()) worker_.join();
+}
+
+bool JobControl::start_worker(std::function<void()> fn) {
+  if (active_.load()) return false;
+  if (worker_.joinable()) worker_.join();
+  active_ = true;
+  interrupt_ = false;
+  worker_ = std::thread([this, fn = std::move(fn)] {
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      spdlog::error("job worker: {}", e.what());
+    }
+    active_ = false;  // after an exception; normally end_job() already did
+  });
+  return true;
+}
+
+// The job is over as far as any client can tell: its record (the last job, when one ran)
+// and "not active" change together under the mutex, before any reply or event says so, so
+// that a client's next run is never refused as "already running". A new worker may start
+// at once: start_worker() joins this thread first.
+void JobControl::end_job(const json* last) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (last) last_ = *last;
+  info_ = json::object();
+  active_ = false;
+}
+
+void JobControl::abandon_interrupted() { remove_journal(journal_); }
+
+void JobControl::describe(json& j, const std::optional<Status>& st) const {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    j["job"] = info_;
+    j["last_job"] = last_;
+    j["job"]["active"] = active_.load();
+  }
+  j["resume"] = nullptr;
+  if (st && st->state == MachineState::kHostLost) {
+    if (auto jj = read_journal(journal_, nullptr)) {
+      j["resume"] = json{{"file", jj->file}, {"line", st->line}, {"block_seq", st->block_seq + jj->seq_base}};
+    }
+  }
+}
+
+Outcome JobControl::run(ClientId client, const json& id, const rpc::RunParams& params, std::shared_ptr<RtLink> link,
+                        const Status& st, const MachineConfig& config) {
+  if (active_.load()) return Outcome::fail(refused("a program is already running; stop it first"));
+  if (st.state != MachineState::kIdle) {
+    std::string why = std::string("the machine is ") + to_string(st.state) + ", not IDLE";
+    if (st.state == MachineState::kHostLost) why += ": resume or stop the program the lost host was running first";
+    if (st.state == MachineState::kFault || st.state == MachineState::kEstop) why += ": reset first";
+    return Outcome::fail(refused(why));
+  }
+  MachineConfig job_config = config;  // set_offset may change the service's copy meanwhile
+  start_worker([this, client, id, rp = params, link, job_config, start = st.commanded] {
+    run_job(client, id, rp, link, job_config, start);
+  });
+  return Outcome::later();
+}
+
+void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& rp, std::shared_ptr<RtLink> l,
+                         const MachineConfig& cfg, const Vec3& start) {
+  JobOptions opts;
+  opts.work_offset_index = rp.work_offset;
+  opts.fit = rp.fit;
+  opts.contouring = rp.contouring;
+  opts.start_position = start;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    info_ = json{{"file", rp.file}, {"phase", "preflight"}};
+  }
+  CheckResult check = check_program(rp.file, cfg, opts);
+  if (!check.ok) {
+    std::size_t errors = 0;
+    for (const auto& d : check.diagnostics) errors += d.severity == Diagnostic::Severity::kError;
+    json data = {{"file", rp.file}, {"errors", diagnostics_json(check, Diagnostic::Severity::kError)}};
+    spdlog::warn("run {} refused: preflight found {} error(s)", rp.file, errors);
+    end_job(nullptr);  // no job ran
+    notices_.reply(client, id,
+                   Outcome::fail(rpc::Error{rpc::kPreflightFailed,
+                                            rp.file + ": preflight found " + std::to_string(errors) + " error(s); nothing was moved",
+                                            data}));
+    return;
+  }
+  JobJournal jj;
+  jj.file = rp.file;
+  jj.work_offset = rp.work_offset;
+  jj.work_offsets = cfg.gcode.work_offsets;
+  jj.fit = rp.fit;
+  jj.contouring = rp.contouring ? (*rp.contouring ? 1 : 0) : -1;
+  jj.start_position = start;
+  jj.host_pid = getpid();
+  file_identity(rp.file, jj.file_size, jj.file_mtime_ns);
+  std::string jerr;
+  if (!write_journal(journal_, jj, &jerr)) spdlog::warn("{}: a program interrupted by a host crash could not be resumed", jerr);
+
+  json started = {{"started", true},
+                  {"file", rp.file},
+                  {"lines", check.lines},
+                  {"moves", check.moves},
+                  {"offset", rpc::vec3_to_json(check.transform.offset)},
+                  {"scale", check.transform.scale},
+                  {"warnings", diagnostics_json(check, Diagnostic::Severity::kWarning)}};
+  follow_job(client, id, l, cfg, started, rp.file,
+             [&](JobRunner& runner) { return runner.run(rp.file, opts, check, interrupt_, progress_fn()); });
+}
+
+std::function<void(const JobProgress&)> JobControl::progress_fn() {
+  return [this](const JobProgress& p) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    info_["lines_read"] = p.lines_read;
+    info_["bytes_read"] = p.bytes_read;
+    info_["total_bytes"] = p.total_bytes;
+  };
+}
+
+// Runs a job to its end with replies, events, the last-job record and the journal.
+void JobControl::follow_job(ClientId client, const json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
+                            json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body) {
+  JobRunner runner(*l, cfg);
+  bool replied = false;
+  runner.set_on_started([&] {
+    replied = true;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      info_ = json{{"file", file}, {"phase", "running"}};
+    }
+    spdlog::info("program {} started", file);
+    notices_.reply(client, id, Outcome::ok(started));
+    notices_.event(json{{"event", "program_started"}, {"file", file}});
+  });
+  const JobResult r = body(runner);
+  const bool host_lost = r.final_status.state == MachineState::kHostLost;
+  if (!host_lost) remove_journal(journal_);  // before end_job: a next job writes its own
+  json end = {{"file", file},
+              {"end", to_string(r.end)},
+              {"message", r.message},
+              {"blocks_sent", r.blocks_sent},
+              {"lines_read", r.lines_read},
+              {"underruns", r.final_status.underruns},
+              {"program_time_s", r.final_status.program_time_s},
+              {"wall_time_s", r.wall_time_s},
+              {"final_position", rpc::vec3_to_json(r.final_status.commanded)}};
+  if (r.end == JobEnd::kCompleted) {
+    spdlog::info("program {} completed: {} blocks, {:.3f} s machine time, {} underruns", file, r.blocks_sent,
+                 r.final_status.program_time_s, r.final_status.underruns);
+  } else {
+    spdlog::warn("program {} ended: {}: {}", file, to_string(r.end), r.message);
+  }
+  end_job(&end);
+  if (!replied) notices_.reply(client, id, Outcome::fail(refused(r.message)));
+  json ev = end;
+  ev["event"] = "program_end";
+  notices_.event(ev);
+}
+
+Outcome JobControl::resume(ClientId client, const json& id, std::shared_ptr<RtLink> link, const Status& st,
+                           const MachineConfig& config) {
+  if (st.state != MachineState::kHostLost) {
+    return Outcome::fail(refused(std::string("nothing to resume: the machine is ") + to_string(st.state)));
+  }
+  if (active_.load()) return Outcome::fail(refused("a program is already being resumed"));
+  std::string why;
+  auto jj = read_journal(journal_, &why);
+  if (!jj) {
+    return Outcome::fail(refused("the machine is HOST_LOST but there is no record of the interrupted program (" + why +
+                                 "); use stop or reset"));
+  }
+  MachineConfig job_config = config;
+  job_config.gcode.work_offsets = jj->work_offsets;
+  start_worker([this, client, id, link, job_config, j = *jj] { resume_job(client, id, link, job_config, j); });
+  return Outcome::later();
+}
+
+void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
+                            JobJournal jj) {
+  auto fail = [&](std::string why) {
+    spdlog::warn("resume refused: {}", why);
+    end_job(nullptr);  // nothing runs
+    notices_.reply(client, id, Outcome::fail(refused("cannot resume: " + why + "; use stop to abandon the program")));
+  };
+  std::uint64_t size = 0;
+  std::int64_t mtime = 0;
+  if (!file_identity(jj.file, size, mtime)) return fail(jj.file + " cannot be read any more");
+  if (size != jj.file_size || mtime != jj.file_mtime_ns) return fail(jj.file + " changed since the program started");
+  JobOptions opts;
+  opts.work_offset_index = jj.work_offset;
+  opts.fit = jj.fit;
+  if (jj.contouring >= 0) opts.contouring = jj.contouring == 1;
+  opts.start_position = jj.start_position;
+  const CheckResult check = check_program(jj.file, cfg, opts);
+  if (!check.ok) return fail(jj.file + " no longer passes preflight");
+
+  const Status st = l->status();
+  if (st.state != MachineState::kHostLost) return fail(std::string("the machine left HOST_LOST (now ") + to_string(st.state) + ")");
+  // The program block the rt stood in (its seq in this run plus the blocks an earlier
+  // resume skipped), and the machine position on it.
+  const std::uint64_t k = st.block_seq == 0 ? jj.seq_base + 1 : st.block_seq + jj.seq_base;
+  const Vec3 at = st.commanded;
+  auto stream = std::make_shared<BlockStream>(jj.file, cfg, opts, check.transform);
+  Block b{};
+  for (std::uint64_t n = 0; n < k; ++n) {
+    if (!stream->next(b)) return fail("the program has fewer blocks than where the machine stopped");
+  }
+  std::string why;
+  const double tol = std::max(10.0 * cfg.motion.block_tolerance_mm, 0.005);
+  auto cont = continue_block(b, at, cfg, tol, &why);
+  if (!cont) return fail(why);
+  // The continuation starts exactly where the machine stands.
+  if (!cont->skip && b.kind != BlockKind::kDwell && b.kind != BlockKind::kEnd) cont->block.start = at;
+  // Leave HOST_LOST (the rt keeps its position), then start the rest as a new program.
+  const std::uint64_t reset_id = l->send(CommandKind::kReset);
+  if (reset_id == 0) return fail("pcnc-rt's mailbox is full");
+  for (int i = 0; i < 1000; ++i) {
+    const Status s = l->status();
+    if (s.last_command_id >= reset_id && s.state == MachineState::kIdle) break;
+    if (!l->rt_alive()) return fail("pcnc-rt was lost");
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  jj.seq_base = cont->skip ? k : k - 1;
+  jj.host_pid = getpid();
+  std::string jerr;
+  if (!write_journal(journal_, jj, &jerr)) spdlog::warn("{}", jerr);
+  spdlog::info("resuming {} at line {} (block {}) from X{:.4f} Y{:.4f} Z{:.4f}", jj.file, b.line, k, at[0], at[1], at[2]);
+
+  auto first = std::make_shared<std::optional<Block>>();
+  if (!cont->skip) *first = cont->block;
+  BlockSource source;
+  source.next = [stream, first](Block& out) {
+    if (first->has_value()) {
+      out = **first;
+      first->reset();
+      return true;
+    }
+    return stream->next(out);
+  };
+  source.progress = [stream] { return JobProgress{stream->lines_read(), stream->bytes_read(), stream->total_bytes(), Status{}}; };
+  const bool contouring = jj.contouring >= 0 ? jj.contouring == 1 : cfg.motion.contouring_default;
+  json started = {{"resumed", true}, {"file", jj.file}, {"line", b.line}, {"block", k}, {"from", rpc::vec3_to_json(at)}};
+  follow_job(client, id, l, cfg, started, jj.file,
+             [&](JobRunner& runner) { return runner.run_source(source, contouring, interrupt_, progress_fn()); });
+}
+
+}  // namespace pcnc

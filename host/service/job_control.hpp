@@ -1,0 +1,89 @@
+// job_control.hpp — the life cycle of the service's jobs: at most one program at a time, run
+// in a worker thread. A `run` is checked (preflight) and recorded in the journal before it
+// starts; a `resume` after a lost host re-streams the journal's program from the block where
+// the rt held the machine. The job runner (job_runner.hpp) feeds the blocks; this part keeps
+// the job's record for the status object (the job under way, the last job), sends the
+// delayed reply of run and resume, the program_started and program_end events, and removes
+// the journal when a job ends (or is abandoned) with the machine no longer HOST_LOST.
+//
+// Threads: run(), resume(), interrupt(), abandon_interrupted() and describe() are called on
+// the loop thread; the worker only reports back through the notices it is given.
+//
+// May include: outcome.hpp, rpc.hpp, job_runner.hpp, job_journal.hpp, resume.hpp,
+// rt_link.hpp, gcode/program.hpp, shared/.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "config/config.hpp"
+#include "gcode/program.hpp"
+#include "service/control_server.hpp"
+#include "service/job_journal.hpp"
+#include "service/job_runner.hpp"
+#include "service/outcome.hpp"
+#include "service/rt_link.hpp"
+
+namespace pcnc {
+
+struct JobNotices {
+  // Called from the job worker; the service delivers both on its loop thread.
+  std::function<void(ClientId client, rpc::json id, Outcome outcome)> reply;
+  std::function<void(rpc::json event)> event;
+};
+
+class JobControl {
+ public:
+  JobControl(std::string journal_path, JobNotices notices);
+  ~JobControl();  // interrupts a job still running and waits for its worker
+  JobControl(const JobControl&) = delete;
+  JobControl& operator=(const JobControl&) = delete;
+
+  /// A job is being checked, started, run or resumed.
+  bool active() const { return active_.load(); }
+  /// The worker stops feeding; the rt decelerates on the path (or the rt was told to stop).
+  void interrupt() { interrupt_ = true; }
+  /// Waits for the worker to end (after interrupt(), at shutdown).
+  void join();
+
+  /// The `run` method once its parameters are checked (`file` absolute): refused while a
+  /// job is active or the machine is not IDLE; else the job starts with a copy of `config`
+  /// (set_offset may change the service's meanwhile) and the reply comes later.
+  Outcome run(ClientId client, const rpc::json& id, const rpc::RunParams& params, std::shared_ptr<RtLink> link,
+              const Status& st, const MachineConfig& config);
+  /// The `resume` method in HOST_LOST: continues the journal's program (reply later).
+  Outcome resume(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> link, const Status& st,
+                 const MachineConfig& config);
+  /// The program interrupted by a lost host is abandoned (stop or reset in HOST_LOST).
+  void abandon_interrupted();
+
+  /// Fills the status object's "job", "last_job" and "resume" (what `resume` would continue,
+  /// when the machine `st` is HOST_LOST).
+  void describe(rpc::json& status, const std::optional<Status>& st) const;
+
+ private:
+  bool start_worker(std::function<void()> fn);
+  void end_job(const rpc::json* last);
+  void run_job(ClientId client, const rpc::json& id, const rpc::RunParams& rp, std::shared_ptr<RtLink> l,
+               const MachineConfig& cfg, const Vec3& start);
+  void resume_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg, JobJournal jj);
+  void follow_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
+                  rpc::json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body);
+  std::function<void(const JobProgress&)> progress_fn();
+
+  const std::string journal_;
+  JobNotices notices_;
+  std::thread worker_;
+  std::atomic<bool> active_{false};
+  std::atomic<bool> interrupt_{false};
+  mutable std::mutex mutex_;  // guards info_, last_
+  rpc::json info_ = rpc::json::object();
+  rpc::json last_ = nullptr;
+};
+
+}  // namespace pcnc

@@ -1,0 +1,183 @@
+// methods.cpp — the method table and the handlers that need no part of their own (see
+// methods.hpp).
+#include "service/methods.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <string>
+
+namespace pcnc {
+
+using rpc::json;
+
+namespace {
+
+// The reply to a command sent to the rt (`id` from RtLink::send): the result with the
+// command's id, or "mailbox full".
+Outcome sent(std::uint64_t id, json result) {
+  if (id == 0) return Outcome::fail(mailbox_full());
+  result["command_id"] = id;
+  return Outcome::ok(std::move(result));
+}
+
+template <typename C>
+Outcome sent(RtLink& l, C command, json result) {
+  return sent(l.send(command), std::move(result));
+}
+
+// run's parameters, and a file path the service can use (its working directory is not the
+// client's).
+rpc::Checked<rpc::RunParams> check_run(const json& params) {
+  auto p = rpc::check_run_params(params);
+  if (p.ok() && p.value->file.front() != '/') {
+    p.value.reset();
+    p.error = rpc::Error{rpc::kInvalidParams, "parameter 'file' of run must be an absolute path (the service's working "
+                                              "directory is not the client's); pcnc ctl run makes it absolute",
+                         nullptr};
+  }
+  return p;
+}
+
+Outcome do_pause(Call& c) {
+  const MachineState s = c.status.state;
+  if (s == MachineState::kRunning) return sent(*c.link, CommandKind::kPause, json{{"state", "PAUSED"}});
+  if (s == MachineState::kJogging) return sent(*c.link, CommandKind::kJogStop, json{{"state", "IDLE"}});
+  return Outcome::fail(refused(std::string("nothing to pause: the machine is ") + to_string(s)));
+}
+
+Outcome do_stop(Call& c, JobControl& jobs, JogControl& jogs) {
+  RtLink& l = *c.link;
+  const Status& st = c.status;
+  switch (st.state) {
+    case MachineState::kRunning:
+    case MachineState::kPaused:
+    case MachineState::kStopping:
+      jobs.interrupt();  // the worker stops feeding; the rt decelerates on the path
+      return sent(l, CommandKind::kStop, json{{"state", "STOPPING"}});
+    case MachineState::kJogging:
+      jogs.forget();
+      if (st.program_active) {
+        // a jog while the program is paused: stop ends the jog and the program (the rt
+        // flushes it and takes up where the machine stands)
+        jobs.interrupt();
+        return sent(l, CommandKind::kStop, json{{"state", "STOPPING"}});
+      }
+      return sent(l, CommandKind::kJogStop, json{{"state", "IDLE"}});
+    case MachineState::kHostLost:
+      // The interrupted program is abandoned: leave HOST_LOST, forget the journal.
+      jobs.abandon_interrupted();
+      spdlog::info("stop: the program interrupted by the lost host is abandoned");
+      return sent(l, CommandKind::kReset, json{{"state", "IDLE"}, {"abandoned", true}});
+    default:
+      if (jobs.active()) {
+        jobs.interrupt();
+        return Outcome::ok(json{{"state", to_string(st.state)}, {"note", "the program was stopped before it started"}});
+      }
+      return Outcome::ok(json{{"state", to_string(st.state)}, {"note", "nothing was moving"}});
+  }
+}
+
+Outcome do_reset(Call& c, JobControl& jobs) {
+  const MachineState s = c.status.state;
+  if (s != MachineState::kFault && s != MachineState::kEstop && s != MachineState::kHostLost) {
+    return Outcome::fail(refused(std::string("nothing to reset: the machine is ") + to_string(s) +
+                                 " (reset leaves FAULT, ESTOP or HOST_LOST)"));
+  }
+  if (s == MachineState::kHostLost) jobs.abandon_interrupted();
+  return sent(*c.link, CommandKind::kReset, json{{"state", "IDLE"}, {"was", to_string(s)}});
+}
+
+Outcome do_set_offset(MachineConfig& config, const rpc::SetOffsetParams& p) {
+  Vec3& o = config.gcode.work_offsets[static_cast<std::size_t>(p.index)];
+  for (int i = 0; i < kAxes; ++i) {
+    if (p.xyz[i]) o[static_cast<std::size_t>(i)] = *p.xyz[i];
+  }
+  spdlog::info("work offset {} set to X{} Y{} Z{} (used by programs started from now on)", rpc::work_offset_name(p.index), o[0],
+               o[1], o[2]);
+  json r = rpc::vec3_to_json(o);
+  r["offset"] = rpc::work_offset_name(p.index);
+  return Outcome::ok(r);
+}
+
+}  // namespace
+
+std::vector<Method> method_table(ServiceParts parts) {
+  // Each handler holds a copy of `parts` (references to the service's parts, which outlive
+  // the table).
+  const ServiceParts s = parts;
+  constexpr bool kParams = true, kNoParams = false, kRt = true, kNoRt = false;
+  return {
+      {"status", kNoParams, kNoRt, [s](Call&) { return Outcome::ok(status_object(s)); }},
+      {"run", kParams, kRt,
+       with_params(check_run,
+                   [s](Call& c, const rpc::RunParams& p) { return s.jobs.run(c.client, c.id, p, c.link, c.status, s.config); })},
+      {"pause", kNoParams, kRt, do_pause},
+      {"resume", kNoParams, kRt,
+       [s](Call& c) {
+         if (c.status.state == MachineState::kPaused) return sent(*c.link, CommandKind::kResume, json{{"state", "RUNNING"}});
+         return s.jobs.resume(c.client, c.id, c.link, c.status, s.config);  // the program a lost host ran
+       }},
+      {"stop", kNoParams, kRt, [s](Call& c) { return do_stop(c, s.jobs, s.jogs); }},
+      {"estop", kNoParams, kRt,
+       [s](Call& c) {
+         s.jogs.forget();
+         s.jobs.interrupt();
+         spdlog::warn("e-stop requested over the control socket");
+         return sent(*c.link, CommandKind::kEstop, json{{"state", "ESTOP"}});
+       }},
+      {"reset", kNoParams, kRt, [s](Call& c) { return do_reset(c, s.jobs); }},
+      {"override", kParams, kRt,
+       with_params(rpc::check_override_params,
+                   [](Call& c, const rpc::OverrideParams& p) {
+                     Command cmd;
+                     cmd.kind = CommandKind::kFeedOverride;
+                     cmd.value = p.percent / 100.0;
+                     return sent(*c.link, cmd, json{{"percent", p.percent}});
+                   })},
+      {"jog", kParams, kRt,
+       with_params([s](const json& params) { return rpc::check_jog_params(params, s.config); },
+                   [s](Call& c, const rpc::JogParams& p) {
+                     return s.jogs.start(c.client, c.id, *c.link, c.status, p, s.jobs.active());
+                   })},
+      {"jog_keepalive", kNoParams, kNoRt, [s](Call& c) { return s.jogs.keepalive(c.client); }},
+      {"jog_stop", kNoParams, kRt,
+       [s](Call& c) {
+         s.jogs.forget();
+         return sent(*c.link, CommandKind::kJogStop, json{{"ok", true}});
+       }},
+      {"set_offset", kParams, kNoRt,
+       with_params(rpc::check_set_offset_params, [s](Call&, const rpc::SetOffsetParams& p) { return do_set_offset(s.config, p); })},
+      {"subscribe", kParams, kNoRt,
+       with_params(rpc::check_subscribe_params,
+                   [s](Call& c, const rpc::SubscribeParams& p) {
+                     s.subs.subscribe(c.client, p.rate_hz);
+                     return Outcome::ok(p.rate_hz <= 0.0 ? json{{"rate_hz", 0}} : json{{"rate_hz", p.rate_hz}});
+                   })},
+  };
+}
+
+json status_object(const ServiceParts& parts) {
+  json j = json::object();
+  auto l = parts.rt.current();
+  std::optional<Status> st;
+  if (l && l->rt_alive()) {
+    st = l->status();
+    j = rpc::status_to_json(*st);
+  } else {
+    j["state"] = "NO_RT";
+  }
+  const RtLinkState rs = parts.rt.state();
+  json rt = {{"state", rs.state}, {"message", rs.message}, {"pid", rs.pid}};
+  if (l) rt["heartbeat_age_ms"] = l->rt_heartbeat_age_s() * 1000.0;
+  j["rt"] = rt;
+  parts.jobs.describe(j, st);
+  json offsets = json::object();
+  for (int i = 0; i < 6; ++i) {
+    offsets[rpc::work_offset_name(i)] = rpc::vec3_to_json(parts.config.gcode.work_offsets[static_cast<std::size_t>(i)]);
+  }
+  j["work_offsets"] = offsets;
+  j["jog"] = json{{"continuous", parts.jogs.continuous_active()}};
+  return j;
+}
+
+}  // namespace pcnc

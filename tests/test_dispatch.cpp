@@ -1,0 +1,97 @@
+// test_dispatch.cpp — the service's request dispatch without processes or a socket: the
+// method table names every protocol method once; the order of the checks (request, no
+// parameters, a live rt, then the method's own parameters); methods that need no rt
+// answered while none is attached; a handler's exception becomes an internal-error reply.
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "config/config.hpp"
+#include "service/dispatch.hpp"
+#include "service/methods.hpp"
+#include "test_paths.hpp"
+
+namespace pcnc {
+namespace {
+
+using rpc::json;
+
+// The service's parts with no rt attached (the monitor is never started) and no socket.
+struct Parts {
+  MachineConfig config = load_config(test::default_config());
+  RtMonitor rt{config, 0.005, 0.1, {}};
+  Subscriptions subs{[](ClientId, std::string_view) {}};
+  JobControl jobs{"/nonexistent/pcnc-test-dispatch.job", JobNotices{[](ClientId, json, Outcome) {}, [](json) {}}};
+  JogControl jogs{config, rt, [](ClientId, const json&, const Outcome&) {}, [](const json&) {}};
+  ServiceParts parts{config, rt, jobs, jogs, subs};
+  Dispatcher dispatcher{method_table(parts), rt};
+
+  json call(const std::string& line) { return json::parse(dispatcher.handle(1, line)); }
+};
+
+int code(const json& reply) { return reply.contains("error") ? reply["error"]["code"].get<int>() : 0; }
+
+TEST(Dispatch, TheTableHasEveryProtocolMethodOnceInOrder) {
+  Parts p;
+  const auto table = method_table(p.parts);
+  ASSERT_EQ(table.size(), rpc::method_names().size());
+  for (std::size_t i = 0; i < table.size(); ++i) EXPECT_EQ(table[i].name, rpc::method_names()[i]);
+}
+
+TEST(Dispatch, ATableThatMissesOrRepeatsAMethodIsRefused) {
+  Parts p;
+  auto table = method_table(p.parts);
+  auto missing = table;
+  missing.pop_back();
+  EXPECT_THROW(Dispatcher(missing, p.rt), std::logic_error);
+  auto repeated = table;
+  repeated.push_back(table.front());
+  EXPECT_THROW(Dispatcher(repeated, p.rt), std::logic_error);
+}
+
+TEST(Dispatch, ChecksComeInOrderRequestNoParamsRtThenParams) {
+  Parts p;
+  EXPECT_EQ(code(p.call("{nope")), rpc::kParseError);
+  EXPECT_EQ(code(p.call(R"({"id":1,"method":"teleport"})")), rpc::kMethodNotFound);
+  // pause takes no parameters: refused for them before the missing rt is noticed
+  EXPECT_EQ(code(p.call(R"({"id":2,"method":"pause","params":{"x":1}})")), rpc::kInvalidParams);
+  const json r = p.call(R"({"id":3,"method":"pause"})");
+  EXPECT_EQ(code(r), rpc::kRtUnavailable);
+  EXPECT_EQ(r["id"], 3);
+  EXPECT_EQ(r["error"]["message"], "pcnc-rt is not available (waiting): no pcnc-rt attached yet");
+  // a method that needs the rt: the rt is checked before its own parameters
+  EXPECT_EQ(code(p.call(R"({"id":4,"method":"override","params":{"percent":"fast"}})")), rpc::kRtUnavailable);
+}
+
+TEST(Dispatch, MethodsThatNeedNoRtAreAnsweredWithoutOne) {
+  Parts p;
+  json r = p.call(R"({"id":"a","method":"status"})");
+  ASSERT_TRUE(r.contains("result")) << r.dump();
+  EXPECT_EQ(r["result"]["state"], "NO_RT");
+  EXPECT_EQ(r["result"]["rt"]["state"], "waiting");
+  EXPECT_EQ(r["result"]["job"]["active"], false);
+  EXPECT_EQ(r["result"]["jog"]["continuous"], false);
+
+  r = p.call(R"({"id":1,"method":"set_offset","params":{"offset":"G55","x":3.5}})");
+  ASSERT_TRUE(r.contains("result")) << r.dump();
+  EXPECT_EQ(r["result"]["offset"], "G55");
+  EXPECT_EQ(p.call(R"({"id":2,"method":"status"})")["result"]["work_offsets"]["G55"]["x"], 3.5);
+  EXPECT_EQ(code(p.call(R"({"id":3,"method":"set_offset","params":{"offset":"G60"}})")), rpc::kInvalidParams);
+
+  EXPECT_EQ(p.call(R"({"id":4,"method":"subscribe","params":{"rate_hz":0}})")["result"]["rate_hz"], 0);
+  EXPECT_EQ(code(p.call(R"({"id":5,"method":"jog_keepalive"})")), rpc::kRefused);
+}
+
+TEST(Dispatch, AHandlerExceptionIsAnInternalErrorReply) {
+  Parts p;
+  auto table = method_table(p.parts);
+  table.front().handler = [](Call&) -> Outcome { throw std::runtime_error("boom"); };
+  Dispatcher d(table, p.rt);
+  const json r = json::parse(d.handle(1, R"({"id":9,"method":"status"})"));
+  EXPECT_EQ(code(r), rpc::kInternalError);
+  EXPECT_EQ(r["id"], 9);
+  EXPECT_NE(r["error"]["message"].get<std::string>().find("boom"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pcnc
