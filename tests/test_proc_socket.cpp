@@ -394,6 +394,10 @@ TEST(ServiceSocket, BadClientsDoNotDisturbARunningProgram) {
       {R"({"id":3,"method":"jog","params":{"axis":"X","distance":1e9}})", rpc::kInvalidParams},
       {R"({"id":4,"method":"override","params":{"percent":1000}})", rpc::kInvalidParams},
       {R"({"id":5,"method":"jog","params":{"axis":"X","distance":1}})", rpc::kRefused},
+      // issue 19: a number outside double range ended the host; a repeated key let the last win
+      {R"({"id":7,"method":"status","x":1e309})", rpc::kParseError},
+      {R"({"id":8,"method":"override","params":{"percent":-1e400}})", rpc::kParseError},
+      {R"({"id":9,"method":"status","method":"estop"})", rpc::kInvalidRequest},
   };
   for (const auto& [text2, code] : cases) {
     bad.send_raw(std::string(text2) + "\n");
