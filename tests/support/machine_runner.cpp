@@ -4,11 +4,25 @@
 #include <cmath>
 #include <sstream>
 
+#include "make_blocks.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc::test {
 
 MachineConfig default_machine_config() { return load_config(default_config()); }
+
+std::vector<Block> long_line(const MachineConfig& c, double feed) {
+  ProgramBuilder p(c, home(c));
+  p.rapid({1.0, 12.5, 20.0});
+  p.line({24.0, 12.5, 20.0}, feed);
+  p.end();
+  return p.blocks();
+}
+
+void run_to_line(MachineRunner& run, std::uint32_t line, double min_speed) {
+  run.run_while([&](const Status& s) { return !(s.line == line && s.path_speed >= min_speed) && s.state != MachineState::kFault; },
+                100000);
+}
 
 MachineRunner::MachineRunner(const MachineConfig& config) : cfg_(config), machine_(config) {
   CycleRecord r;

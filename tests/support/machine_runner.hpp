@@ -63,4 +63,10 @@ class MachineRunner {
 /// The default config loaded from configs/desktop-mill.toml.
 MachineConfig default_machine_config();
 
+/// A long straight line along X at `feed` (mm/s), from home: rapid to X1, line to X24, end.
+std::vector<Block> long_line(const MachineConfig& config, double feed);
+
+/// Runs until the machine executes source line `line` at `min_speed` or more (or faults).
+void run_to_line(MachineRunner& run, std::uint32_t line, double min_speed);
+
 }  // namespace pcnc::test
