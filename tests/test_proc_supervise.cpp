@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -81,6 +82,7 @@ TEST(Supervise, AHostKilledMidProgramIsRestartedAndResumesWhileTheRtStaysUp) {
       s.pair.wait_status([](const json& j) { return j["state"] == "RUNNING" && j["blocks_done"].get<int>() >= 3; }, 30);
   ASSERT_EQ(running["state"], "RUNNING") << running.dump();
 
+  const auto t_kill = std::chrono::steady_clock::now();
   ASSERT_EQ(kill(host, SIGKILL), 0);
   const pid_t host2 = wait_child(s.launcher.pid, "pcnc-host", host, 15.0);
   ASSERT_GT(host2, 0) << "no new pcnc-host; launcher said: " << s.launcher.err();
@@ -90,6 +92,9 @@ TEST(Supervise, AHostKilledMidProgramIsRestartedAndResumesWhileTheRtStaysUp) {
   // The new host finds the machine at rest on the path in HOST_LOST and resumes it.
   const json lost = s.pair.wait_status([](const json& j) { return j["state"] == "HOST_LOST"; }, 20);
   ASSERT_EQ(lost["state"], "HOST_LOST") << lost.dump();
+  std::cout << "[ figures  ] kill -9 pcnc-host under pcnc serve: the new host answers status (HOST_LOST) "
+            << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_kill).count()
+            << " ms after the kill\n";
   EXPECT_EQ(lost["path_speed"].get<double>(), 0.0) << lost.dump();
   const json resumed = s.pair.call("resume");
   ASSERT_TRUE(resumed.contains("result")) << resumed.dump();
@@ -112,12 +117,16 @@ TEST(Supervise, AnRtKilledIsRestartedAndTheHostReattaches) {
   const pid_t rt = wait_child(s.launcher.pid, "pcnc-rt", 0, 5.0);
   const pid_t host = wait_child(s.launcher.pid, "pcnc-host", 0, 5.0);
   ASSERT_GT(rt, 0);
+  const auto t_kill = std::chrono::steady_clock::now();
   ASSERT_EQ(kill(rt, SIGKILL), 0);
   const pid_t rt2 = wait_child(s.launcher.pid, "pcnc-rt", rt, 15.0);
   ASSERT_GT(rt2, 0) << "no new pcnc-rt; launcher said: " << s.launcher.err();
   const json st = s.pair.wait_status(
       [rt2](const json& j) { return j["rt"]["state"] == "attached" && j["rt"]["pid"] == rt2 && j["state"] == "IDLE"; }, 20);
   EXPECT_EQ(st["rt"]["pid"], rt2) << st.dump();
+  std::cout << "[ figures  ] kill -9 pcnc-rt under pcnc serve: the host is attached to the new rt (IDLE) "
+            << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_kill).count()
+            << " ms after the kill\n";
   EXPECT_EQ(wait_child(s.launcher.pid, "pcnc-host", 0, 1.0), host) << "the same host re-attached";
   // and it moves again
   const json jog = s.pair.call("jog", {{"axis", "X"}, {"distance", 1.0}, {"feed", 300.0}});
