@@ -360,6 +360,44 @@ TEST(Machine, StopDeceleratesFlushesAndDiscardsTheRest) {
   EXPECT_EQ(run.check_setpoint_limits(), "");
 }
 
+// pcnc-rt asked to exit (SIGTERM): the program stops along the path as on a stop, and nothing
+// starts moving again, neither a new program, a resume, queued blocks nor a jog.
+TEST(Machine, ShutdownStopsAlongThePathAndStartsNothing) {
+  MachineConfig c = cfg();
+  MachineRunner run(c);
+  run.start(long_line(c, 40.0));
+  run_to_line(run, 2, 40.0);
+  EXPECT_FALSE(run.machine().motion_at_rest());
+  run.machine().begin_shutdown();
+  EXPECT_EQ(run.status().state, MachineState::kStopping);
+  run.run_while([](const Status& s) { return s.state == MachineState::kStopping; }, 10000);
+  EXPECT_EQ(run.status().state, MachineState::kIdle);
+  EXPECT_EQ(run.status().path_speed, 0.0);
+  EXPECT_TRUE(run.machine().motion_at_rest());
+  EXPECT_EQ(run.check_setpoint_limits(), "");
+  const Vec3 held = run.status().commanded;
+  run.send(CommandKind::kProgramStart);
+  run.send(CommandKind::kJogIncrement, 1.5, 0, 10.0);
+  run.start(long_line(c, 40.0));  // a new program's blocks arrive too
+  run.run(200);
+  EXPECT_EQ(run.status().state, MachineState::kIdle);
+  EXPECT_EQ(run.status().commanded, held);
+  EXPECT_TRUE(run.machine().motion_at_rest());
+}
+
+TEST(Machine, ShutdownWhileJoggingDeceleratesTheJog) {
+  MachineConfig c = cfg();
+  MachineRunner run(c);
+  run.send(CommandKind::kJogContinuous, 1.0, 0, 20.0);
+  run.run(200);
+  EXPECT_NEAR(run.status().path_speed, 20.0, 1e-9);
+  run.machine().begin_shutdown();
+  run.run_while([](const Status& s) { return s.state == MachineState::kJogging; }, 10000);
+  EXPECT_EQ(run.status().state, MachineState::kIdle);
+  EXPECT_TRUE(run.machine().motion_at_rest());
+  EXPECT_EQ(run.check_setpoint_limits(), "");
+}
+
 TEST(Machine, HostLostStopsAlongThePathThenHolds) {
   MachineConfig c = cfg();
   MachineRunner run(c);

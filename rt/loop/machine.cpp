@@ -38,6 +38,9 @@ bool Machine::paused_at_rest() const {
          m.sp.vel[1] == 0.0 && m.sp.vel[2] == 0.0;
 }
 
+void Machine::begin_shutdown() { impl_->sm.shut_down(); }
+bool Machine::motion_at_rest() const { return impl_->sm.motion_at_rest(); }
+
 const Status& Machine::status() const { return impl_->st; }
 const TraceSample& Machine::trace_sample() const { return impl_->ts; }
 const char* Machine::fault_reason() const { return impl_->sm.fault_reason(); }

@@ -51,6 +51,12 @@ class Machine {
   /// like an idle machine instead of racing machine time ahead.
   bool paused_at_rest() const;
 
+  /// pcnc-rt is asked to exit: what moves comes to rest as on a stop (a program decelerates
+  /// along the path and is abandoned, a jog decelerates), and nothing starts moving again.
+  void begin_shutdown();
+  /// No program or jog in motion and the setpoint standing still (the axes may still settle).
+  bool motion_at_rest() const;
+
   const Status& status() const;
   const TraceSample& trace_sample() const;
 
