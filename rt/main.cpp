@@ -117,6 +117,15 @@ int main(int argc, char** argv) {
     pcnc::RtLoopOptions options;
     options.virtual_clock = virtual_clock;
     options.trace_path = trace_path;
+    if (const auto& prev = segment.previous_status()) {
+      // The dead rt's last measured position: the simulated axes stand there, at rest, as
+      // absolute encoders would report after a drive's power loss. Its program is not resumed.
+      options.start_position = prev->actual;
+      spdlog::warn("the axes stand where pcnc-rt last measured them: X{:.4f} Y{:.4f} Z{:.4f} mm (it was {}{}); "
+                   "starting IDLE at rest there",
+                   prev->actual[0], prev->actual[1], prev->actual[2], pcnc::to_string(prev->state),
+                   prev->program_active ? ", its program is abandoned" : "");
+    }
     pcnc::RtLoop loop(config, segment.shm(), options);
     spdlog::info("segment '{}' ready ({} bytes); {} clock at {} Hz; config {}", config.process.shm_name,
                  sizeof(pcnc::SharedSegment), clock, config.motion.cycle_hz, config_path);

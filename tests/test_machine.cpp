@@ -398,6 +398,34 @@ TEST(Machine, ShutdownWhileJoggingDeceleratesTheJog) {
   EXPECT_EQ(run.check_setpoint_limits(), "");
 }
 
+// A restarted rt takes up where its predecessor last measured the axes: at rest there, IDLE,
+// the setpoint on the measured position (no jump when the servo comes on), jogs start there.
+TEST(Machine, TakeUpPositionStandsAtRestThere) {
+  MachineConfig c = cfg();
+  MachineRunner run(c);
+  const Vec3 at{3.2501, 20.0, 21.5};
+  ASSERT_TRUE(run.machine().take_up_position(at));
+  run.run(200);
+  EXPECT_EQ(run.status().state, MachineState::kIdle);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(run.status().actual[i], at[i], c.axes[i].encoder_resolution_mm) << "axis " << i;
+    EXPECT_EQ(run.status().commanded[i], at[i]);
+    EXPECT_EQ(run.status().velocity[i], 0.0);
+  }
+  // every cycle's setpoint on the taken-up position: no jump when the servo comes on (the
+  // runner's record 0 is from before the take-up)
+  for (std::size_t k = 1; k < run.records().size(); ++k) ASSERT_EQ(run.records()[k].cmd, at) << "cycle " << k;
+  run.send(CommandKind::kJogIncrement, 1.0, 0, 10.0);
+  run.run_while([](const Status& s) { return s.state == MachineState::kJogging; }, 10000);
+  EXPECT_NEAR(run.status().commanded[0], at[0] + 1.0, 1e-12);
+  // outside the travel: put onto it; not finite: refused
+  MachineRunner other(c);
+  EXPECT_TRUE(other.machine().take_up_position({-0.5, 30.0, 10.0}));
+  other.run(10);
+  EXPECT_EQ(other.status().commanded, (Vec3{0.0, 25.0, 10.0}));
+  EXPECT_FALSE(other.machine().take_up_position({std::numeric_limits<double>::quiet_NaN(), 1.0, 1.0}));
+}
+
 TEST(Machine, HostLostStopsAlongThePathThenHolds) {
   MachineConfig c = cfg();
   MachineRunner run(c);

@@ -51,6 +51,12 @@ class Machine {
   /// like an idle machine instead of racing machine time ahead.
   bool paused_at_rest() const;
 
+  /// Before the first cycle: the axes stand at rest at `at` (machine coordinates, mm, put onto
+  /// the travel), the setpoint and the executor's position with them, IDLE. A restarted rt
+  /// takes up where its predecessor last measured the axes, as absolute encoders would tell
+  /// a drive after a power loss. False (nothing changed) when `at` is not finite.
+  bool take_up_position(const Vec3& at);
+
   /// pcnc-rt is asked to exit: what moves comes to rest as on a stop (a program decelerates
   /// along the path and is abandoned, a jog decelerates), and nothing starts moving again.
   void begin_shutdown();

@@ -33,6 +33,7 @@ RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOpti
       summary_period_(std::max(1, static_cast<int>(config.motion.cycle_hz / 10.0))),
       settle_cycles_(std::max(1, static_cast<int>(config.motion.cycle_hz / 100.0))) {
   if (!options_.trace_path.empty()) trace_ = std::make_unique<TraceWriter>(options_.trace_path);
+  if (options_.start_position) machine_->take_up_position(*options_.start_position);
 }
 
 RtLoop::~RtLoop() = default;

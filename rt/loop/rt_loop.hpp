@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "config/config.hpp"
@@ -25,6 +26,8 @@ struct RtLoopOptions {
   bool virtual_clock = false;
   std::string trace_path;  // empty: no trace
   double shutdown_timeout_s = 5.0;  // a stop request ends the loop after this long even if not at rest
+  // Where the axes stand at start (a restarted rt: where its predecessor last measured them).
+  std::optional<Vec3> start_position;
 };
 
 /// How the loop ended after a stop request (nothing set when it never got one).
