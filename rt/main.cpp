@@ -1,7 +1,8 @@
 // main.cpp — pcnc-rt, the machine process: creates the shared segment, asks for real-time
 // scheduling and locked memory, and runs the 2 kHz loop until SIGINT/SIGTERM. The first such
 // signal brings a moving machine to rest along its path before the process exits (exit 0;
-// 1 when it did not come to rest within the bound); a second one ends it at once (128+N).
+// 1 when it did not come to rest within the bound, or its trace could not be written
+// completely); a second one ends it at once (128+N).
 #include <sched.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
@@ -20,6 +21,7 @@
 
 namespace {
 pcnc::StopRequest g_stop;
+bool g_trace_stops = true;  // process.on_trace_failure, for the failure's message
 void on_signal(int sig) { g_stop.note_signal(sig); }
 
 // What the loop did with a stop signal, in the log; returns the exit status.
@@ -110,6 +112,10 @@ int main(int argc, char** argv) {
   if (!virtual_clock) request_realtime(config.process.rt_priority);
 
   int exit_code = 0;
+  // A trace file that reaches a size limit (RLIMIT_FSIZE) fails its write with EFBIG, reported
+  // like a full disk, instead of ending the process with the machine moving.
+  signal(SIGXFSZ, SIG_IGN);
+
   try {
     std::string note;
     pcnc::RtSegment segment(config.process.shm_name, &note);
@@ -117,6 +123,13 @@ int main(int argc, char** argv) {
     pcnc::RtLoopOptions options;
     options.virtual_clock = virtual_clock;
     options.trace_path = trace_path;
+    options.on_trace_failure = [](const std::string& what) {
+      spdlog::error("{}{}", what,
+                    g_trace_stops ? "; stopping the program along the path, no program starts until pcnc-rt restarts "
+                                    "(process.on_trace_failure = \"stop\")"
+                                  : "; programs run on without it (process.on_trace_failure = \"continue\")");
+    };
+    g_trace_stops = config.process.trace_failure_stops;
     if (const auto& prev = segment.previous_status()) {
       // The dead rt's last measured position: the simulated axes stand there, at rest, as
       // absolute encoders would report after a drive's power loss. Its program is not resumed.
@@ -140,6 +153,11 @@ int main(int argc, char** argv) {
                  cycles, t.compute.quantile(0.5), t.compute.quantile(0.99), t.compute.max(), t.wake.quantile(0.5),
                  t.wake.quantile(0.99), t.wake.quantile(0.999), t.wake.max(), t.overruns);
     exit_code = report_shutdown(loop.shutdown());
+    const std::string trace_failure = loop.close_trace();
+    if (!trace_failure.empty()) {
+      spdlog::error("{}", trace_failure);
+      if (exit_code == 0) exit_code = 1;
+    }
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

@@ -426,6 +426,39 @@ TEST(Machine, TakeUpPositionStandsAtRestThere) {
   EXPECT_FALSE(other.machine().take_up_position({std::numeric_limits<double>::quiet_NaN(), 1.0, 1.0}));
 }
 
+// The trace failed with process.on_trace_failure = "stop": the program stops along the path,
+// the status says so, and no program starts afterwards (jogs still do).
+TEST(Machine, TraceFailureWithStopStopsTheProgramAndStartsNoOther) {
+  MachineConfig c = cfg();
+  MachineRunner run(c);
+  run.start(long_line(c, 40.0));
+  run_to_line(run, 2, 40.0);
+  run.machine().trace_failed(true);
+  EXPECT_EQ(run.status().trace_failed, 1);
+  EXPECT_EQ(run.status().state, MachineState::kStopping);
+  run.run_while([](const Status& s) { return s.state == MachineState::kStopping; }, 10000);
+  EXPECT_EQ(run.status().state, MachineState::kIdle);
+  EXPECT_EQ(run.status().program_done, 0);
+  EXPECT_EQ(run.check_setpoint_limits(), "");
+  run.start(long_line(c, 40.0));
+  run.run(200);
+  EXPECT_EQ(run.status().state, MachineState::kIdle);
+  EXPECT_EQ(run.status().program_active, 0);
+  run.send(CommandKind::kJogIncrement, 1.0, 0, 10.0);
+  EXPECT_EQ(run.status().state, MachineState::kJogging) << "jogs still move the machine";
+}
+
+TEST(Machine, TraceFailureWithContinueOnlyTellsTheStatus) {
+  MachineConfig c = cfg();
+  MachineRunner run(c);
+  run.start(long_line(c, 40.0));
+  run_to_line(run, 2, 40.0);
+  run.machine().trace_failed(false);
+  EXPECT_EQ(run.status().trace_failed, 1);
+  run.run_until_done();
+  EXPECT_EQ(run.status().program_done, 1);
+}
+
 TEST(Machine, HostLostStopsAlongThePathThenHolds) {
   MachineConfig c = cfg();
   MachineRunner run(c);

@@ -59,6 +59,11 @@ bool Machine::take_up_position(const Vec3& at) {
   return true;
 }
 
+void Machine::trace_failed(bool stop) {
+  impl_->st.trace_failed = 1;
+  if (stop) impl_->sm.refuse_programs();
+}
+
 void Machine::begin_shutdown() { impl_->sm.shut_down(); }
 bool Machine::motion_at_rest() const { return impl_->sm.motion_at_rest(); }
 

@@ -57,6 +57,11 @@ class Machine {
   /// a drive after a power loss. False (nothing changed) when `at` is not finite.
   bool take_up_position(const Vec3& at);
 
+  /// The trace could not be written (the loop's trace writer failed). Published in the status
+  /// (trace_failed); with `stop` (process.on_trace_failure = "stop") a running program stops
+  /// along the path as on a stop, and no program starts afterwards.
+  void trace_failed(bool stop);
+
   /// pcnc-rt is asked to exit: what moves comes to rest as on a stop (a program decelerates
   /// along the path and is abandoned, a jog decelerates), and nothing starts moving again.
   void begin_shutdown();

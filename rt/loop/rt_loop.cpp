@@ -32,8 +32,16 @@ RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOpti
       host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)),
       summary_period_(std::max(1, static_cast<int>(config.motion.cycle_hz / 10.0))),
       settle_cycles_(std::max(1, static_cast<int>(config.motion.cycle_hz / 100.0))) {
-  if (!options_.trace_path.empty()) trace_ = std::make_unique<TraceWriter>(options_.trace_path);
+  if (!options_.trace_path.empty()) {
+    trace_ = std::make_unique<TraceWriter>(options_.trace_path, options_.on_trace_failure);
+  }
   if (options_.start_position) machine_->take_up_position(*options_.start_position);
+}
+
+std::string RtLoop::close_trace() {
+  if (!trace_) return "";
+  trace_->close();
+  return trace_->failure();
 }
 
 RtLoop::~RtLoop() = default;
@@ -111,6 +119,10 @@ void RtLoop::take_commands(std::uint64_t now_ns) {
 
 void RtLoop::cycle(std::uint64_t now_ns) {
   take_commands(now_ns);
+  if (trace_ && !trace_failed_ && trace_->failed()) {  // one atomic load; the writer thread logged it
+    trace_failed_ = true;
+    machine_->trace_failed(config_.process.trace_failure_stops);
+  }
 
   const std::uint64_t popped_before = shm_.motion.popped();
   machine_->cycle(shm_.motion);

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,6 +29,8 @@ struct RtLoopOptions {
   double shutdown_timeout_s = 5.0;  // a stop request ends the loop after this long even if not at rest
   // Where the axes stand at start (a restarted rt: where its predecessor last measured them).
   std::optional<Vec3> start_position;
+  // Called once, from the trace writer's thread, when the trace cannot be written.
+  std::function<void(const std::string&)> on_trace_failure;
 };
 
 /// How the loop ended after a stop request (nothing set when it never got one).
@@ -59,6 +62,10 @@ class RtLoop {
 
   const CycleTiming& timing() const { return *timing_; }
   const ShutdownReport& shutdown() const { return shutdown_; }
+
+  /// Drains and closes the trace (when there is one). Returns what failed ("" when the trace
+  /// is complete, or there is none).
+  std::string close_trace();
   const Machine& machine() const { return *machine_; }
 
  private:
@@ -87,6 +94,7 @@ class RtLoop {
   int unpublished_cycles_ = 0;  // virtual clock: cycles run since status was last published
   MachineState published_state_ = MachineState::kIdle;
   std::uint8_t published_done_ = 0;
+  bool trace_failed_ = false;  // the machine was told
   // stop request: when it came, the cycle last looked at, the axes then, cycles standing still
   ShutdownReport shutdown_{};
   std::uint64_t stop_begin_ns_ = 0, stop_begin_cycle_ = 0, stop_seen_cycle_ = 0, rest_cycle_ = 0;

@@ -25,7 +25,7 @@
 namespace pcnc {
 
 constexpr std::uint64_t kSegmentMagic = 0x314D48534E434350ull;  // "PCCNSHM1" little-endian
-constexpr std::uint32_t kLayoutVersion = 2;  // bump on any change of the types below
+constexpr std::uint32_t kLayoutVersion = 3;  // bump on any change of the types below
 constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
 constexpr std::size_t kMailboxSlots = 64;
 
