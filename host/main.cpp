@@ -157,6 +157,11 @@ int main(int argc, char** argv) {
         if (report.job.end == pcnc::JobEnd::kCompleted) return 1;
       }
     }
+    if (report.job.final_status.trace_failed) {
+      std::fprintf(stderr, "pcnc-host: pcnc-rt could not write its trace (its message names the file): the trace is "
+                           "incomplete and the run is not clean\n");
+      if (report.job.end == pcnc::JobEnd::kCompleted) return 1;
+    }
     switch (report.job.end) {
       case pcnc::JobEnd::kCompleted: return 0;
       case pcnc::JobEnd::kInterrupted: return 130;

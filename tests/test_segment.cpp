@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <vector>
 
 #include "ipc/segment.hpp"
 
@@ -147,6 +148,72 @@ TEST(Segment, StaleSegmentOfACrashedRtIsRecovered) {
     EXPECT_EQ(host.shm().header.rt_pid.load(), getpid());
   }
   EXPECT_FALSE(segment_exists(name)) << "a clean exit removes the segment";
+}
+
+// Issue 19: the simulated plant's state lives in the segment. A new rt that replaces the
+// segment of a dead one (same magic and layout) gets the last status it published; a torn
+// snapshot (the crash came in the middle of a store), one never published, or a segment of
+// another layout give none.
+TEST(Segment, StaleSegmentKeepsTheLastPublishedStatus) {
+  const std::string name = unique_name("prev");
+  auto crash_after = [&](auto publish) {
+    const pid_t child = fork();
+    if (child == 0) {
+      auto* rt = new RtSegment(name);  // never destroyed: the child "crashes"
+      publish(rt->shm());
+      _exit(0);
+    }
+    int st = 0;
+    waitpid(child, &st, 0);
+  };
+  crash_after([](SharedSegment& shm) {
+    Status s{};
+    s.state = MachineState::kRunning;
+    s.actual = {3.25, 17.5, 21.0};
+    s.commanded = {3.3, 17.5, 21.0};
+    shm.status.store(s);
+  });
+  {
+    RtSegment rt(name);
+    ASSERT_TRUE(rt.previous_status().has_value());
+    EXPECT_EQ(rt.previous_status()->actual, (Vec3{3.25, 17.5, 21.0}));
+    EXPECT_EQ(rt.previous_status()->state, MachineState::kRunning);
+  }
+  // never published (the rt died before its first cycle)
+  crash_after([](SharedSegment&) {});
+  {
+    RtSegment rt(name);
+    EXPECT_FALSE(rt.previous_status().has_value());
+  }
+  // torn: the sequence left odd by a store that never finished
+  crash_after([](SharedSegment& shm) {
+    Status s{};
+    s.state = MachineState::kIdle;
+    shm.status.store(s);
+    auto* seq = reinterpret_cast<std::atomic<std::uint64_t>*>(&shm.status);
+    seq->fetch_add(1);
+  });
+  {
+    RtSegment rt(name);
+    EXPECT_FALSE(rt.previous_status().has_value()) << "a torn snapshot is not trusted";
+  }
+  // another layout version: not ours, nothing taken from it
+  std::vector<unsigned char> bytes(sizeof(SharedSegment), 0);
+  auto* seg = new (bytes.data()) SharedSegment();
+  seg->header.magic = kSegmentMagic;
+  seg->header.layout_version = kLayoutVersion + 1;
+  seg->header.total_size = sizeof(SharedSegment);
+  Status s{};
+  s.state = MachineState::kIdle;
+  s.actual = {1, 2, 3};
+  seg->status.store(s);
+  write_raw_segment(name, bytes.data(), bytes.size());
+  {
+    std::string note;
+    RtSegment rt(name, &note);
+    EXPECT_FALSE(rt.previous_status().has_value());
+    EXPECT_NE(note.find("layout version"), std::string::npos) << note;
+  }
 }
 
 TEST(Segment, ZombieRtCountsAsGone) {

@@ -2,6 +2,7 @@
 // capacity and order, seqlock snapshots, and the config loader's strictness.
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <thread>
 
 #include "config/config.hpp"
@@ -63,6 +64,25 @@ TEST(Seqlock, ReaderNeverSeesATornSnapshot) {
   }
   writer.join();
   EXPECT_GT(reads, 0u);
+}
+
+// Layout version 3 (issue 19): Status carries trace_failed. Any change of Block, Command,
+// Status or the segment bumps kLayoutVersion, so that a host and an rt of different builds
+// refuse each other, and a restarted rt takes no position from a segment it cannot read.
+TEST(SharedContract, LayoutVersionThreeCarriesTraceFailed) {
+  EXPECT_EQ(kLayoutVersion, 3u);
+  Status s{};
+  EXPECT_EQ(s.trace_failed, 0);
+  EXPECT_LT(offsetof(Status, trace_failed), offsetof(Status, line));
+}
+
+TEST(Config, OnTraceFailureIsStopOrContinue) {
+  EXPECT_TRUE(load_config(test::default_config()).process.trace_failure_stops) << "stop by default";
+  EXPECT_TRUE(parse_config("", "t").process.trace_failure_stops);
+  EXPECT_FALSE(parse_config("[process]\non_trace_failure = \"continue\"\n", "t").process.trace_failure_stops);
+  EXPECT_TRUE(parse_config("[process]\non_trace_failure = \"stop\"\n", "t").process.trace_failure_stops);
+  EXPECT_THROW(parse_config("[process]\non_trace_failure = \"pause\"\n", "t"), ConfigError);
+  EXPECT_THROW(parse_config("[process]\non_trace_failure = true\n", "t"), ConfigError);
 }
 
 TEST(Config, DefaultConfigLoadsWithItsTravel) {

@@ -2,7 +2,11 @@
 // parse back, drops counted when the queue overflows, push never blocks.
 #include <gtest/gtest.h>
 
+#include <cerrno>
+#include <chrono>
 #include <cstdio>
+#include <mutex>
+#include <thread>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -78,6 +82,47 @@ TEST(TraceWriter, CountsDropsWhenTheQueueOverflows) {
   EXPECT_EQ(ok + w.dropped(), pushes);
   EXPECT_EQ(w.written(), ok);
   EXPECT_EQ(lines_of(path).size(), ok + 1);
+  std::remove(path.c_str());
+}
+
+// Issue 19: disk full is not silent. /dev/full fails every write with ENOSPC: the writer's
+// thread notices at its first flush, reports once with the path and errno, sets failed(), and
+// keeps taking samples off the queue so the rt never waits on it.
+TEST(TraceWriter, AFullDiskIsReportedOnceAndTheQueueKeepsMoving) {
+  std::vector<std::string> reports;
+  std::mutex m;
+  TraceWriter w("/dev/full", [&](const std::string& what) {
+    std::lock_guard<std::mutex> lock(m);
+    reports.push_back(what);
+  });
+  TraceSample s;
+  const std::size_t pushes = 4 * TraceWriter::kQueueSlots;
+  for (std::size_t i = 0; i < pushes; ++i) {
+    s.t = static_cast<double>(i) * 0.0005;
+    w.push_wait(s);  // would wait for ever if the failed writer stopped draining
+  }
+  for (int i = 0; i < 500 && !w.failed(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_TRUE(w.failed());
+  EXPECT_EQ(w.error(), ENOSPC);
+  w.close();
+  EXPECT_GT(w.lost(), 0u);
+  ASSERT_EQ(reports.size(), 1u) << "reported once";
+  EXPECT_NE(reports[0].find("/dev/full"), std::string::npos) << reports[0];
+  EXPECT_NE(reports[0].find("No space left on device"), std::string::npos) << reports[0];
+  EXPECT_NE(reports[0].find("errno 28"), std::string::npos) << reports[0];
+  EXPECT_EQ(w.failure(), reports[0]);
+}
+
+TEST(TraceWriter, AWritableFileHasNoFailure) {
+  const std::string path = ::testing::TempDir() + "pcnc_trace_ok.csv";
+  TraceWriter w(path);
+  TraceSample s;
+  for (int i = 0; i < 100; ++i) w.push_wait(s);
+  w.close();
+  EXPECT_FALSE(w.failed());
+  EXPECT_EQ(w.failure(), "");
+  EXPECT_EQ(w.lost(), 0u);
+  EXPECT_EQ(lines_of(path).size(), 101u);
   std::remove(path.c_str());
 }
 

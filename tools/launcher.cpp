@@ -22,12 +22,22 @@ namespace pcnc {
 namespace {
 
 volatile sig_atomic_t g_signal = 0;
-volatile pid_t g_children[2] = {0, 0};
+volatile pid_t g_children[2] = {0, 0};     // rt, host
+volatile sig_atomic_t g_signalled[2] = {0, 0};  // that child has had its stop signal
 
-void forward_signal(int sig) {
+// Hands a stop signal on to both children, once: pcnc-rt takes its first SIGTERM/SIGINT as
+// "bring the machine to rest, then exit" and a second one as "exit at once", so the launcher
+// never sends a second one of its own. A signal the kernel sent (a terminal's Ctrl-C or
+// hang-up) has reached the whole foreground process group, children included: not again.
+// SIGHUP is handed on as SIGTERM (it would end pcnc-rt without a stop).
+void forward_signal(int sig, siginfo_t* info, void*) {
   g_signal = sig;
-  for (pid_t p : g_children) {
-    if (p > 0) kill(p, sig);
+  const bool from_terminal = info != nullptr && info->si_code == SI_KERNEL;
+  for (int i = 0; i < 2; ++i) {
+    const pid_t p = g_children[i];
+    if (p <= 0 || g_signalled[i]) continue;
+    g_signalled[i] = 1;
+    if (!from_terminal) kill(p, sig == SIGHUP ? SIGTERM : sig);
   }
 }
 
@@ -59,10 +69,15 @@ std::string describe_end(int status) {
   return "ended (status " + std::to_string(status) + ")";
 }
 
-// Waits up to timeout for pid; then SIGKILL. Returns its wait status.
-int stop_and_reap(pid_t pid, double timeout_s) {
+// Asks child `which` (0 rt, 1 host) to end with SIGTERM, unless it has had its stop signal
+// already, and waits up to timeout for it (pcnc-rt first brings a moving machine to rest);
+// then SIGKILL. Returns its wait status.
+int stop_and_reap(int which, pid_t pid, double timeout_s) {
   int status = 0;
-  kill(pid, SIGTERM);
+  if (!g_signalled[which]) {
+    g_signalled[which] = 1;
+    kill(pid, SIGTERM);
+  }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   for (;;) {
     const pid_t r = waitpid(pid, &status, WNOHANG);
@@ -97,6 +112,7 @@ pid_t start_rt(const LaunchOptions& options) {
   std::vector<std::string> rt_args = options.rt_args;
   rt_args.push_back("--ready-fd");
   rt_args.push_back(std::to_string(ready[1]));
+  g_signalled[0] = 0;
   const pid_t rt = spawn(options.rt_path, rt_args, ready[1]);
   close(ready[1]);
   g_children[0] = rt;
@@ -118,7 +134,7 @@ pid_t start_rt(const LaunchOptions& options) {
   if (exited) {
     std::fprintf(stderr, "pcnc: pcnc-rt failed to start: it %s\n", describe_end(status).c_str());
   } else {
-    stop_and_reap(rt, 2.0);
+    stop_and_reap(0, rt, 2.0);
     if (!g_signal) std::fprintf(stderr, "pcnc: pcnc-rt did not become ready within %.1f s\n", options.rt_start_timeout_s);
   }
   g_children[0] = 0;
@@ -146,7 +162,8 @@ bool ended_on_its_own(int status) {
 
 int launch_pair(const LaunchOptions& options) {
   struct sigaction sa {};
-  sa.sa_handler = forward_signal;
+  sa.sa_sigaction = forward_signal;
+  sa.sa_flags = SA_SIGINFO;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
@@ -163,6 +180,7 @@ int launch_pair(const LaunchOptions& options) {
     host_args.push_back("--progress-fd");
     host_args.push_back(std::to_string(progress[1]));
   }
+  g_signalled[1] = 0;
   pid_t host = spawn(options.host_path, host_args, progress[1]);
   g_children[1] = host;
   std::thread progress_reader;
@@ -208,6 +226,7 @@ int launch_pair(const LaunchOptions& options) {
                        describe_end(status).c_str());
           std::this_thread::sleep_for(std::chrono::duration<double>(options.restart_delay_s));
           if (!g_signal) {
+            g_signalled[1] = 0;
             host = spawn(options.host_path, options.host_args, -1);
             g_children[1] = host;
             continue;
@@ -218,8 +237,9 @@ int launch_pair(const LaunchOptions& options) {
           exit_code = 3;
         }
       }
-      // SIGTERM asks the rt to bring a moving machine to rest before it exits.
-      const int rt_status = stop_and_reap(rt, 10.0);
+      // SIGTERM asks the rt to bring a moving machine to rest before it exits (it gives up
+      // after 5 s; SIGKILL only if it hangs beyond that).
+      const int rt_status = stop_and_reap(0, rt, 10.0);
       g_children[0] = 0;
       if (exit_code == 0) {
         if (WIFEXITED(status)) {
@@ -231,7 +251,12 @@ int launch_pair(const LaunchOptions& options) {
       }
       const bool rt_clean = (WIFEXITED(rt_status) && WEXITSTATUS(rt_status) == 0) ||
                             (WIFSIGNALED(rt_status) && WTERMSIG(rt_status) == SIGTERM);
-      if (!rt_clean) {
+      if (!rt_clean && WIFEXITED(rt_status) && WEXITSTATUS(rt_status) == 1) {
+        // pcnc-rt ran to its end and reported a failure of its own above (its trace could not
+        // be written, or the machine did not come to rest in time): the run is not clean.
+        std::fprintf(stderr, "pcnc: pcnc-rt reported a failure (exit status 1; its message above names it)\n");
+        if (exit_code == 0) exit_code = 1;
+      } else if (!rt_clean) {
         std::fprintf(stderr, "pcnc: pcnc-rt %s while stopping\n", describe_end(rt_status).c_str());
         if (exit_code == 0) exit_code = 3;
       }
@@ -254,7 +279,7 @@ int launch_pair(const LaunchOptions& options) {
       } else if (!g_signal) {
         std::fprintf(stderr, "pcnc: pcnc-rt %s; stopping pcnc-host\n", describe_end(status).c_str());
       }
-      const int host_status = stop_and_reap(host, 5.0);
+      const int host_status = stop_and_reap(1, host, 5.0);
       g_children[1] = 0;
       if (!g_signal) std::fprintf(stderr, "pcnc: pcnc-host %s\n", describe_end(host_status).c_str());
       exit_code = 3;

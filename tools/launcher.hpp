@@ -35,8 +35,10 @@ struct LaunchOptions {
   double restart_delay_s = 0.2;        // before a restart (the rt needs none to stop the machine)
 };
 
-/// Exit status: the host's status when both end normally; 3 when pcnc-rt died or failed to
-/// start (or, supervising, kept dying); 128+N when interrupted by signal N.
+/// Exit status: the host's status when both end normally (at least 1 when pcnc-rt exited 1:
+/// a failure it reported, such as a trace it could not write); 3 when pcnc-rt died or failed
+/// to start (or, supervising, kept dying); 128+N when interrupted by signal N. A child gets
+/// one stop signal at most from the launcher (pcnc-rt takes a second one as "exit at once").
 int launch_pair(const LaunchOptions& options);
 
 /// Directory of the running executable (to find pcnc-rt and pcnc-host beside pcnc).

@@ -122,7 +122,11 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     report_progress();
   }
   if (faulted(st)) return finish(JobEnd::kFault, fault_text(st));
-  if (!st.program_done) return finish(JobEnd::kStopped, "the program was stopped before its end");
+  if (!st.program_done) {
+    return finish(JobEnd::kStopped, st.trace_failed ? "stopped by pcnc-rt before its end: its trace file could not be written "
+                                                      "(process.on_trace_failure = \"stop\")"
+                                                    : "the program was stopped before its end");
+  }
   return finish(JobEnd::kCompleted, "");
 }
 

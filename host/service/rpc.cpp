@@ -412,6 +412,7 @@ json status_to_json(const Status& s) {
   j["time_s"] = s.time_s;
   j["program_time_s"] = s.program_time_s;
   j["clock"] = s.clock_virtual ? "virtual" : "real";
+  j["trace_failed"] = s.trace_failed != 0;
   j["timing"] = json{{"wake_min_us", s.timing.wake_min_us},       {"wake_mean_us", s.timing.wake_mean_us},
                      {"wake_p99_us", s.timing.wake_p99_us},       {"wake_max_us", s.timing.wake_max_us},
                      {"compute_min_us", s.timing.compute_min_us}, {"compute_mean_us", s.timing.compute_mean_us},

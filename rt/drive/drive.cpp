@@ -33,6 +33,11 @@ void Drive::step(const Vec3& command, const Vec3& measured, const Vec3& velocity
   }
 }
 
+void Drive::place(const Vec3& at) {
+  for (int i = 0; i < kAxes; ++i) plant_[i].place(at[i]);
+  reset_servo();
+}
+
 void Drive::set_blocked(int axis, bool blocked) {
   if (axis >= 0 && axis < kAxes) plant_[static_cast<std::size_t>(axis)].set_blocked(blocked);
 }

@@ -33,6 +33,10 @@ class Drive {
   /// feed-forward, then the plant. With the amplifiers off no current flows.
   void step(const Vec3& command, const Vec3& measured, const Vec3& velocity, const Vec3& accel, bool amps_on);
 
+  /// The axes stand at rest at `at` (mm; a restarted rt takes up the position its
+  /// predecessor last measured) and the servo loops start afresh.
+  void place(const Vec3& at);
+
   /// Fault injection: the axis stops moving (a crash or a jammed guide).
   void set_blocked(int axis, bool blocked);
 

@@ -2,6 +2,9 @@
 // the state machine, cycles to cycle.cpp, queries read the parts (machine_impl.hpp).
 #include "loop/machine.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "loop/machine_impl.hpp"
 
 namespace pcnc {
@@ -37,6 +40,32 @@ bool Machine::paused_at_rest() const {
   return m.st.state == MachineState::kPaused && !m.jog.active() && m.exec.speed() == 0.0 && m.sp.vel[0] == 0.0 &&
          m.sp.vel[1] == 0.0 && m.sp.vel[2] == 0.0;
 }
+
+bool Machine::take_up_position(const Vec3& at) {
+  Impl& m = *impl_;
+  Vec3 p = at;
+  for (int i = 0; i < kAxes; ++i) {
+    if (!std::isfinite(p[i])) return false;
+    p[i] = std::clamp(p[i], m.cfg.axes[i].travel_min_mm, m.cfg.axes[i].travel_max_mm);
+  }
+  m.drive.place(p);
+  m.exec.set_position(p);
+  m.sp = Setpoint{};
+  m.sp.pos = p;
+  m.st.commanded = p;
+  m.st.actual = m.drive.encoder();
+  m.ts.commanded = p;
+  m.ts.actual = m.st.actual;
+  return true;
+}
+
+void Machine::trace_failed(bool stop) {
+  impl_->st.trace_failed = 1;
+  if (stop) impl_->sm.refuse_programs();
+}
+
+void Machine::begin_shutdown() { impl_->sm.shut_down(); }
+bool Machine::motion_at_rest() const { return impl_->sm.motion_at_rest(); }
 
 const Status& Machine::status() const { return impl_->st; }
 const TraceSample& Machine::trace_sample() const { return impl_->ts; }

@@ -51,6 +51,23 @@ class Machine {
   /// like an idle machine instead of racing machine time ahead.
   bool paused_at_rest() const;
 
+  /// Before the first cycle: the axes stand at rest at `at` (machine coordinates, mm, put onto
+  /// the travel), the setpoint and the executor's position with them, IDLE. A restarted rt
+  /// takes up where its predecessor last measured the axes, as absolute encoders would tell
+  /// a drive after a power loss. False (nothing changed) when `at` is not finite.
+  bool take_up_position(const Vec3& at);
+
+  /// The trace could not be written (the loop's trace writer failed). Published in the status
+  /// (trace_failed); with `stop` (process.on_trace_failure = "stop") a running program stops
+  /// along the path as on a stop, and no program starts afterwards.
+  void trace_failed(bool stop);
+
+  /// pcnc-rt is asked to exit: what moves comes to rest as on a stop (a program decelerates
+  /// along the path and is abandoned, a jog decelerates), and nothing starts moving again.
+  void begin_shutdown();
+  /// No program or jog in motion and the setpoint standing still (the axes may still settle).
+  bool motion_at_rest() const;
+
   const Status& status() const;
   const TraceSample& trace_sample() const;
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 
 #include "loop/trace_writer.hpp"
 
@@ -29,8 +30,18 @@ RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOpti
       machine_(std::make_unique<Machine>(config)),
       timing_(std::make_unique<CycleTiming>()),
       host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)),
-      summary_period_(std::max(1, static_cast<int>(config.motion.cycle_hz / 10.0))) {
-  if (!options_.trace_path.empty()) trace_ = std::make_unique<TraceWriter>(options_.trace_path);
+      summary_period_(std::max(1, static_cast<int>(config.motion.cycle_hz / 10.0))),
+      settle_cycles_(std::max(1, static_cast<int>(config.motion.cycle_hz / 100.0))) {
+  if (!options_.trace_path.empty()) {
+    trace_ = std::make_unique<TraceWriter>(options_.trace_path, options_.on_trace_failure);
+  }
+  if (options_.start_position) machine_->take_up_position(*options_.start_position);
+}
+
+std::string RtLoop::close_trace() {
+  if (!trace_) return "";
+  trace_->close();
+  return trace_->failure();
 }
 
 RtLoop::~RtLoop() = default;
@@ -38,6 +49,65 @@ RtLoop::~RtLoop() = default;
 bool RtLoop::host_alive(std::uint64_t now_ns) const {
   const std::uint64_t beat = shm_.header.host_heartbeat_ns.load(std::memory_order_acquire);
   return beat != 0 && now_ns < beat + host_timeout_ns_;
+}
+
+bool RtLoop::stop_now(const StopRequest& stop) {
+  const int level = stop.level();
+  if (level == 0) return false;
+  const Status& s = machine_->status();
+  const std::uint64_t now = monotonic_ns();
+  ShutdownReport& r = shutdown_;
+  if (!r.requested) {
+    r.requested = true;
+    r.signal = stop.signal();
+    r.state_at_request = s.state;
+    r.speed_at_request = s.path_speed;
+    r.was_moving = !machine_->motion_at_rest();
+    stop_begin_ns_ = now;
+    stop_begin_cycle_ = s.cycle;
+    stop_seen_cycle_ = s.cycle;
+    stop_last_actual_ = s.actual;
+    still_cycles_ = 0;
+    machine_->begin_shutdown();
+  }
+  const double dt = config_.cycle_period_s();
+  auto finish = [&] {
+    r.wall_s = static_cast<double>(now - stop_begin_ns_) * 1e-9;
+    r.settled_s = static_cast<double>(s.cycle - stop_begin_cycle_) * dt;
+    r.final_state = s.state;
+    r.final_speed = s.path_speed;
+    return true;
+  };
+  if (level >= 2) {
+    r.immediate = true;
+    r.second_signal = stop.second_signal();
+    return finish();
+  }
+  if (s.cycle != stop_seen_cycle_) {  // one new cycle since the last look
+    stop_seen_cycle_ = s.cycle;
+    bool still = machine_->motion_at_rest();
+    if (still && rest_cycle_ == 0) {
+      rest_cycle_ = s.cycle;
+      r.motion_rest_s = static_cast<double>(s.cycle - stop_begin_cycle_) * dt;
+    }
+    if (!still) rest_cycle_ = 0;
+    for (int i = 0; i < kAxes; ++i) {
+      // one encoder count of dither is standing still
+      const double count = std::max(config_.axes[i].encoder_resolution_mm, 1e-7);
+      if (std::abs(s.actual[i] - stop_last_actual_[i]) > 1.5 * count) still = false;
+    }
+    stop_last_actual_ = s.actual;
+    still_cycles_ = still ? still_cycles_ + 1 : 0;
+    if (still_cycles_ >= settle_cycles_) {
+      r.at_rest = true;
+      return finish();
+    }
+  }
+  if (static_cast<double>(now - stop_begin_ns_) * 1e-9 >= options_.shutdown_timeout_s) {
+    r.timed_out = true;
+    return finish();
+  }
+  return false;
 }
 
 void RtLoop::take_commands(std::uint64_t now_ns) {
@@ -49,6 +119,10 @@ void RtLoop::take_commands(std::uint64_t now_ns) {
 
 void RtLoop::cycle(std::uint64_t now_ns) {
   take_commands(now_ns);
+  if (trace_ && !trace_failed_ && trace_->failed()) {  // one atomic load; the writer thread logged it
+    trace_failed_ = true;
+    machine_->trace_failed(config_.process.trace_failure_stops);
+  }
 
   const std::uint64_t popped_before = shm_.motion.popped();
   machine_->cycle(shm_.motion);
@@ -96,7 +170,7 @@ void RtLoop::publish_status() {
   published_done_ = s.program_done;
 }
 
-std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
+std::uint64_t RtLoop::run(const StopRequest& stop) {
   const std::uint64_t period_ns = static_cast<std::uint64_t>(1e9 / config_.motion.cycle_hz + 0.5);
   std::uint64_t cycles = 0;
 
@@ -108,7 +182,7 @@ std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
     // Compute time is measured from the end of one cycle to the end of the next when no
     // wait came between them: one clock read per cycle, loop overhead included.
     std::uint64_t last = monotonic_ns();
-    while (!stop.load(std::memory_order_relaxed)) {
+    while (!stop_now(stop)) {
       if (!shm_.commands.empty()) {
         take_commands(last);
         publish_status();  // the host sees its commands taken even before time advances
@@ -121,13 +195,12 @@ std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
         publish_status_virtual(true);
         shm_.block_published.wait_until(
             [&] {
-              return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) ||
-                     stop.load(std::memory_order_relaxed);
+              return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) || stop.level() > 0;
             },
             0.01, 200000);  // the host is producing: spin up to 200 µs before sleeping
         last = monotonic_ns();
         // Still waiting for the host (and it is alive): do not advance time.
-        if (machine_->wants_more_blocks(shm_.motion) && host_alive(last)) continue;
+        if (machine_->wants_more_blocks(shm_.motion) && host_alive(last) && stop.level() == 0) continue;
       } else if (at_rest) {
         // Idle: sleep until something arrives, running a cycle now and then so that the
         // plant settles and status and heartbeat stay fresh.
@@ -135,7 +208,7 @@ std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
         const bool paused = st == MachineState::kPaused;
         shm_.block_published.wait_until(
             [&] {
-              return !shm_.commands.empty() || (!paused && !shm_.motion.empty()) || stop.load(std::memory_order_relaxed);
+              return !shm_.commands.empty() || (!paused && !shm_.motion.empty()) || stop.level() > 0;
             },
             0.01);
         last = monotonic_ns();
@@ -156,10 +229,15 @@ std::uint64_t RtLoop::run(const std::atomic<bool>& stop) {
   const std::uint64_t spin_ns =
       std::min(static_cast<std::uint64_t>(config_.process.rt_spin_us * 1000.0), period_ns * 9 / 10);
   std::uint64_t next = monotonic_ns() + period_ns;
-  while (!stop.load(std::memory_order_relaxed)) {
+  while (!stop_now(stop)) {
+    // A signal interrupts the sleep: the first one is taken at the next cycle (the machine
+    // comes to rest first), a second one ends the loop at once.
     const timespec deadline = to_timespec(next - spin_ns);
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
-      if (stop.load(std::memory_order_relaxed)) return cycles;
+      if (stop.level() >= 2) {
+        stop_now(stop);
+        return cycles;
+      }
     }
     if (spin_ns > 0) {
       while (monotonic_ns() < next) {

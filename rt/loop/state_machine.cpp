@@ -62,6 +62,45 @@ void StateMachine::trip(FaultCode code, int axis, double value, std::uint32_t li
   returning_ = false;
 }
 
+void StateMachine::shut_down() {
+  no_jogs_ = true;
+  if (st_.state == MachineState::kJogging && !paused_jog_) jog_.stop();
+  refuse_programs();
+}
+
+void StateMachine::refuse_programs() {
+  no_programs_ = true;
+  switch (st_.state) {
+    case MachineState::kRunning:
+    case MachineState::kPaused:
+      begin_stop(MachineState::kIdle);
+      break;
+    case MachineState::kJogging:
+      if (paused_jog_) begin_stop(MachineState::kIdle);  // the jog comes to rest, then the program is flushed
+      break;
+    case MachineState::kStopping:
+      break;  // already on its way to rest
+    default:
+      discard_ = true;  // drop whatever is queued
+      break;
+  }
+}
+
+bool StateMachine::motion_at_rest() const {
+  switch (st_.state) {
+    case MachineState::kRunning:
+    case MachineState::kStopping:
+    case MachineState::kJogging:
+      return false;
+    case MachineState::kPaused:
+      if (jog_.active() || exec_.speed() != 0.0) return false;
+      break;
+    default:
+      break;
+  }
+  return st_.path_speed == 0.0 && sp_.vel[0] == 0.0 && sp_.vel[1] == 0.0 && sp_.vel[2] == 0.0;
+}
+
 // The next one-axis move of the way back to the pause point (Z up first when Z must rise,
 // then X, then Y, then Z down), at half the axis's maximum velocity. False when none is left.
 bool StateMachine::start_return_leg() {
@@ -99,7 +138,7 @@ void StateMachine::command(const Command& c) {
     case CommandKind::kNone:
       break;
     case CommandKind::kProgramStart:
-      if (s == MachineState::kIdle) program_start();
+      if (s == MachineState::kIdle && !no_programs_) program_start();
       break;
     case CommandKind::kPause:
       if (s == MachineState::kRunning && returning_) {
@@ -114,7 +153,7 @@ void StateMachine::command(const Command& c) {
       }
       break;
     case CommandKind::kResume:
-      if (s == MachineState::kPaused && host_alive_) {
+      if (s == MachineState::kPaused && host_alive_ && !no_programs_) {
         st_.state = MachineState::kRunning;
         if (paused_jog_) {
           return_leg_ = 0;
@@ -165,6 +204,7 @@ void StateMachine::command(const Command& c) {
     case CommandKind::kJogIncrement:
     case CommandKind::kJogContinuous:
       // In PAUSED only at rest: a feed hold still decelerating refuses the jog.
+      if (no_jogs_) break;
       if ((s == MachineState::kIdle && !st_.program_active) || s == MachineState::kJogging ||
           (s == MachineState::kPaused && exec_.speed() == 0.0)) {
         const Vec3 from = paused_jog_ ? stand_ : exec_.position();
@@ -200,14 +240,14 @@ void StateMachine::begin_cycle(MotionRing& ring) {
     if (st_.state == MachineState::kJogging) jog_.stop();
   }
   if (discard_ && !ring.empty()) {
-    if (ring.peek(0).seq == 1 && st_.state == MachineState::kIdle) {
+    if (ring.peek(0).seq == 1 && st_.state == MachineState::kIdle && !no_programs_) {
       discard_ = false;  // a new program began without kProgramStart
       exec_.start_program();
     } else {
       exec_.flush(ring);
     }
   }
-  if (st_.state == MachineState::kIdle && !ring.empty() && !discard_) {
+  if (st_.state == MachineState::kIdle && !ring.empty() && !discard_ && !no_programs_) {
     if (st_.program_active == 0) program_start();
     st_.state = MachineState::kRunning;
   }

@@ -16,6 +16,9 @@
 //     after such a jog: the program is flushed and IDLE starts where the machine stands.
 //   any ──following error / soft limit / bad block──► FAULT (amplifiers off, ring flushed)
 //   any ──kEstop──► ESTOP (amplifiers off);  FAULT/ESTOP/HOST_LOST ──kReset──► IDLE
+//   refuse_programs() (the trace failed, rule "stop"): RUNNING/PAUSED ──► STOPPING ──at rest──►
+//     IDLE; from then on no program starts or resumes (jogs still do)
+//   shut_down() (pcnc-rt asked to exit): the same, and a jog comes to rest; no jog starts either
 // After a stop, fault or e-stop, blocks still arriving for the abandoned program are
 // discarded until the next kProgramStart (or a block with seq 1).
 //
@@ -60,6 +63,15 @@ class StateMachine {
   /// Any fault (code kNone: e-stop): amplifiers off, the program abandoned. With `ring` the
   /// ring is flushed at once, without (from a command) at the start of the next cycle.
   void trip(FaultCode code, int axis, double value, std::uint32_t line, const char* reason, MotionRing* ring);
+  /// pcnc-rt is asked to exit (SIGTERM): whatever moves comes to rest the way a stop does
+  /// (a program decelerates along the path and is abandoned, a jog decelerates), and nothing
+  /// starts moving again: program starts, resumes, jogs and newly queued blocks are refused.
+  void shut_down();
+  /// A running program stops along the path as on a stop (and a paused one's jog comes to
+  /// rest first); from then on no program starts or resumes and queued blocks are dropped.
+  void refuse_programs();
+  /// Nothing is commanded to move: no program or jog in motion, the setpoint at rest.
+  bool motion_at_rest() const;
 
   bool amps_on() const { return amps_on_; }
   /// A paused program's jog: the machine stands away from the path on purpose.
@@ -90,6 +102,8 @@ class StateMachine {
   bool resume_pause_ = false;  // leave the M00/M01 block at the next cycle
   bool discard_ = false;       // drop blocks of an abandoned program
   bool flush_pending_ = false; // a fault/e-stop from a command: flush the ring next cycle
+  bool no_programs_ = false;   // refuse_programs(), shut_down(): no program starts or resumes
+  bool no_jogs_ = false;       // shut_down(): no jog starts
   MachineState after_stop_ = MachineState::kIdle;
   // Jogs while a program is paused: the machine stands at `stand_`, away from the executor's
   // place on the path (`pause_point_`), while `paused_jog_`; `return_leg_` is the next leg of

@@ -6,11 +6,18 @@
 // uses push_wait, which waits for room instead: the trace of a replay is complete). A background thread drains the
 // queue into a CSV file in the trace format (ipc/trace_format.hpp, the row and header shared
 // with the report's reader). close() (or the destructor) drains what is left and joins.
+//
+// Every write, flush and close is checked (the buffer is flushed at least every 50 ms, so a
+// full disk shows within that). The first failure is recorded (errno), reported once through
+// the on_failure callback from the writer thread (never the rt thread), and failed() turns
+// true for the loop to read; the writer keeps draining the queue after it, discarding, so the
+// rt never waits on it. A trace that failed is incomplete: rows after the failure are lost.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -26,7 +33,9 @@ class TraceWriter {
 
   /// Opens `path` for writing and starts the writer thread. Throws std::runtime_error when
   /// the file cannot be created.
-  explicit TraceWriter(const std::string& path);
+  /// `on_failure` (optional) receives one line naming the path and the error, from the
+  /// writer thread (or from close()), once.
+  explicit TraceWriter(const std::string& path, std::function<void(const std::string&)> on_failure = {});
   ~TraceWriter();
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
@@ -44,9 +53,20 @@ class TraceWriter {
   std::uint64_t written() const { return written_.load(std::memory_order_relaxed); }
   const std::string& path() const { return path_; }
 
+  /// A write, flush or close failed: the file holds the header and `written()` rows at most.
+  bool failed() const { return failed_.load(std::memory_order_acquire); }
+  /// errno of the first failure (0 before any).
+  int error() const { return error_.load(std::memory_order_relaxed); }
+  /// Rows lost: taken from the queue after the failure, or in the buffer it failed to write.
+  std::uint64_t lost() const { return lost_.load(std::memory_order_relaxed); }
+  /// What failed, in words ("" before any failure; final once failed() is true).
+  std::string failure() const;
+
  private:
   void run();
   void drain();
+  void flush();
+  void fail(const char* what, int err);
 
   std::string path_;
   std::FILE* file_ = nullptr;
@@ -54,6 +74,12 @@ class TraceWriter {
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<std::uint64_t> written_{0};
+  std::atomic<std::uint64_t> lost_{0};
+  std::atomic<bool> failed_{false};
+  std::atomic<int> error_{0};
+  std::uint64_t unflushed_ = 0;  // rows handed to stdio since the last successful flush
+  std::function<void(const std::string&)> on_failure_;
+  std::string failure_;  // set once, before failed_ turns true
   std::thread thread_;
 };
 

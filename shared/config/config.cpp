@@ -186,6 +186,12 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     p.number("jog_deadman_s", c.process.jog_deadman_s, 0.01, 60.0);
     p.integer("rt_priority", c.process.rt_priority, 1, 99);
     p.number("rt_spin_us", c.process.rt_spin_us, 0.0, 1e6);
+    std::string on_trace_failure = c.process.trace_failure_stops ? "stop" : "continue";
+    p.string("on_trace_failure", on_trace_failure);
+    if (on_trace_failure != "stop" && on_trace_failure != "continue") {
+      p.fail("on_trace_failure", "must be \"stop\" or \"continue\"");
+    }
+    c.process.trace_failure_stops = on_trace_failure == "stop";
     p.finish();
     if (c.process.shm_name.empty() || c.process.shm_name[0] != '/' ||
         c.process.shm_name.find('/', 1) != std::string::npos || c.process.shm_name.size() > 200) {

@@ -84,6 +84,11 @@ struct ProcessConfig {
   // that the wake-up does not pay the idle CPU's exit latency (a virtual machine's idle vCPU
   // can take milliseconds to wake). Costs this fraction of a core: spin / period. 0: sleep.
   double rt_spin_us = 0.0;
+  // When the rt's trace file cannot be written (disk full, I/O error): true ("stop"): a running
+  // program stops along the path and no program starts until the rt is restarted; false
+  // ("continue"): programs run on without a trace. Either way the failure is logged and
+  // published (Status::trace_failed) and `pcnc run` exits non-zero. Key: on_trace_failure.
+  bool trace_failure_stops = true;
 };
 
 struct MachineConfig {

@@ -66,6 +66,7 @@ struct Inspection {
   bool ours = false;   // magic, version and size all match this build
   int rt_pid = 0;
   std::string mismatch;  // what differs, when not ours
+  std::optional<Status> status;  // ours: the last consistent status its rt published
 };
 
 std::string hex(std::uint64_t v) {
@@ -108,6 +109,13 @@ Inspection inspect(const std::string& name) {
     if (static_cast<std::size_t>(region.get_size()) >= sizeof(SegmentHeader) && h->magic == kSegmentMagic) {
       r.rt_pid = h->rt_pid.load();
     }
+    if (r.ours) {
+      // A crash in the middle of a store leaves the sequence odd for ever: a bounded number
+      // of tries, then no snapshot. Before the first store there is none either.
+      const auto* seg = static_cast<const SharedSegment*>(region.get_address());
+      Status st{};
+      if (seg->status.version() > 0 && seg->status.load(st, 1000) && st.state != MachineState::kStarting) r.status = st;
+    }
   } catch (const bip::interprocess_exception&) {
     // absent (or unreadable): treat as absent; create will report a real error
   }
@@ -131,6 +139,7 @@ RtSegment::RtSegment(const std::string& name, std::string* note) : name_(name) {
     std::ostringstream os;
     if (old.ours) {
       os << "removed stale segment '" << name << "' left by pcnc-rt pid " << old.rt_pid << " (no longer running)";
+      previous_ = old.status;
     } else {
       os << "removed segment '" << name << "' that this build cannot use: " << old.mismatch;
     }

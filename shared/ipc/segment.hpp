@@ -3,12 +3,15 @@
 //
 // pcnc-rt creates it (RtSegment) and removes it on a clean exit; pcnc-host opens it
 // (HostSegment) and refuses anything whose magic, layout version or size differ from its own.
-// A segment left by a crashed rt (its pid no longer alive) is recognised and recreated.
+// A segment left by a crashed rt (its pid no longer alive) is recognised and recreated; when
+// it is of this very layout, the last status the dead rt published is kept for the new one
+// (RtSegment::previous_status): the simulated axes start where they were last measured.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -22,7 +25,7 @@
 namespace pcnc {
 
 constexpr std::uint64_t kSegmentMagic = 0x314D48534E434350ull;  // "PCCNSHM1" little-endian
-constexpr std::uint32_t kLayoutVersion = 2;  // bump on any change of the types below
+constexpr std::uint32_t kLayoutVersion = 3;  // bump on any change of the types below
 constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
 constexpr std::size_t kMailboxSlots = 64;
 
@@ -85,8 +88,15 @@ class RtSegment {
   SharedSegment& shm() { return *seg_; }
   const std::string& name() const { return name_; }
 
+  /// The last status published by the dead rt whose stale segment this one replaced, when
+  /// that segment had this build's magic, layout version and size and held a consistent
+  /// snapshot of a running machine (the rt had cycled at least once). Empty otherwise: no
+  /// segment, a foreign or older one, or a snapshot torn by the crash.
+  const std::optional<Status>& previous_status() const { return previous_; }
+
  private:
   std::string name_;
+  std::optional<Status> previous_;
   SharedSegment* seg_ = nullptr;
   struct Mapping;
   std::unique_ptr<Mapping> mapping_;

@@ -45,6 +45,7 @@ struct Status {
   std::uint8_t clock_virtual = 0; // 1: --clock virtual
   std::uint8_t program_active = 0;  // between kProgramStart and kEnd/stop
   std::uint8_t program_done = 0;    // the last program reached its End block
+  std::uint8_t trace_failed = 0;    // 1: the rt's trace file could not be written (disk full, ...): incomplete
   std::uint32_t line = 0;           // source line of the block in execution
   std::uint32_t fault_line = 0;
   double fault_value = 0.0;         // e.g. the following error that tripped, mm
