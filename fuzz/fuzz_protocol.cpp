@@ -70,6 +70,7 @@ using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t kMaxLines = 64;       // lines handled per input
 constexpr int kCyclesPerLine = 20;          // machine time between two lines: 10 ms at 2 kHz
+constexpr unsigned kCyclesPerTick = 10;     // the service's loop tick: 5 ms
 constexpr int kSettleCycles = 6000;         // at the end: a running program may go on this long
 constexpr double kReplyTimeoutS = 5.0;      // a later reply must come within this (wall time)
 constexpr double kSettleTimeoutS = 10.0;    // the job must end within this after the input
@@ -344,12 +345,14 @@ struct Session {
     last_reply = j;
   }
 
-  // Steps the machine and the parts' clocks once (the loop's tick).
+  // One machine cycle; every kCyclesPerTick cycles (5 ms of machine time, the service's
+  // loop tick) also the loop's tick: posted work, jog control, subscriptions. The rt is
+  // alive by construction, so its status is read without the liveness check.
   void tick() {
     harness.rt.step(jobs.active());
+    if (++cycles % kCyclesPerTick != 0 && !waiting) return;
     run_posted();
-    std::optional<pcnc::Status> st;
-    if (auto l = harness.monitor.current(); l && l->rt_alive()) st = l->status();
+    const std::optional<pcnc::Status> st = harness.monitor.current()->status();
     jogs.tick(st);
     subs.tick([this] { return pcnc::status_object(parts); });
   }
@@ -417,6 +420,7 @@ struct Session {
   std::optional<json> want_id;
   int replies = 0;
   json last_reply;
+  unsigned cycles = 0;
 };
 
 Harness& harness() {
