@@ -381,17 +381,24 @@ struct Session {
   // go away; the service must still answer status.
   void settle() {
     const auto t0 = Clock::now();
-    for (int i = 0; i < kSettleCycles && jobs.active(); ++i) {
-      tick();
-      const auto s = harness.rt.machine().status().state;
-      if (s == pcnc::MachineState::kIdle || s == pcnc::MachineState::kPaused) std::this_thread::sleep_for(std::chrono::microseconds(20));
+    for (int i = 0; i < kSettleCycles && jobs.active();) {
       if (since(t0) > kSettleTimeoutS) fail("a job did not end within 10 s");
+      const auto s = harness.rt.machine().status().state;
+      if (s == pcnc::MachineState::kPaused && harness.rt.machine().paused_at_rest() && !harness.rt.has_commands()) break;  // M00: stop it
+      if (s == pcnc::MachineState::kIdle && !harness.rt.has_commands()) {
+        // the program is over: the worker notices within its status poll (2 ms); machine time stands still meanwhile
+        run_posted();
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+        continue;
+      }
+      tick();
+      ++i;
     }
     jobs.interrupt();
     while (jobs.active()) {
       if (since(t0) > kSettleTimeoutS) fail("an interrupted job did not end within 10 s");
       tick();
-      std::this_thread::sleep_for(std::chrono::microseconds(20));
+      if (!harness.rt.has_commands()) std::this_thread::sleep_for(std::chrono::microseconds(20));
     }
     jobs.join();
     run_posted();
