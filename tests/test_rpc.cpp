@@ -76,6 +76,12 @@ TEST(RpcParse, RepeatedMembersAreRefused) {
   p = rpc::parse_request("{\"id\":6,\"id\":7,\"method\":\"status\"}");
   ASSERT_TRUE(p.error);
   EXPECT_TRUE(p.request.id.is_null());
+  // an "id" repeated inside params is not the request's: its id is echoed (found by the
+  // protocol fuzzer's oracle: the reply carried null)
+  p = rpc::parse_request("{\"id\":8,\"method\":\"status\",\"params\":{\"id\":1,\"id\":2}}");
+  ASSERT_TRUE(p.error);
+  EXPECT_EQ(p.error->code, rpc::kInvalidRequest);
+  EXPECT_EQ(p.request.id, 8);
 }
 
 TEST(RpcParse, NotARequestObject) {

@@ -1,23 +1,57 @@
 #!/usr/bin/env bash
-# fuzz.sh — builds the G-code front end's libFuzzer target in build-fuzz (clang, ASan, UBSan)
-# and runs it for N seconds (default 60), seeded from ../shared/gcode. Exits non-zero on a crash.
-# Usage: tools/fuzz.sh [SECONDS]
+# fuzz.sh — builds the libFuzzer targets in build-fuzz (clang, ASan, UBSan) and runs each for
+# N seconds (default 60, or $PCNC_FUZZ_SECONDS): fuzz_gcode (the G-code front end, seeded from
+# ../shared/gcode) and fuzz_protocol (the control protocol's parsing and dispatch against an
+# in-process machine, seeded from fuzz/corpus_protocol). Exits non-zero on a crash, a hang or
+# a leak; the input that caused it is left in build-fuzz (crash-*, timeout-*, leak-*).
+# Ends with one line per target: executions, exec/s, coverage (cov: edges, ft: features).
+# Usage: tools/fuzz.sh [SECONDS] [gcode|protocol ...]   (no target: both)
 set -euo pipefail
-secs="${1:-60}"
+secs="${1:-${PCNC_FUZZ_SECONDS:-60}}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(gcode protocol)
 root="$(cd "$(dirname "$0")/.." && pwd)"
 shared="${PCNC_SHARED_DIR:-$root/../shared}"
 build="$root/build-fuzz"
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DPCNC_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build "$build" --target fuzz_gcode -j2
+cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}"
 
-# New inputs go to the first (scratch) directory; the shared corpus is only read.
-work="$build/fuzz-corpus"
-mkdir -p "$work"
-seeds=()
-[ -d "$shared/gcode" ] && seeds+=("$shared/gcode")
-echo "fuzzing the G-code front end for ${secs} s (seeds: ${seeds[*]:-none})"
+summary=()
 cd "$build"  # crash-* files land here
-"$build/fuzz/fuzz_gcode" -max_total_time="$secs" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
-  -dict="$root/fuzz/gcode.dict" \
-  -print_final_stats=1 "$work" "${seeds[@]}"
+for t in "${targets[@]}"; do
+  # New inputs go to the first (scratch) directory; the seed directories are only read.
+  work="$build/fuzz-corpus-$t"
+  mkdir -p "$work"
+  seeds=()
+  case "$t" in
+    gcode)
+      [ -d "$shared/gcode" ] && seeds+=("$shared/gcode")
+      args=(-max_len=8192 -dict="$root/fuzz/gcode.dict")
+      ;;
+    protocol)
+      seeds+=("$root/fuzz/corpus_protocol")
+      args=(-max_len=4096 -dict="$root/fuzz/protocol.dict")
+      ;;
+    *) echo "fuzz.sh: unknown target '$t' (gcode, protocol)" >&2; exit 2 ;;
+  esac
+  log="$build/fuzz-$t.log"
+  echo "fuzzing $t for ${secs} s (seeds: ${seeds[*]:-none}; log: $log)"
+  rc=0
+  "$build/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 "${args[@]}" \
+    -print_final_stats=1 "$work" "${seeds[@]}" >"$log" 2>&1 || rc=$?
+  tail -n 12 "$log"
+  if [ "$rc" -ne 0 ]; then
+    echo "fuzz.sh: fuzz_$t failed (exit $rc); see $log and the crash-*/timeout-*/leak-* file in $build" >&2
+    exit "$rc"
+  fi
+  # The last status line ("#N DONE cov: C ft: F ... exec/s: E") and the final stats.
+  last=$(grep -E '^#[0-9]+' "$log" | tail -n 1)
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")
+  cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$last")
+  ft=$(sed -n 's/.* ft: \([0-9]*\).*/\1/p' <<<"$last")
+  summary+=("fuzz_$t: ${secs} s, ${execs} executions, ${rate} exec/s, cov ${cov}, ft ${ft}")
+done
+printf '%s\n' "${summary[@]}"

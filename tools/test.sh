@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # test.sh — runs every pcnc test: the normal build's ctest suite, the same suite under
 # AddressSanitizer + UndefinedBehaviorSanitizer, the shared-memory and rt tests under
-# ThreadSanitizer, and a bounded libFuzzer run of the G-code front end.
+# ThreadSanitizer, and a bounded libFuzzer run of each fuzz target (the G-code front end and
+# the control protocol).
 # Each build lives in its own directory. Any failure or sanitizer report fails the script.
-#   PCNC_FUZZ_SECONDS   fuzzing time (default 60; 0 skips the fuzz run)
+#   PCNC_FUZZ_SECONDS   fuzzing time per target (default 60 each; 0 skips the fuzz runs)
 #   PCNC_SKIP_SANITIZERS=1   only the normal build (quick local runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -52,7 +53,7 @@ if [ "${PCNC_SKIP_SANITIZERS:-0}" != "1" ]; then
 fi
 
 if [ "$FUZZ_SECONDS" != "0" ] && [ -x tools/fuzz.sh ]; then
-  step "libFuzzer: G-code front end for ${FUZZ_SECONDS} s"
-  tools/fuzz.sh "$FUZZ_SECONDS"
+  step "libFuzzer: G-code front end and control protocol, ${FUZZ_SECONDS} s each"
+  tools/fuzz.sh "$FUZZ_SECONDS" gcode protocol
 fi
 step "all tests passed"

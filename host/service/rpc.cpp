@@ -164,6 +164,7 @@ ParsedRequest parse_request(std::string_view line) {
   // keeps the last one, so {"method":"status","method":"estop"} would silently become estop).
   std::vector<std::vector<std::string>> keys;  // the keys seen so far, per open object
   std::string repeated;
+  bool id_repeated = false;  // the request's own "id" (top level), not one inside params
   const json::parser_callback_t watch_keys = [&](int, json::parse_event_t event, json& parsed) {
     if (event == json::parse_event_t::object_start) keys.emplace_back();
     if (event == json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
@@ -171,6 +172,7 @@ ParsedRequest parse_request(std::string_view line) {
       const std::string& k = parsed.get_ref<const std::string&>();
       if (std::find(keys.back().begin(), keys.back().end(), k) != keys.back().end()) {
         if (repeated.empty()) repeated = k;
+        if (keys.size() == 1 && k == "id") id_repeated = true;
       } else {
         keys.back().push_back(k);
       }
@@ -196,7 +198,7 @@ ParsedRequest parse_request(std::string_view line) {
     out.error = Error{kInvalidRequest, "member '" + repeated + "' appears more than once in one object", nullptr};
     if (j.is_object()) {
       // The id cannot be trusted either when it is the repeated one.
-      if (auto it = j.find("id"); it != j.end() && repeated != "id" && (it->is_number() || it->is_string()))
+      if (auto it = j.find("id"); it != j.end() && !id_repeated && (it->is_number() || it->is_string()))
         out.request.id = *it;
     }
     return out;
