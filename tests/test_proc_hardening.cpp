@@ -157,6 +157,36 @@ TEST(RuntimeFiles, DefaultSocketInTheRuntimeDirectoryFoundByCtl) {
   rmdir(runtime.c_str());
 }
 
+TEST(RuntimeFiles, CtlOfAGroupMemberFindsARootServicesSocket) {
+  if (!is_root()) GTEST_SKIP() << "needs root to create /run/pcnc/<machine> and to run a client as uid 65534";
+  const std::string name = "pcnc-test-find-" + std::to_string(getpid());
+  MachineConfig m = load_config(default_config());
+  m.name = name;
+  m.process.socket_path.clear();
+  const std::string runtime = "/run/pcnc/" + name;
+  const gid_t group = 4242;  // the socket group; the client below is a member
+  ensure_private_dir(runtime, 0750, group);
+  const std::string sock = runtime + "/control.sock";
+  const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::strncpy(addr.sun_path, sock.c_str(), sizeof addr.sun_path - 1);
+  ASSERT_EQ(bind(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr), 0);
+  EXPECT_EQ(find_control_socket(m), sock) << "root: its own default";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    unsetenv("XDG_RUNTIME_DIR");
+    if (setgroups(1, &group) != 0 || setgid(kNobody) != 0 || setuid(kNobody) != 0) _exit(3);
+    _exit(find_control_socket(m) == sock ? 0 : 1);
+  }
+  int st = 0;
+  waitpid(pid, &st, 0);
+  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << "a group member falls back to the root service's socket";
+  close(fd);
+  unlink(sock.c_str());
+  rmdir(runtime.c_str());
+}
+
 // ---------------------------------------------------------------- 2. run: regular files only
 
 TEST(RunFile, CheckRefusesAFifoWithoutBlocking) {

@@ -87,6 +87,16 @@ std::string control_socket_path(const MachineConfig& c) {
   return default_runtime_dir(c) + "/control.sock";
 }
 
+std::string find_control_socket(const MachineConfig& c) {
+  const std::string own = control_socket_path(c);
+  if (!c.process.socket_path.empty()) return own;
+  struct stat st {};
+  if (lstat(own.c_str(), &st) == 0) return own;
+  const std::string system = "/run/pcnc/" + machine_name(c) + "/control.sock";
+  if (lstat(system.c_str(), &st) == 0 && S_ISSOCK(st.st_mode)) return system;
+  return own;
+}
+
 std::string state_dir(const MachineConfig& c) {
   if (!c.process.state_dir.empty()) return c.process.state_dir;
   const std::string name = machine_name(c);

@@ -31,6 +31,11 @@ struct RuntimePathError : std::runtime_error {
 std::string default_runtime_dir(const MachineConfig& config);
 /// process.socket_path when set, else default_runtime_dir()/control.sock.
 std::string control_socket_path(const MachineConfig& config);
+/// The socket a client should connect to: control_socket_path(), except that when the config
+/// sets no socket_path and this user's default does not exist while the system one
+/// (/run/pcnc/<machine>/control.sock, a service running as root) does, that one: so a member
+/// of the socket group finds a root service without --socket.
+std::string find_control_socket(const MachineConfig& config);
 /// process.state_dir when set, else the default state directory (see above); not created.
 std::string state_dir(const MachineConfig& config);
 
