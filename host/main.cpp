@@ -97,6 +97,9 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pcnc-host: %s\n", e.what());
       return 2;
+    } catch (...) {  // never std::terminate: say so and exit with the failure status
+      std::fprintf(stderr, "pcnc-host: the service ended on an unknown exception\n");
+      return 1;
     }
   }
 

@@ -328,7 +328,7 @@ TEST(RpcReply, StatusObject) {
 
 TEST(JobJournal, RoundTripAndMissingFile) {
   const std::string dir = test::make_temp_dir("journal");
-  const std::string path = journal_path(dir + "/pcnc.sock");
+  const std::string path = journal_path(dir);  // the journal in the state directory
   JobJournal j;
   j.file = "/some/prog.ngc";
   j.work_offset = 2;

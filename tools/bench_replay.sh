@@ -27,9 +27,11 @@ SHARED=$(cd .. && pwd)/shared
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 
-# a private segment and socket name, so a running pcnc elsewhere is not disturbed
+# a private segment, socket and state directory (the socket in our own mktemp directory, as
+# docs/protocol.md allows), so a running pcnc elsewhere is not disturbed
 mkconfig() {  # mkconfig SRC NAME -> path
-  sed -e "s#^shm_name = .*#shm_name = \"/pcnc-bench-$$-$2\"#" -e "s#^socket_path = .*#socket_path = \"$TMP/$2.sock\"#" "$1" >"$TMP/$2.toml"
+  sed -e "s#^shm_name = .*#shm_name = \"/pcnc-bench-$$-$2\"#" -e "s#^\# socket_path = .*#socket_path = \"$TMP/$2.sock\"#" \
+      -e "s#^\# state_dir = .*#state_dir = \"$TMP/$2.state\"#" "$1" >"$TMP/$2.toml"
   echo "$TMP/$2.toml"
 }
 MILL=$(mkconfig configs/desktop-mill.toml mill)

@@ -9,7 +9,8 @@ build=${2:-build}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 sed -e "s|shm_name = \"/pcnc-desktop-mill\"|shm_name = \"/pcnc-bench-lat-$$\"|" \
-    -e "s|socket_path = \"/tmp/pcnc-desktop-mill.sock\"|socket_path = \"$tmp/s.sock\"|" \
+    -e "s|^# socket_path = .*|socket_path = \"$tmp/s.sock\"|" \
+    -e "s|^# state_dir = .*|state_dir = \"$tmp/state\"|" \
     configs/desktop-mill.toml > "$tmp/bench.toml"
 
 measure() {

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "config/config.hpp"
+#include "config/runtime_paths.hpp"
 
 namespace pcnc {
 
@@ -209,7 +210,7 @@ struct CtlOptions {
 std::string resolve_socket(const CtlOptions& o) {
   if (!o.socket.empty()) return o.socket;
   const std::string cfg = o.config_path.empty() ? default_config_path() : o.config_path;
-  return load_config(cfg).process.socket_path;
+  return find_control_socket(load_config(cfg));  // the path pcnc-host --serve computes (or a root service's)
 }
 
 // Prints a reply; returns the exit status (0 result, 1 error).
@@ -275,7 +276,9 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
   ctl->require_subcommand(1);
   ctl->fallthrough();
   static CtlOptions o;  // the subcommands' callbacks outlive this function
-  ctl->add_option("--socket", o.socket, "control socket path (default: process.socket_path of the config)");
+  ctl->add_option("--socket", o.socket, "control socket path (default: process.socket_path of the config, else control.sock in the machine's runtime "
+                 "directory: /run/pcnc/<machine> as root, $XDG_RUNTIME_DIR/pcnc/<machine> otherwise, falling back to "
+                 "/run/pcnc/<machine> when only a root service's socket exists)");
   ctl->add_option("--config", o.config_path, "machine configuration (TOML) naming the socket");
   ctl->add_flag("--json", o.json_output, "print the raw JSON reply lines (for scripts)");
   ctl->add_option("--timeout", o.timeout_s, "seconds to wait for a reply")->capture_default_str();

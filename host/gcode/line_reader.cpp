@@ -11,18 +11,42 @@
 
 namespace pcnc {
 
-LineReader::LineReader(const std::string& path) {
-  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd_ < 0) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
-  struct stat st {};
-  if (::fstat(fd_, &st) == 0) {
-    if (S_ISDIR(st.st_mode)) {
-      ::close(fd_);
-      fd_ = -1;
-      throw std::runtime_error(path + ": is a directory, expected a G-code file");
-    }
-    total_ = static_cast<std::uint64_t>(st.st_size);
+int open_program_file(const std::string& path, std::string* why) {
+  // O_NONBLOCK: opening a FIFO with no writer (or a device) must not wait; nothing is read
+  // before fstat says it is a regular file.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+  if (fd < 0) {
+    if (why) *why = path + ": cannot open: " + std::strerror(errno);
+    return -1;
   }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    if (why) *why = path + ": cannot stat: " + std::strerror(errno);
+    ::close(fd);
+    return -1;
+  }
+  if (!S_ISREG(st.st_mode)) {
+    const char* kind = S_ISDIR(st.st_mode)    ? "a directory"
+                       : S_ISFIFO(st.st_mode) ? "a FIFO"
+                       : S_ISCHR(st.st_mode)  ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : "not a regular file";
+    if (why) *why = path + ": is " + kind + ", expected a G-code file (only regular files are read)";
+    ::close(fd);
+    return -1;
+  }
+  // A regular file never blocks; clear the flag anyway so reads behave as usual.
+  (void)::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  return fd;
+}
+
+LineReader::LineReader(const std::string& path) {
+  std::string why;
+  fd_ = open_program_file(path, &why);
+  if (fd_ < 0) throw std::runtime_error(why);
+  struct stat st {};
+  if (::fstat(fd_, &st) == 0) total_ = static_cast<std::uint64_t>(st.st_size);
   buf_.resize(kChunk + kMaxLine);
 }
 

@@ -13,12 +13,18 @@
 
 namespace pcnc {
 
+/// Opens a G-code file for reading: a regular file only. The open never blocks (O_NONBLOCK, so a
+/// FIFO or a device is refused after fstat, before anything is read). Returns the descriptor,
+/// or -1 with `why` naming the file and the reason (cannot open; a directory, FIFO, device...).
+int open_program_file(const std::string& path, std::string* why);
+
 class LineReader {
  public:
   static constexpr std::size_t kChunk = 1 << 16;
   static constexpr std::size_t kMaxLine = 1 << 16;
 
-  /// Opens `path`; throws std::runtime_error naming the file and the reason when it cannot.
+  /// Opens `path` (open_program_file); throws std::runtime_error naming the file and the reason
+  /// when it cannot be opened or is not a regular file.
   explicit LineReader(const std::string& path);
   /// Reads from text that outlives the reader.
   struct FromText {};

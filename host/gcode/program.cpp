@@ -3,6 +3,9 @@
 // the stream hands the very same blocks on to the ring.
 #include "gcode/program.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +15,18 @@
 #include "gcode/pipeline.hpp"
 
 namespace pcnc {
+
+std::string program_file_problem(const std::string& path) {
+  // Opened as the pipeline opens it (never blocking); a file that cannot be opened at all is
+  // left to the check, which reports it as a diagnostic.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+  if (fd < 0) return {};
+  ::close(fd);
+  std::string why;
+  const int checked = open_program_file(path, &why);
+  if (checked >= 0) ::close(checked);
+  return why;
+}
 namespace {
 
 Vec3 clamp_to_travel(const Vec3& p, const MachineConfig& c) {

@@ -60,6 +60,10 @@ struct CheckResult {
 /// job's start position). A refused block is an error at its source line. The blocks are not
 /// kept: memory does not grow with file length (rapid_lines aside, one entry per run of rapids).
 /// A file that cannot be read gives ok = false with one error diagnostic.
+/// Why `path` cannot be a program although it opens: a directory, FIFO, device or socket (only
+/// regular files are read). Empty for a regular file, and for one that cannot be opened at
+/// all (check_program reports that). Never blocks and reads nothing.
+std::string program_file_problem(const std::string& path);
 CheckResult check_program(const std::string& path, const MachineConfig& config, const JobOptions& options);
 /// The same over text in memory (tests, fuzzing); `name` is used in messages.
 CheckResult check_program_text(std::string_view text, const std::string& name, const MachineConfig& config,

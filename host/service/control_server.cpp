@@ -9,10 +9,15 @@
 #include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
+#include <grp.h>
+#include <pwd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace pcnc {
@@ -46,10 +51,27 @@ void clear_stale_socket(const std::string& path, const sockaddr_un& addr) {
   spdlog::info("removed stale control socket {}", path);
 }
 
+// The loop must outlive anything a handler throws: one request, tick or posted job failing
+// is logged, and the loop (every other client, the machine's commands) goes on.
+template <typename F>
+void guarded(const char* what, F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    spdlog::error("control socket: {} failed: {}; the service goes on", what, e.what());
+  } catch (...) {
+    spdlog::error("control socket: {} failed (unknown exception); the service goes on", what);
+  }
+}
+
 }  // namespace
 
-ControlServer::ControlServer(std::string path, int mode, ServerLimits limits, ServerHandlers handlers)
-    : path_(std::move(path)), mode_(mode), limits_(limits), handlers_(std::move(handlers)) {
+ControlServer::ControlServer(std::string path, int mode, gid_t group, ServerLimits limits, ServerHandlers handlers)
+    : path_(std::move(path)),
+      mode_(mode),
+      group_(group == static_cast<gid_t>(-1) ? getegid() : group),
+      limits_(limits),
+      handlers_(std::move(handlers)) {
   const sockaddr_un addr = make_address(path_);
   clear_stale_socket(path_, addr);
   listen_fd_ = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
@@ -59,8 +81,10 @@ ControlServer::ControlServer(std::string path, int mode, ServerLimits limits, Se
     close(listen_fd_);
     throw e;
   }
-  // bind() used the umask; set the configured mode before anyone can be accepted.
-  if (chmod(path_.c_str(), static_cast<mode_t>(mode_)) != 0 || listen(listen_fd_, 16) != 0) {
+  // bind() used the umask; set the configured mode and group before anyone can be accepted.
+  if (chmod(path_.c_str(), static_cast<mode_t>(mode_)) != 0 ||
+      (group != static_cast<gid_t>(-1) && lchown(path_.c_str(), static_cast<uid_t>(-1), group) != 0) ||
+      listen(listen_fd_, 16) != 0) {
     const auto e = sys_error("cannot set up control socket '" + path_ + "'");
     close(listen_fd_);
     unlink(path_.c_str());
@@ -83,10 +107,46 @@ ControlServer::~ControlServer() {
   unlink(path_.c_str());
 }
 
-bool ControlServer::peer_allowed(uid_t uid, gid_t gid) const {
+bool ControlServer::peer_allowed(uid_t uid, gid_t gid, pid_t pid) const {
   if (uid == geteuid()) return true;
-  // A socket opened to the group (e.g. 0660) admits members of the server's group.
-  return (mode_ & 0060) == 0060 && gid == getegid();
+  // A socket opened to the group (e.g. 0660) admits members of its group: the peer's primary
+  // group or any of its supplementary groups.
+  return (mode_ & 0060) == 0060 && peer_in_group(pid, uid, gid, group_);
+}
+
+bool peer_in_group(pid_t pid, uid_t uid, gid_t gid, gid_t group) {
+  if (gid == group) return true;
+  // The peer process's own supplementary groups (what the kernel checks for its file
+  // access); its effective uid must still be the one SO_PEERCRED gave (pid not reused).
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  bool uid_matches = false, have_groups = false, member = false;
+  while (status && std::getline(status, line)) {
+    std::istringstream fields(line);
+    std::string key;
+    fields >> key;
+    if (key == "Uid:") {
+      unsigned long real = 0, effective = 0;
+      fields >> real >> effective;
+      uid_matches = fields && effective == uid;
+    } else if (key == "Groups:") {
+      have_groups = true;
+      unsigned long g = 0;
+      while (fields >> g) member = member || g == group;
+    }
+  }
+  if (have_groups) return uid_matches && member;
+  // No /proc: the groups of the peer's user in the group database.
+  const passwd* pw = getpwuid(uid);
+  if (!pw) return false;
+  int n = 64;
+  std::vector<gid_t> groups(static_cast<std::size_t>(n));
+  if (getgrouplist(pw->pw_name, gid, groups.data(), &n) < 0) {
+    groups.resize(static_cast<std::size_t>(n));
+    if (getgrouplist(pw->pw_name, gid, groups.data(), &n) < 0) return false;
+  }
+  groups.resize(static_cast<std::size_t>(n));
+  return std::find(groups.begin(), groups.end(), group) != groups.end();
 }
 
 void ControlServer::accept_clients() {
@@ -104,9 +164,9 @@ void ControlServer::accept_clients() {
       ++refused_;
       continue;
     }
-    if (!peer_allowed(cred.uid, cred.gid)) {
-      spdlog::warn("control socket: refused connection from uid {} gid {} pid {}: only uid {} may connect", cred.uid, cred.gid,
-                   cred.pid, geteuid());
+    if (!peer_allowed(cred.uid, cred.gid, cred.pid)) {
+      spdlog::warn("control socket: refused connection from uid {} gid {} pid {}: only uid {}{} may connect", cred.uid, cred.gid,
+                   cred.pid, geteuid(), (mode_ & 0060) == 0060 ? " and members of group " + std::to_string(group_) : std::string());
       if (handlers_.refused_reply) {
         const std::string msg = handlers_.refused_reply(cred.uid);
         (void)!::send(fd, msg.data(), msg.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
@@ -115,8 +175,15 @@ void ControlServer::accept_clients() {
       ++refused_;
       continue;
     }
-    if (clients_.size() >= limits_.max_clients) {
-      spdlog::warn("control socket: refused connection from pid {}: {} clients already connected", cred.pid, clients_.size());
+    const std::size_t reserves = reserve_count();
+    const bool full = clients_.size() - reserves >= limits_.max_clients;
+    if (full && reserves >= limits_.reserve_clients) {
+      spdlog::warn("control socket: refused connection from pid {}: {} clients and {} reserve connections already", cred.pid,
+                   clients_.size() - reserves, reserves);
+      if (handlers_.full_reply) {
+        const std::string msg = handlers_.full_reply(limits_.max_clients);
+        (void)!::send(fd, msg.data(), msg.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      }
       close(fd);
       ++refused_;
       continue;
@@ -124,12 +191,15 @@ void ControlServer::accept_clients() {
     const ClientId id = next_id_++;
     Client c;
     c.fd = fd;
-    c.progress = std::chrono::steady_clock::now();
+    c.progress = c.since = c.activity = std::chrono::steady_clock::now();
     c.uid = cred.uid;
     c.pid = cred.pid;
+    c.reserve = full;
+    if (full) spdlog::warn("control socket: {} clients connected; pid {} gets a reserve connection (stop, estop, status only)",
+                           limits_.max_clients, cred.pid);
     clients_.emplace(id, std::move(c));
     spdlog::debug("control socket: client {} connected (pid {})", id, cred.pid);
-    if (handlers_.on_connect) handlers_.on_connect(id);
+    if (handlers_.on_connect) guarded("a connect", [&] { handlers_.on_connect(id); });
   }
 }
 
@@ -145,6 +215,7 @@ void ControlServer::read_client(ClientId id, Client& c) {
     return;
   }
   c.in.append(buf, static_cast<std::size_t>(n));
+  c.activity = std::chrono::steady_clock::now();
 }
 
 void ControlServer::flush_client(ClientId id, Client& c) {
@@ -157,7 +228,7 @@ void ControlServer::flush_client(ClientId id, Client& c) {
       return;
     }
     c.out_sent += static_cast<std::size_t>(n);
-    c.progress = std::chrono::steady_clock::now();
+    c.progress = c.activity = std::chrono::steady_clock::now();
   }
   if (c.out_sent == c.out.size()) {
     c.out.clear();
@@ -233,7 +304,99 @@ void ControlServer::run_posted() {
     std::lock_guard<std::mutex> lock(posted_mutex_);
     work.swap(posted_);
   }
-  for (auto& fn : work) fn();
+  for (auto& fn : work) guarded("a posted reply or event", fn);
+}
+
+std::size_t ControlServer::reserve_count() const {
+  std::size_t n = 0;
+  for (const auto& [id, c] : clients_) n += c.fd >= 0 && c.reserve;
+  return n;
+}
+
+void ControlServer::handle_lines(ClientId id, Client& c) {
+  if (c.fd >= 0 && c.reserve) return reserve_line(id, c);
+  std::size_t handled = 0;
+  std::size_t start = 0;
+  while (c.fd >= 0 && handled < limits_.max_lines_per_turn && c.out.size() - c.out_sent <= limits_.throttle_bytes) {
+    const std::size_t nl = c.in.find('\n', start);
+    const std::size_t len = (nl == std::string::npos ? c.in.size() : nl) - start;
+    if (len > limits_.max_line_bytes) {
+      spdlog::warn("control socket: client {} (pid {}) sent a line longer than {} bytes; disconnecting", id, c.pid,
+                   limits_.max_line_bytes);
+      if (handlers_.too_long_reply) c.out.append(handlers_.too_long_reply(limits_.max_line_bytes));
+      disconnect(id);
+      break;
+    }
+    if (nl == std::string::npos) break;
+    std::string_view line(c.in.data() + start, len);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    start = nl + 1;
+    ++handled;
+    if (!line.empty() && handlers_.on_line) guarded("a request", [&] { handlers_.on_line(id, line); });
+  }
+  if (c.fd >= 0 && start > 0) c.in.erase(0, start);
+  if (c.fd >= 0 && c.eof && c.in.find('\n') == std::string::npos) disconnect(id);
+}
+
+// A reserve connection (the table was full): its first line is served when it is stop,
+// e-stop or status, else refused; either way the connection is then closed.
+void ControlServer::reserve_line(ClientId id, Client& c) {
+  const std::size_t nl = c.in.find('\n');
+  if (nl == std::string::npos) {
+    if (c.in.size() > limits_.max_line_bytes || c.eof) {
+      if (!c.eof && handlers_.too_long_reply) c.out.append(handlers_.too_long_reply(limits_.max_line_bytes));
+      disconnect(id);
+    }
+    return;
+  }
+  std::string_view line(c.in.data(), nl);
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  const std::string request(line);
+  c.in.clear();
+  if (handlers_.reserve_allows && handlers_.reserve_allows(request)) {
+    if (handlers_.on_line) guarded("a request", [&] { handlers_.on_line(id, request); });
+  } else {
+    spdlog::warn("control socket: {} clients connected; refused a request other than stop, estop or status from pid {}",
+                 limits_.max_clients, c.pid);
+    if (handlers_.full_reply) c.out.append(handlers_.full_reply(limits_.max_clients));
+  }
+  disconnect(id);  // flushes the reply first
+}
+
+// Clients that do not read their replies, idle clients and silent reserve connections are
+// closed.
+void ControlServer::expire_clients() {
+  using clock = std::chrono::steady_clock;
+  const auto now = clock::now();
+  const auto secs = [](double s) { return std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(s)); };
+  for (auto& [id, c] : clients_) {
+    if (c.fd < 0) continue;
+    // A client whose replies have not moved for the stall timeout does not read: drop it.
+    if (c.out_sent < c.out.size() && now - c.progress > secs(limits_.stall_timeout_s)) {
+      spdlog::warn("control socket: dropping client {} (pid {}): it does not read its replies ({} bytes pending for {:.1f} s)", id,
+                   c.pid, c.out.size() - c.out_sent, limits_.stall_timeout_s);
+      drop(id, nullptr);
+      continue;
+    }
+    if (c.reserve) {
+      if (now - c.since > secs(limits_.reserve_timeout_s)) {
+        spdlog::info("control socket: reserve connection {} (pid {}) sent no request in {:.1f} s; closed", id, c.pid,
+                     limits_.reserve_timeout_s);
+        drop(id, nullptr);
+      }
+      continue;
+    }
+    if (limits_.idle_timeout_s <= 0.0 || c.out_sent < c.out.size()) continue;  // (a partial line is no activity)
+    if (now - c.activity <= secs(limits_.idle_timeout_s)) continue;
+    if (handlers_.busy && handlers_.busy(id)) {
+      c.activity = now;  // waiting for something it asked for is not idleness
+      continue;
+    }
+    spdlog::info("control socket: client {} (pid {}) idle for {:.1f} s; closed", id, c.pid, limits_.idle_timeout_s);
+    if (handlers_.idle_reply) c.out.append(handlers_.idle_reply(limits_.idle_timeout_s));
+    ++idle_closed_;
+    disconnect(id);
+  }
 }
 
 void ControlServer::run(const std::atomic<bool>& stop, double tick_s) {
@@ -279,46 +442,16 @@ void ControlServer::run(const std::atomic<bool>& stop, double tick_s) {
       }
     }
     // Hand complete lines to the handler, a bounded number per client per turn.
-    for (auto& [id, c] : clients_) {
-      std::size_t handled = 0;
-      std::size_t start = 0;
-      while (c.fd >= 0 && handled < limits_.max_lines_per_turn && c.out.size() - c.out_sent <= limits_.throttle_bytes) {
-        const std::size_t nl = c.in.find('\n', start);
-        const std::size_t len = (nl == std::string::npos ? c.in.size() : nl) - start;
-        if (len > limits_.max_line_bytes) {
-          spdlog::warn("control socket: client {} (pid {}) sent a line longer than {} bytes; disconnecting", id, c.pid,
-                       limits_.max_line_bytes);
-          if (handlers_.too_long_reply) c.out.append(handlers_.too_long_reply(limits_.max_line_bytes));
-          disconnect(id);
-          break;
-        }
-        if (nl == std::string::npos) break;
-        std::string_view line(c.in.data() + start, len);
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        start = nl + 1;
-        ++handled;
-        if (!line.empty() && handlers_.on_line) handlers_.on_line(id, line);
-      }
-      if (c.fd >= 0 && start > 0) c.in.erase(0, start);
-      if (c.fd >= 0 && c.eof && c.in.find('\n') == std::string::npos) disconnect(id);
-    }
-    // A client whose replies have not moved for the stall timeout does not read: drop it.
-    const auto stall = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(limits_.stall_timeout_s));
-    for (auto& [id, c] : clients_) {
-      if (c.fd >= 0 && c.out_sent < c.out.size() && clock::now() - c.progress > stall) {
-        spdlog::warn("control socket: dropping client {} (pid {}): it does not read its replies ({} bytes pending for {:.1f} s)", id,
-                     c.pid, c.out.size() - c.out_sent, limits_.stall_timeout_s);
-        drop(id, nullptr);
-      }
-    }
+    for (auto& [id, c] : clients_) handle_lines(id, c);
+    expire_clients();
     if (clock::now() >= next_tick) {
       next_tick += tick;
       if (next_tick < clock::now()) next_tick = clock::now() + tick;
-      if (handlers_.on_tick) handlers_.on_tick();
+      if (handlers_.on_tick) guarded("the tick (status pushes, jog deadman)", handlers_.on_tick);
     }
     for (ClientId id : to_drop_) {
       clients_.erase(id);
-      if (handlers_.on_disconnect) handlers_.on_disconnect(id);
+      if (handlers_.on_disconnect) guarded("a disconnect", [&] { handlers_.on_disconnect(id); });
     }
     to_drop_.clear();
   }

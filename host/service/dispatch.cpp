@@ -31,6 +31,17 @@ std::string Dispatcher::handle(ClientId client, std::string_view line) {
   }
 }
 
+bool Dispatcher::always_answered(std::string_view line) {
+  try {
+    const rpc::ParsedRequest parsed = rpc::parse_request(line);
+    if (parsed.error) return false;
+    const std::string& m = parsed.request.method;
+    return m == "stop" || m == "estop" || m == "status";
+  } catch (...) {
+    return false;
+  }
+}
+
 Outcome Dispatcher::dispatch(ClientId client, const rpc::Request& req) {
   auto m = std::find_if(methods_.begin(), methods_.end(), [&](const Method& row) { return row.name == req.method; });
   if (m == methods_.end()) {

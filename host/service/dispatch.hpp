@@ -62,6 +62,10 @@ class Dispatcher {
   /// reply comes later (the handler has arranged for it).
   std::string handle(ClientId client, std::string_view line);
 
+  /// The line is a request that is answered even when the connection table is full: stop,
+  /// estop or status (a line that does not parse is not).
+  static bool always_answered(std::string_view line);
+
  private:
   Outcome dispatch(ClientId client, const rpc::Request& req);
   std::vector<Method> methods_;

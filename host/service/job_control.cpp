@@ -9,6 +9,7 @@
 #include <chrono>
 
 #include "service/resume.hpp"
+#include "service/sha256.hpp"
 
 namespace pcnc {
 
@@ -36,20 +37,41 @@ void JobControl::join() {
   if (worker_.joinable()) worker_.join();
 }
 
-bool JobControl::start_worker(std::function<void()> fn) {
+bool JobControl::start_worker(ClientId client, const json& id, std::function<void()> fn) {
   if (active_.load()) return false;
   if (worker_.joinable()) worker_.join();
   active_ = true;
   interrupt_ = false;
-  worker_ = std::thread([this, fn = std::move(fn)] {
+  replied_ = false;
+  worker_ = std::thread([this, client, id, fn = std::move(fn)] {
+    // Nothing the job meets (a program, the file system, the rt) may end the host: an
+    // exception ends the job, is logged and becomes the reply (when none was sent yet) and the
+    // last job's record.
+    std::string failure;
     try {
       fn();
     } catch (const std::exception& e) {
-      spdlog::error("job worker: {}", e.what());
+      failure = e.what();
+    } catch (...) {
+      failure = "unknown exception";
+    }
+    if (!failure.empty()) {
+      spdlog::error("job worker: {}", failure);
+      const json last = {{"end", "internal error"}, {"message", "the job ended on an internal error: " + failure}};
+      if (!replied_.load()) job_reply(client, id, Outcome::fail(rpc::Error{rpc::kInternalError, last["message"].get<std::string>(), nullptr}));
+      end_job(&last);
+      json ev = last;
+      ev["event"] = "program_end";
+      notices_.event(ev);
     }
     active_ = false;  // after an exception; normally end_job() already did
   });
   return true;
+}
+
+void JobControl::job_reply(ClientId client, const json& id, Outcome outcome) {
+  replied_ = true;
+  notices_.reply(client, id, std::move(outcome));
 }
 
 // The job is over as far as any client can tell: its record (the last job, when one ran)
@@ -65,12 +87,30 @@ void JobControl::end_job(const json* last) {
 
 void JobControl::abandon_interrupted() { remove_journal(journal_); }
 
+// A journal that cannot be written leaves the previous one as it was (write_journal) and the
+// program runs on, but a host lost during it cannot be resumed: say so in the log, in the
+// status object (journal_error) and as an event.
+void JobControl::journal_failed(const std::string& why) {
+  spdlog::error("journal: {}; a program interrupted by a lost host could not be resumed", why);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    journal_error_ = why;
+  }
+  notices_.event(json{{"event", "journal_error"}, {"message", why}});
+}
+
+void JobControl::journal_ok() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  journal_error_.clear();
+}
+
 void JobControl::describe(json& j, const std::optional<Status>& st) const {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     j["job"] = info_;
     j["last_job"] = last_;
     j["job"]["active"] = active_.load();
+    j["journal_error"] = journal_error_.empty() ? json(nullptr) : json(journal_error_);
   }
   j["resume"] = nullptr;
   if (st && st->state == MachineState::kHostLost) {
@@ -90,7 +130,7 @@ Outcome JobControl::run(ClientId client, const json& id, const rpc::RunParams& p
     return Outcome::fail(refused(why));
   }
   MachineConfig job_config = config;  // set_offset may change the service's copy meanwhile
-  start_worker([this, client, id, rp = params, link, job_config, start = st.commanded] {
+  start_worker(client, id, [this, client, id, rp = params, link, job_config, start = st.commanded] {
     run_job(client, id, rp, link, job_config, start);
   });
   return Outcome::later();
@@ -107,6 +147,10 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
     std::lock_guard<std::mutex> lock(mutex_);
     info_ = json{{"file", rp.file}, {"phase", "preflight"}};
   }
+  // The content the run is checked from, before the check reads it: a resume refuses a
+  // program whose content changed since.
+  std::string hash_error;
+  const std::string sha256 = sha256_file(rp.file, &hash_error);
   CheckResult check = check_program(rp.file, cfg, opts);
   if (!check.ok) {
     std::size_t errors = 0;
@@ -114,7 +158,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
     json data = {{"file", rp.file}, {"errors", diagnostics_json(check, Diagnostic::Severity::kError)}};
     spdlog::warn("run {} refused: preflight found {} error(s)", rp.file, errors);
     end_job(nullptr);  // no job ran
-    notices_.reply(client, id,
+    job_reply(client, id,
                    Outcome::fail(rpc::Error{rpc::kPreflightFailed,
                                             rp.file + ": preflight found " + std::to_string(errors) + " error(s); nothing was moved",
                                             data}));
@@ -128,9 +172,20 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   jj.contouring = rp.contouring ? (*rp.contouring ? 1 : 0) : -1;
   jj.start_position = start;
   jj.host_pid = getpid();
+  jj.file_sha256 = sha256;
+  jj.transform_offset = check.transform.offset;
+  jj.transform_scale = check.transform.scale;
+  jj.corner_tolerance_mm = cfg.motion.corner_tolerance_mm;
+  jj.config_path = cfg.source_path;
   file_identity(rp.file, jj.file_size, jj.file_mtime_ns);
   std::string jerr;
-  if (!write_journal(journal_, jj, &jerr)) spdlog::warn("{}: a program interrupted by a host crash could not be resumed", jerr);
+  if (sha256.empty()) {
+    journal_failed("cannot record " + rp.file + " in the journal: " + hash_error);
+  } else if (!write_journal(journal_, jj, &jerr)) {
+    journal_failed(jerr);
+  } else {
+    journal_ok();
+  }
 
   json started = {{"started", true},
                   {"file", rp.file},
@@ -164,7 +219,7 @@ void JobControl::follow_job(ClientId client, const json& id, std::shared_ptr<RtL
       info_ = json{{"file", file}, {"phase", "running"}};
     }
     spdlog::info("program {} started", file);
-    notices_.reply(client, id, Outcome::ok(started));
+    job_reply(client, id, Outcome::ok(started));
     notices_.event(json{{"event", "program_started"}, {"file", file}});
   });
   const JobResult r = body(runner);
@@ -186,7 +241,7 @@ void JobControl::follow_job(ClientId client, const json& id, std::shared_ptr<RtL
     spdlog::warn("program {} ended: {}: {}", file, to_string(r.end), r.message);
   }
   end_job(&end);
-  if (!replied) notices_.reply(client, id, Outcome::fail(refused(r.message)));
+  if (!replied) job_reply(client, id, Outcome::fail(refused(r.message)));
   json ev = end;
   ev["event"] = "program_end";
   notices_.event(ev);
@@ -206,7 +261,7 @@ Outcome JobControl::resume(ClientId client, const json& id, std::shared_ptr<RtLi
   }
   MachineConfig job_config = config;
   job_config.gcode.work_offsets = jj->work_offsets;
-  start_worker([this, client, id, link, job_config, j = *jj] { resume_job(client, id, link, job_config, j); });
+  start_worker(client, id, [this, client, id, link, job_config, j = *jj] { resume_job(client, id, link, job_config, j); });
   return Outcome::later();
 }
 
@@ -215,19 +270,31 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
   auto fail = [&](std::string why) {
     spdlog::warn("resume refused: {}", why);
     end_job(nullptr);  // nothing runs
-    notices_.reply(client, id, Outcome::fail(refused("cannot resume: " + why + "; use stop to abandon the program")));
+    job_reply(client, id, Outcome::fail(refused("cannot resume: " + why + "; use stop to abandon the program")));
   };
-  std::uint64_t size = 0;
-  std::int64_t mtime = 0;
-  if (!file_identity(jj.file, size, mtime)) return fail(jj.file + " cannot be read any more");
-  if (size != jj.file_size || mtime != jj.file_mtime_ns) return fail(jj.file + " changed since the program started");
+  // The same program: its content (SHA-256), not only its size and time.
+  if (jj.file_sha256.empty()) return fail("the journal holds no hash of " + jj.file + " (written by an older pcnc-host)");
+  std::string hash_error;
+  const std::string sha256 = sha256_file(jj.file, &hash_error);
+  if (sha256.empty()) return fail(jj.file + " cannot be read any more (" + hash_error + ")");
+  if (sha256 != jj.file_sha256) {
+    return fail(jj.file + " changed since the program started (its SHA-256 is " + sha256.substr(0, 16) + "..., the journal's " +
+                jj.file_sha256.substr(0, 16) + "...): resuming would run a different program");
+  }
   JobOptions opts;
   opts.work_offset_index = jj.work_offset;
   opts.fit = jj.fit;
   if (jj.contouring >= 0) opts.contouring = jj.contouring == 1;
   opts.start_position = jj.start_position;
+  if (cfg.motion.corner_tolerance_mm != jj.corner_tolerance_mm) {
+    return fail("the path tolerance changed since the program started (" + std::to_string(jj.corner_tolerance_mm) + " mm, now " +
+                std::to_string(cfg.motion.corner_tolerance_mm) + " mm)");
+  }
   const CheckResult check = check_program(jj.file, cfg, opts);
   if (!check.ok) return fail(jj.file + " no longer passes preflight");
+  if (check.transform.offset != jj.transform_offset || check.transform.scale != jj.transform_scale) {
+    return fail("the program's placement (offset and scale) differs from the one it started with");
+  }
 
   const Status st = l->status();
   if (st.state != MachineState::kHostLost) return fail(std::string("the machine left HOST_LOST (now ") + to_string(st.state) + ")");
@@ -246,6 +313,15 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
   if (!cont) return fail(why);
   // The continuation starts exactly where the machine stands.
   if (!cont->skip && b.kind != BlockKind::kDwell && b.kind != BlockKind::kEnd) cont->block.start = at;
+  // The journal first: a resumed run that could not be recorded would leave one that points
+  // at the wrong block, so the resume is refused and the old journal stays as it was.
+  jj.seq_base = cont->skip ? k : k - 1;
+  jj.host_pid = getpid();
+  if (std::string jerr; !write_journal(journal_, jj, &jerr)) {
+    journal_failed(jerr);
+    return fail("the journal cannot be written (" + jerr + ")");
+  }
+  journal_ok();
   // Leave HOST_LOST (the rt keeps its position), then start the rest as a new program.
   const std::uint64_t reset_id = l->send(CommandKind::kReset);
   if (reset_id == 0) return fail("pcnc-rt's mailbox is full");
@@ -255,10 +331,6 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
     if (!l->rt_alive()) return fail("pcnc-rt was lost");
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  jj.seq_base = cont->skip ? k : k - 1;
-  jj.host_pid = getpid();
-  std::string jerr;
-  if (!write_journal(journal_, jj, &jerr)) spdlog::warn("{}", jerr);
   spdlog::info("resuming {} at line {} (block {}) from X{:.4f} Y{:.4f} Z{:.4f}", jj.file, b.line, k, at[0], at[1], at[2]);
 
   auto first = std::make_shared<std::optional<Block>>();

@@ -67,7 +67,8 @@ class JobControl {
   void describe(rpc::json& status, const std::optional<Status>& st) const;
 
  private:
-  bool start_worker(std::function<void()> fn);
+  bool start_worker(ClientId client, const rpc::json& id, std::function<void()> fn);
+  void job_reply(ClientId client, const rpc::json& id, Outcome outcome);  // the job's one reply
   void end_job(const rpc::json* last);
   void run_job(ClientId client, const rpc::json& id, const rpc::RunParams& rp, std::shared_ptr<RtLink> l,
                const MachineConfig& cfg, const Vec3& start);
@@ -75,15 +76,19 @@ class JobControl {
   void follow_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
                   rpc::json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body);
   std::function<void(const JobProgress&)> progress_fn();
+  void journal_failed(const std::string& why);
+  void journal_ok();
 
   const std::string journal_;
   JobNotices notices_;
   std::thread worker_;
   std::atomic<bool> active_{false};
   std::atomic<bool> interrupt_{false};
-  mutable std::mutex mutex_;  // guards info_, last_
+  std::atomic<bool> replied_{false};  // the job's request has its reply
+  mutable std::mutex mutex_;  // guards info_, last_, journal_error_
   rpc::json info_ = rpc::json::object();
   rpc::json last_ = nullptr;
+  std::string journal_error_;  // the last journal write failure, until one succeeds
 };
 
 }  // namespace pcnc

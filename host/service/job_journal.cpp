@@ -1,19 +1,20 @@
 // job_journal.cpp — JSON form of the program journal (see job_journal.hpp).
 #include "service/job_journal.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
-#include <fstream>
+#include <cstring>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 namespace pcnc {
 
 using json = nlohmann::json;
 
-std::string journal_path(const std::string& socket_path) { return socket_path + ".job"; }
+std::string journal_path(const std::string& state_dir) { return state_dir + "/job.json"; }
 
 bool file_identity(const std::string& path, std::uint64_t& size, std::int64_t& mtime_ns) {
   struct stat st {};
@@ -34,34 +35,75 @@ bool write_journal(const std::string& path, const JobJournal& j, std::string* er
                     {"start_position", {j.start_position[0], j.start_position[1], j.start_position[2]}},
                     {"file_size", j.file_size},
                     {"file_mtime_ns", j.file_mtime_ns},
+                    {"file_sha256", j.file_sha256},
+                    {"transform", {{"offset", {j.transform_offset[0], j.transform_offset[1], j.transform_offset[2]}},
+                                   {"scale", j.transform_scale}}},
+                    {"corner_tolerance_mm", j.corner_tolerance_mm},
+                    {"config", j.config_path},
                     {"host_pid", j.host_pid},
                     {"seq_base", j.seq_base}};
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << doc.dump(2) << "\n";
-    if (!out) {
-      if (error) *error = "cannot write " + tmp;
-      return false;
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    if (error) *error = "cannot rename " + tmp + " to " + path;
+  return write_file_atomically(path, doc.dump(2) + "\n", error);
+}
+
+bool write_file_atomically(const std::string& path, const std::string& text, std::string* error) {
+  auto failed = [&](const std::string& what, int fd, const std::string& tmp) {
+    const std::string why = what + ": " + std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    if (!tmp.empty()) ::unlink(tmp.c_str());
+    if (error) *error = why + "; the previous " + path + " is left as it was";
     return false;
+  };
+  const std::string tmp = path + ".tmp";
+  // O_EXCL|O_NOFOLLOW: never write through a file or symlink planted at the temporary name.
+  // Whatever is there is removed first (unlink removes a symlink, never its target).
+  const int flags = O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC;
+  int fd = ::open(tmp.c_str(), flags, 0600);
+  if (fd < 0 && errno == EEXIST) {
+    if (::unlink(tmp.c_str()) != 0) return failed("cannot remove the stale " + tmp, -1, "");
+    fd = ::open(tmp.c_str(), flags, 0600);
+  }
+  if (fd < 0) return failed("cannot create " + tmp, -1, "");
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = ENOSPC;
+      return failed("cannot write " + tmp, fd, tmp);
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) return failed("cannot fsync " + tmp, fd, tmp);
+  if (::close(fd) != 0) return failed("cannot close " + tmp, -1, tmp);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) return failed("cannot rename " + tmp + " to " + path, -1, tmp);
+  // The rename itself reaches the disk with the directory.
+  const auto slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+    (void)::fsync(dfd);
+    ::close(dfd);
   }
   return true;
 }
 
 std::optional<JobJournal> read_journal(const std::string& path, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    if (error) *error = "no program journal at " + path;
+  // O_NOFOLLOW: a symlink planted at the journal's name is not read through.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) {
+    if (error) *error = "no program journal at " + path + " (" + std::strerror(errno) + ")";
     return std::nullopt;
   }
-  std::stringstream ss;
-  ss << in.rdbuf();
+  std::string text;
+  char buf[4096];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0 || text.size() > (1u << 20)) break;
+    text.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
   try {
-    const json doc = json::parse(ss.str());
+    const json doc = json::parse(text);
     JobJournal j;
     j.file = doc.at("file").get<std::string>();
     j.work_offset = doc.at("work_offset").get<int>();
@@ -75,6 +117,14 @@ std::optional<JobJournal> read_journal(const std::string& path, std::string* err
     j.file_size = doc.at("file_size").get<std::uint64_t>();
     j.file_mtime_ns = doc.at("file_mtime_ns").get<std::int64_t>();
     j.host_pid = doc.at("host_pid").get<int>();
+    // Absent in a journal of an older pcnc-host: a resume then refuses (no content hash).
+    j.file_sha256 = doc.value("file_sha256", std::string());
+    if (doc.contains("transform")) {
+      for (std::size_t k = 0; k < 3; ++k) j.transform_offset[k] = doc.at("transform").at("offset").at(k).get<double>();
+      j.transform_scale = doc.at("transform").at("scale").get<double>();
+    }
+    j.corner_tolerance_mm = doc.value("corner_tolerance_mm", 0.0);
+    j.config_path = doc.value("config", std::string());
     j.seq_base = doc.value("seq_base", std::uint64_t{0});
     if (j.work_offset < 0 || j.work_offset > 5) throw std::runtime_error("work_offset out of range");
     return j;

@@ -1,5 +1,6 @@
 // job_journal.hpp — the small file in which `pcnc-host --serve` records the program it is
-// feeding (path, options, work offsets, start position, file size and time), so that a host
+// feeding (path and SHA-256 of its content, options, work offsets, the transform and the path
+// tolerance the blocks were made with, start position, file size and time), so that a host
 // started after a crash of the previous one can re-stream the same program and resume it
 // where pcnc-rt held it (HOST_LOST). Written when a program starts, removed when it ends.
 //
@@ -24,16 +25,27 @@ struct JobJournal {
   Vec3 start_position{};           // the machine position the program was checked from
   std::uint64_t file_size = 0;
   std::int64_t file_mtime_ns = 0;  // to notice a file changed since
+  std::string file_sha256;         // the program's content: a resumed run is the same program
+  Vec3 transform_offset{};         // machine = scale * program + offset, as checked at the start
+  double transform_scale = 1.0;
+  double corner_tolerance_mm = 0.0;  // the config's path tolerance the blocks were made with
+  std::string config_path;         // the machine config the service ran with (for the record)
   int host_pid = 0;
   // Program blocks before the current run's first block: a resumed run numbers its blocks
   // from 1 again, so program block = rt block_seq + seq_base.
   std::uint64_t seq_base = 0;
 };
 
-/// Where the journal lives for a given control socket path.
-std::string journal_path(const std::string& socket_path);
-/// Writes atomically (temporary file + rename). Returns false with `error` set on failure.
+/// Where the journal lives in the service's private state directory (runtime_paths.hpp).
+std::string journal_path(const std::string& state_dir);
+/// Writes atomically (write_file_atomically). Returns false with `error` set on failure; the
+/// journal already there is then left as it was.
 bool write_journal(const std::string& path, const JobJournal& journal, std::string* error);
+/// `text` to `path` through `path`.tmp, created with O_EXCL|O_NOFOLLOW (whatever is at the
+/// temporary name, a symlink included, is unlinked first, never followed), every write
+/// checked, fsync'ed, then renamed over `path`. On any failure `path` is untouched and
+/// `error` says what failed.
+bool write_file_atomically(const std::string& path, const std::string& text, std::string* error);
 /// Reads a journal; nullopt (with `error` set) when absent or unreadable.
 std::optional<JobJournal> read_journal(const std::string& path, std::string* error);
 void remove_journal(const std::string& path);

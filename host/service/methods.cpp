@@ -35,6 +35,14 @@ rpc::Checked<rpc::RunParams> check_run(const json& params) {
                                               "directory is not the client's); pcnc ctl run makes it absolute",
                          nullptr};
   }
+  // Only a regular file is run: a FIFO, /dev/zero or a directory is refused here, on the
+  // loop thread, without reading (the open does not block), before a job starts.
+  if (p.ok()) {
+    if (const std::string why = program_file_problem(p.value->file); !why.empty()) {
+      p.value.reset();
+      p.error = rpc::Error{rpc::kInvalidParams, "parameter 'file' of run: " + why, nullptr};
+    }
+  }
   return p;
 }
 

@@ -38,6 +38,8 @@ enum ErrorCode : int {
   kMailboxFull = 4,       // the rt's command mailbox is full (try again)
   kPermissionDenied = 5,  // the peer's uid may not use this socket
   kLineTooLong = 6,       // a request line exceeded the server's limit; the connection is closed
+  kServerFull = 7,        // the connection table is full: only stop, estop and status are served; closed
+  kIdleTimeout = 8,       // the connection was idle longer than process.client_idle_timeout_s; closed
 };
 
 struct Error {

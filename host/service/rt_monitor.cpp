@@ -58,6 +58,21 @@ void RtMonitor::loop() {
   auto next_attach = std::chrono::steady_clock::now();
   std::string last_problem;
   while (!stop_.load()) {
+    // The monitor's thread must not end the host: a turn that throws is logged and the next
+    // one tries again (an exception escaping a thread would call std::terminate).
+    try {
+      turn(next_attach, last_problem);
+    } catch (const std::exception& e) {
+      spdlog::error("rt monitor: {}", e.what());
+    } catch (...) {
+      spdlog::error("rt monitor: unknown exception");
+    }
+    std::this_thread::sleep_for(std::chrono::duration<double>(period_s_));
+  }
+}
+
+void RtMonitor::turn(std::chrono::steady_clock::time_point& next_attach, std::string& last_problem) {
+  {
     std::shared_ptr<RtLink> l = current();
     if (l) {
       if (!l->rt_alive()) {
@@ -80,7 +95,6 @@ void RtMonitor::loop() {
       next_attach = std::chrono::steady_clock::now() + seconds(attach_retry_s_);
       try_attach(last_problem);
     }
-    std::this_thread::sleep_for(std::chrono::duration<double>(period_s_));
   }
 }
 

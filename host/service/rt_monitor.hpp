@@ -12,6 +12,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -58,6 +59,7 @@ class RtMonitor {
 
  private:
   void loop();
+  void turn(std::chrono::steady_clock::time_point& next_attach, std::string& last_problem);
   void try_attach(std::string& last_problem);
 
   const MachineConfig config_;  // the links refer to it: the service ends its job worker, the

@@ -13,10 +13,13 @@
 #include "service/service.hpp"
 
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
+#include <map>
 #include <optional>
 #include <string>
 
+#include "config/runtime_paths.hpp"
 #include "service/dispatch.hpp"
 #include "service/job_control.hpp"
 #include "service/job_journal.hpp"
@@ -41,7 +44,7 @@ struct Service::Impl {
                              post_event(json{{"event", "rt_lost"}, {"message", why}, {"heartbeat_age_ms", age_ms}});
                            }}),
         subs([this](ClientId client, std::string_view line) { server->send(client, line); }),
-        jobs(journal_path(c.process.socket_path),
+        jobs(journal_path(state_dir(c)),
              JobNotices{[this](ClientId client, json id, Outcome o) { post_reply(client, std::move(id), std::move(o)); },
                         [this](json event) { post_event(std::move(event)); }}),
         jogs(config, rt, [this](ClientId client, const json& id, const Outcome& o) { reply(client, id, o); },
@@ -51,14 +54,21 @@ struct Service::Impl {
 
   // ---- loop thread ----
   void reply(ClientId client, const json& id, const Outcome& o) {
+    if (auto it = awaiting.find(client); it != awaiting.end() && it->second > 0 && --it->second == 0) awaiting.erase(it);
     const std::string line = format_outcome(id, o);
     if (!line.empty()) server->send(client, line);
   }
 
   void on_line(ClientId client, std::string_view line) {
     const std::string r = dispatcher.handle(client, line);
-    if (!r.empty()) server->send(client, r);
+    if (r.empty()) {
+      ++awaiting[client];  // its reply comes later: the client is not idle meanwhile
+    } else {
+      server->send(client, r);
+    }
   }
+
+  bool busy(ClientId client) const { return subs.has(client) || awaiting.count(client) != 0; }
 
   void on_tick() {
     std::optional<Status> st;
@@ -68,6 +78,7 @@ struct Service::Impl {
   }
 
   void on_disconnect(ClientId client) {
+    awaiting.erase(client);
     subs.remove(client);
     jogs.client_gone(client);
   }
@@ -92,6 +103,7 @@ struct Service::Impl {
   JogControl jogs;
   ServiceParts parts;
   Dispatcher dispatcher;
+  std::map<ClientId, int> awaiting;  // delayed replies (run, resume, jog) not yet sent, per client (loop thread)
 };
 
 Service::Service(const MachineConfig& config, ServiceOptions options) : impl_(std::make_unique<Impl>(config, options)) {}
@@ -109,13 +121,42 @@ void Service::run(const std::atomic<bool>& stop) {
                                                  "request line longer than " + std::to_string(limit) + " bytes; closing the connection",
                                                  nullptr});
   };
+  h.busy = [&s](ClientId c) { return s.busy(c); };
+  h.reserve_allows = [](std::string_view line) { return Dispatcher::always_answered(line); };
+  h.full_reply = [](std::size_t max_clients) {
+    return rpc::format_error(nullptr, rpc::Error{rpc::kServerFull,
+                                                 std::to_string(max_clients) +
+                                                     " clients are connected: only stop, estop and status are served on a new "
+                                                     "connection now; closing it",
+                                                 nullptr});
+  };
+  h.idle_reply = [](double idle_s) {
+    return rpc::format_error(nullptr, rpc::Error{rpc::kIdleTimeout,
+                                                 "no request for " + std::to_string(static_cast<long>(idle_s)) +
+                                                     " s (process.client_idle_timeout_s); closing the connection",
+                                                 nullptr});
+  };
   h.refused_reply = [](uid_t uid) {
     return rpc::format_error(nullptr, rpc::Error{rpc::kPermissionDenied,
                                                  "permission denied: uid " + std::to_string(uid) + " may not use this control socket",
                                                  nullptr});
   };
-  s.server = std::make_unique<ControlServer>(s.config.process.socket_path, s.config.process.socket_mode, s.opt.limits, h);
-  spdlog::info("serving the control socket {} (mode {:04o})", s.config.process.socket_path, s.config.process.socket_mode);
+  // Runtime files only in directories another user cannot write to (issue 19): the default
+  // socket in the runtime directory we create (0750, the socket group), a configured socket
+  // path after checking its directory, the journal in the private state directory (0700).
+  const std::string socket = control_socket_path(s.config);
+  const gid_t group = socket_group_gid(s.config);
+  if (s.config.process.socket_path.empty()) {
+    ensure_private_dir(default_runtime_dir(s.config), 0750, group == static_cast<gid_t>(-1) ? getegid() : group);
+  } else {
+    check_socket_dir(socket);
+  }
+  ensure_private_dir(state_dir(s.config), 0700);
+  ServerLimits limits = s.opt.limits;
+  limits.idle_timeout_s = s.config.process.client_idle_timeout_s;
+  s.server = std::make_unique<ControlServer>(socket, s.config.process.socket_mode, group, limits, h);
+  spdlog::info("serving the control socket {} (mode {:04o}); journal in {}", socket, s.config.process.socket_mode,
+               state_dir(s.config));
   s.rt.start();
   s.server->run(stop, s.opt.tick_s);
 

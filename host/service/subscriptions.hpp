@@ -27,6 +27,7 @@ class Subscriptions {
   /// a rate <= 0 ends its subscription.
   void subscribe(ClientId client, double rate_hz);
   void remove(ClientId client);
+  bool has(ClientId client) const { return subs_.count(client) != 0; }
   /// Sends an event notification to every subscriber.
   void broadcast_event(const rpc::json& event);
   /// Sends the status object to each subscriber that is due; `status` is called at most once.

@@ -181,9 +181,12 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     p.string("shm_name", c.process.shm_name);
     p.string("socket_path", c.process.socket_path);
     p.integer("socket_mode", c.process.socket_mode, 0, 0777);
+    p.string("socket_group", c.process.socket_group);
+    p.string("state_dir", c.process.state_dir);
     p.number("host_timeout_s", c.process.host_timeout_s, 0.005, 60.0);
     p.number("rt_timeout_s", c.process.rt_timeout_s, 0.005, 60.0);
     p.number("jog_deadman_s", c.process.jog_deadman_s, 0.01, 60.0);
+    p.number("client_idle_timeout_s", c.process.client_idle_timeout_s, 0.0, 86400.0);
     p.integer("rt_priority", c.process.rt_priority, 1, 99);
     p.number("rt_spin_us", c.process.rt_spin_us, 0.0, 1e6);
     std::string on_trace_failure = c.process.trace_failure_stops ? "stop" : "continue";
@@ -197,6 +200,8 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
         c.process.shm_name.find('/', 1) != std::string::npos || c.process.shm_name.size() > 200) {
       p.fail("shm_name", "must be '/name' with no further '/' (a POSIX shared-memory name)");
     }
+    if (!c.process.socket_path.empty() && c.process.socket_path[0] != '/') p.fail("socket_path", "must be an absolute path");
+    if (!c.process.state_dir.empty() && c.process.state_dir[0] != '/') p.fail("state_dir", "must be an absolute path");
   }
   top.finish();
   return c;

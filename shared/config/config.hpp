@@ -74,11 +74,16 @@ struct GcodeConfig {
 
 struct ProcessConfig {
   std::string shm_name = "/pcnc-desktop-mill";
-  std::string socket_path = "/tmp/pcnc-desktop-mill.sock";
+  // Empty: the default in the machine's runtime directory (config/runtime_paths.hpp); a path
+  // set here is honoured after its directory is checked.
+  std::string socket_path;
   int socket_mode = 0600;
+  std::string socket_group;        // group (name or number) of the socket and its runtime directory; empty: ours
+  std::string state_dir;           // journal; empty: the default private state directory (runtime_paths.hpp)
   double host_timeout_s = 0.1;     // rt: host heartbeat older than this while running -> HOST_LOST
   double rt_timeout_s = 0.1;       // host: rt heartbeat older than this -> rt lost
   double jog_deadman_s = 0.5;      // continuous jog stops without a keep-alive this long
+  double client_idle_timeout_s = 60.0;  // service: a connection without requests this long is closed (0: never)
   int rt_priority = 80;            // SCHED_FIFO priority asked for
   // Real clock: the rt sleeps until this long before each deadline and spins the rest, so
   // that the wake-up does not pay the idle CPU's exit latency (a virtual machine's idle vCPU

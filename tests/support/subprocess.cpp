@@ -178,7 +178,10 @@ std::string write_test_config(const std::string& dir, const std::string& tag,
     text.replace(at, from.size(), to);
   };
   replace("shm_name = \"/pcnc-desktop-mill\"", "shm_name = \"" + test_shm_name(tag) + "\"");
-  replace("socket_path = \"/tmp/pcnc-desktop-mill.sock\"", "socket_path = \"" + dir + "/pcnc.sock\"");
+  // The test's own private directory for the socket and the journal (never the machine's
+  // runtime or state directory: tests run in parallel).
+  replace("# socket_path = \"/run/pcnc/desktop-mill/control.sock\"", "socket_path = \"" + dir + "/pcnc.sock\"");
+  replace("# state_dir = \"/var/lib/pcnc/desktop-mill\"", "state_dir = \"" + dir + "/state\"");
   for (const auto& [from, to] : extra_replacements) replace(from, to);
   const std::string path = dir + "/" + tag + ".toml";
   std::ofstream(path) << text;
