@@ -29,7 +29,8 @@ struct Continuation {
 /// NURBS block from the parameter u* of the curve point nearest `at` (geometry/nurbs.hpp
 /// nurbs_project), the curve cut there (nurbs_segment) and its feed schedule cut at u*
 /// (never raised). A dwell is repeated whole; an M00/M01 pause is skipped (resuming is its
-/// continue). Fails (nullopt, `why` set) when `at` is not on the block's path within
+/// continue). Nothing is left (skip) only within half the rt's block tolerance of the end, so
+/// that the next block starts where the machine stands. Fails (nullopt, `why` set) when `at` is not on the block's path within
 /// `tolerance_mm`, or inside a flat arc of more than one turn (the point does not say which
 /// turn, and the rt's status holds no progress along a block).
 std::optional<Continuation> continue_block(const Block& interrupted, const Vec3& at, const MachineConfig& config,
