@@ -426,7 +426,7 @@ TEST(Resume, ArcContinuesWithTheRemainingSweep) {
   EXPECT_FALSE(continue_block(b, {12.5, 15.0, 20}, c, 0.005, &why));
 }
 
-TEST(Resume, PauseIsSkippedDwellRepeatedNurbsRefused) {
+TEST(Resume, PauseIsSkippedDwellRepeatedEmptyNurbsRefused) {
   const MachineConfig c = config();
   Block p;
   p.kind = BlockKind::kPause;
@@ -441,10 +441,10 @@ TEST(Resume, PauseIsSkippedDwellRepeatedNurbsRefused) {
   ASSERT_TRUE(kd);
   EXPECT_FALSE(kd->skip);
   EXPECT_EQ(kd->block.dwell_s, 2.0);
-  Block n;
+  Block n;  // a NURBS block with no curve (valid ones are cut: tests/test_resume.cpp)
   n.kind = BlockKind::kNurbs;
   EXPECT_FALSE(continue_block(n, {1, 1, 1}, c, 0.005, &why));
-  EXPECT_NE(why.find("NURBS"), std::string::npos);
+  EXPECT_NE(why.find("NURBS block is invalid"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "progress.hpp"
 #include "report/report_html.hpp"
 #include "serve.hpp"
+#include "soak.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"pcnc: an open PC-based NC controller for a 3-axis desktop mill.\n"
@@ -110,6 +111,7 @@ int main(int argc, char** argv) {
   // ---- ctl, serve: the control socket of pcnc-host --serve ----
   pcnc::add_ctl_subcommand(app, exit_code);
   pcnc::add_serve_subcommand(app, exit_code);
+  pcnc::add_soak_subcommand(app, exit_code);
   pcnc::add_nurbs_subcommand(app, exit_code);
 
   CLI11_PARSE(app, argc, argv);

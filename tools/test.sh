@@ -6,6 +6,8 @@
 # Each build lives in its own directory. Any failure or sanitizer report fails the script.
 #   PCNC_FUZZ_SECONDS   fuzzing time per target (default 60 each; 0 skips the fuzz runs)
 #   PCNC_SKIP_SANITIZERS=1   only the normal build (quick local runs)
+#   PCNC_SOAK_SECONDS   the short fault-injection soak's time (default 20; 0 skips it)
+#   PCNC_SOAK_SEED      its seed (default: random, printed)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${JOBS:-2}
@@ -41,6 +43,18 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPCNC_WERROR=ON 
 cmake --build build -j "$JOBS"
 ctest --test-dir build --output-on-failure -j "$JOBS" "${RETRY[@]}"
 check_leftovers normal
+
+SOAK_SECONDS=${PCNC_SOAK_SECONDS:-20}
+if [ "$SOAK_SECONDS" != "0" ]; then
+  # The short form of docs/reliability.md's soak: a ~25 s corpus program at real clock with
+  # host kills, pauses, jogs while paused and override changes (no rt kills), then the trace
+  # checked against the program's blocks. Bounded: one run of the program plus recoveries.
+  SOAK_SEED=${PCNC_SOAK_SEED:-$RANDOM}
+  step "fault-injection soak, short form (seed $SOAK_SEED)"
+  timeout 90 build/tools/pcnc soak ../shared/gcode/cam/fusion360/Key_Cut.nc \
+    --minutes "$(awk "BEGIN{print $SOAK_SECONDS/60}")" --mean-gap 2.5 --seed "$SOAK_SEED"
+  check_leftovers soak
+fi
 
 if [ "${PCNC_SKIP_SANITIZERS:-0}" != "1" ]; then
   step "AddressSanitizer + UndefinedBehaviorSanitizer build and ctest"

@@ -271,6 +271,33 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
   g.schedule_count = static_cast<std::uint16_t>(pick.size());
 }
 
+void set_nurbs_block_geometry(Block& b) {
+  const NurbsView v = view_of(b.nurbs);
+  // The curve is clamped: its ends are its first and last control points.
+  b.start = v.points[0];
+  b.end = v.points[v.count - 1];
+  b.length = nurbs_arc_length(v, v.u_min(), v.u_max());
+  b.dir_start = nurbs_tangent(v, v.u_min(), true);
+  b.dir_end = nurbs_tangent(v, v.u_max(), false);
+  // Motion class and driving axis from the extent of the control polygon.
+  Vec3 lo = v.points[0], hi = v.points[0];
+  for (int j = 0; j < v.count; ++j) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      lo[i] = std::min(lo[i], v.points[j][i]);
+      hi[i] = std::max(hi[i], v.points[j][i]);
+    }
+  }
+  int moving = 0;
+  std::size_t widest = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (hi[i] - lo[i] > 1e-12) ++moving;
+    if (hi[i] - lo[i] > hi[widest] - lo[widest]) widest = i;
+  }
+  b.motion_class = moving <= 1 ? MotionClass::kSingleAxis : moving == 2 ? MotionClass::kPlane : MotionClass::kSpace;
+  b.driving_axis = static_cast<std::uint8_t>(widest);
+  b.driving_dir = b.end[widest] >= b.start[widest] ? 1 : -1;
+}
+
 NurbsBlocks plan_nurbs_blocks(const NurbsCurve& curve, const NurbsLimits& limits) {
   NurbsBlocks out;
   out.error = validate(curve);
@@ -293,34 +320,12 @@ NurbsBlocks plan_nurbs_blocks(const NurbsCurve& curve, const NurbsLimits& limits
       out.corner_after.clear();
       return out;
     }
-    const NurbsView v = piece.view();
     fill_block_schedule(out.schedule, piece.u_min(), piece.u_max(), b.nurbs);
-    b.start = piece.points.front();
-    b.end = piece.points.back();
-    b.length = nurbs_arc_length(v, v.u_min(), v.u_max());
+    set_nurbs_block_geometry(b);
     double vmax = 0.0;
     for (int k = 0; k < b.nurbs.schedule_count; ++k) vmax = std::max(vmax, b.nurbs.schedule_speed[k]);
     b.speed = std::min(limits.feed_mm_s, vmax);
     b.accel = out.schedule.accel_mm_s2;
-    b.dir_start = nurbs_tangent(v, v.u_min(), true);
-    b.dir_end = nurbs_tangent(v, v.u_max(), false);
-    // Motion class and driving axis from the extent of the control polygon.
-    Vec3 lo = piece.points.front(), hi = piece.points.front();
-    for (const Vec3& p : piece.points) {
-      for (std::size_t i = 0; i < 3; ++i) {
-        lo[i] = std::min(lo[i], p[i]);
-        hi[i] = std::max(hi[i], p[i]);
-      }
-    }
-    int moving = 0;
-    std::size_t widest = 0;
-    for (std::size_t i = 0; i < 3; ++i) {
-      if (hi[i] - lo[i] > 1e-12) ++moving;
-      if (hi[i] - lo[i] > hi[widest] - lo[widest]) widest = i;
-    }
-    b.motion_class = moving <= 1 ? MotionClass::kSingleAxis : moving == 2 ? MotionClass::kPlane : MotionClass::kSpace;
-    b.driving_axis = static_cast<std::uint8_t>(widest);
-    b.driving_dir = b.end[widest] >= b.start[widest] ? 1 : -1;
     out.blocks.push_back(b);
     out.corner_after.push_back(std::find(corners.begin(), corners.end(), piece.u_max()) != corners.end());
   }

@@ -81,6 +81,12 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
 /// enters with and to the end speed the executor asks for. seq, line and contouring are left for the caller;
 /// the caller should let the rt pass the joins between pieces of one curve without
 /// stopping (they are tangent continuous) except at corners, which `corner_after` marks.
+/// The fields of a NURBS block that follow from its curve (b.nurbs): start and end points,
+/// arc length, direction cosines at both ends, and the control polygon's motion class and
+/// driving axis with its flag (what the block check recomputes). Schedule, speed and accel
+/// are the caller's.
+void set_nurbs_block_geometry(Block& b);
+
 struct NurbsBlocks {
   std::string error;                // non-empty: the curve was rejected, no blocks
   std::vector<Block> blocks;

@@ -6,8 +6,9 @@
 // same kind, end, feed limit and contouring flag (a pure function of the block and the
 // point). The blocks after it are re-streamed unchanged from the checked program.
 //
-// May include: shared/ (ipc/block, config); resume.cpp also gcode/move.hpp and
-// gcode/preprocessor.hpp, to re-plan the remaining part the way the front end plans a block.
+// May include: shared/ (ipc/block, config); resume.cpp also gcode/move.hpp,
+// gcode/preprocessor.hpp and gcode/nurbs_schedule.hpp, to re-plan the remaining part the way
+// the front end plans a block.
 #pragma once
 
 #include <optional>
@@ -24,10 +25,14 @@ struct Continuation {
 };
 
 /// The rest of `interrupted` from `at` (machine coordinates, at rest). Lines and rapids
-/// continue straight to the end; arcs and helices from the angle (or height) reached. A
-/// dwell is repeated whole; an M00/M01 pause is skipped (resuming is its continue). Fails
-/// (nullopt, `why` set) when `at` is not on the block's path within `tolerance_mm`, or for a
-/// block kind that cannot be cut (multi-turn flat arcs, NURBS).
+/// continue straight to the end; arcs and helices from the angle (or height) reached; a
+/// NURBS block from the parameter u* of the curve point nearest `at` (geometry/nurbs.hpp
+/// nurbs_project), the curve cut there (nurbs_segment) and its feed schedule cut at u*
+/// (never raised). A dwell is repeated whole; an M00/M01 pause is skipped (resuming is its
+/// continue). Nothing is left (skip) only within half the rt's block tolerance of the end, so
+/// that the next block starts where the machine stands. Fails (nullopt, `why` set) when `at` is not on the block's path within
+/// `tolerance_mm`, or inside a flat arc of more than one turn (the point does not say which
+/// turn, and the rt's status holds no progress along a block).
 std::optional<Continuation> continue_block(const Block& interrupted, const Vec3& at, const MachineConfig& config,
                                            double tolerance_mm, std::string* why);
 

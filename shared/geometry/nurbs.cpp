@@ -344,6 +344,63 @@ double nurbs_arc_length(const NurbsView& c, double u0, double u1) {
   return total;
 }
 
+// ---- projection ---------------------------------------------------------------------------
+
+double nurbs_project(const NurbsView& c, const Vec3& p, double* distance, int samples_per_span) {
+  const int per = std::max(samples_per_span, 2);
+  const double lo = c.u_min(), hi = c.u_max();
+  const double eps = 1e-15 * std::max(1.0, std::abs(hi - lo));
+  // Newton on f(u) = (C - p) . C', f'(u) = C' . C' + (C - p) . C''; a step that does not
+  // bring the point nearer is halved, and the search ends when the step no longer matters.
+  auto newton = [&](double u, double d) {
+    for (int it = 0; it < 50; ++it) {
+      const NurbsEval e = nurbs_eval(c, u);
+      const Vec3 r = e.p - p;
+      const double f = dot(r, e.d1);
+      const double fp = dot(e.d1, e.d1) + dot(r, e.d2);
+      if (!(std::abs(fp) > 0.0) || !std::isfinite(f / fp)) break;
+      double step = -f / fp;
+      bool moved = false;
+      for (int h = 0; h < 30 && std::abs(step) > eps; ++h, step *= 0.5) {
+        const double un = std::clamp(u + step, lo, hi);
+        const double dn = norm(nurbs_point(c, un) - p);
+        if (dn <= d) {
+          moved = un != u;
+          d = dn;
+          u = un;
+          break;
+        }
+      }
+      if (!moved || std::abs(step) <= eps) break;
+    }
+    return std::pair<double, double>{u, d};
+  };
+  // The nearest sample of each knot span starts a Newton search; the nearest result wins (a
+  // closed curve's point near its end is also near its start: both are tried).
+  double best_u = lo;
+  double best_d = norm(nurbs_point(c, lo) - p);
+  for (int j = c.degree; j < c.count; ++j) {
+    const double a = c.knots[j], b = c.knots[j + 1];
+    if (!(a < b)) continue;
+    double su = a, sd = 1e300;
+    for (int k = 0; k <= per; ++k) {
+      const double u = a + (b - a) * static_cast<double>(k) / per;
+      const double d = norm(nurbs_point(c, u) - p);
+      if (d < sd) {
+        sd = d;
+        su = u;
+      }
+    }
+    const auto [u, d] = newton(su, sd);
+    if (d < best_d) {
+      best_d = d;
+      best_u = u;
+    }
+  }
+  if (distance) *distance = best_d;
+  return best_u;
+}
+
 // ---- knot insertion and splitting -------------------------------------------------------
 
 NurbsCurve insert_knot(const NurbsCurve& curve, double u, int times) {

@@ -112,6 +112,15 @@ double nurbs_curvature(const NurbsEval& e);
 /// Arc length of the curve between parameters u0 <= u1 (Gauss–Legendre per knot span).
 double nurbs_arc_length(const NurbsView& c, double u0, double u1);
 
+// ---- projection (host side) -------------------------------------------------------------
+
+/// The parameter u* of the curve point nearest to `p`: each knot span sampled
+/// (`samples_per_span` points) for its nearest sample, from which Newton steps on
+/// f(u) = (C(u) - p) . C'(u) = 0 run, kept inside the domain and never accepted when they move
+/// away from p; the nearest of the spans' results wins. `distance` (when
+/// given) receives |C(u*) - p|. Pure; allocates nothing.
+double nurbs_project(const NurbsView& c, const Vec3& p, double* distance = nullptr, int samples_per_span = 32);
+
 // ---- knot insertion and splitting (host side) -------------------------------------------
 
 /// Boehm knot insertion of u, `times` times; the curve's shape and parametrisation do not

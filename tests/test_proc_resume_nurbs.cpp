@@ -1,0 +1,135 @@
+// test_proc_resume_nurbs.cpp — resume inside a NURBS block with the real processes: a
+// program with a long slow G5.2 curve runs on pcnc-rt (--clock virtual) and pcnc-host
+// --serve; the host is killed (SIGKILL) while the machine is inside the curve; the rt holds
+// on the curve (HOST_LOST); a new host resumes; the program completes at its last point, and
+// the rt's trace shows no jump in the commanded position and the curve's points on it.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "config/config.hpp"
+#include "ipc/segment.hpp"
+#include "service_procs.hpp"
+#include "test_paths.hpp"
+
+namespace pcnc::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
+bool idle_after_job(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].get<bool>() && s["last_job"].is_object(); }
+
+bool read_rt_status(const std::string& tag, Status& out) {
+  try {
+    HostSegment seg(test_shm_name(tag));
+    seg.shm().status.load(out);
+    return true;
+  } catch (const SegmentError&) {
+    return false;
+  }
+}
+
+// Lines 1-3 lead in; the curve is lines 4-8 (G5.2 .. G5.3); line 9 leads out.
+constexpr int kCurveFirst = 4, kCurveLast = 9;
+const char* kProgram =
+    "G21 G90 G17 G54\n"
+    "G00 X-8 Y0 Z-1\n"
+    "G01 X-7 F15\n"
+    "G5.2 X-6 Y7 P1 L4\n"
+    "X-2 Y-7 P1\n"
+    "X2 Y7 P2\n"
+    "X6 Y-7 P1\n"
+    "X8 Y0 P1\n"
+    "G5.3\n"
+    "G01 X9\n"
+    "M30\n";
+
+TEST(KillHostInNurbs, ANewHostResumesInsideTheCurveAndTheProgramCompletesWithoutAJump) {
+  const std::string tag = "khost-nurbs";
+  ServicePair p(tag);
+  const std::string trace = p.dir() + "/trace.csv";
+  ASSERT_TRUE(p.start("virtual", {"--trace", trace})) << p.host_log();
+  const MachineConfig m = load_config(default_config());
+  const std::string prog = write_program(p.dir(), "curve.ngc", kProgram);
+  const json run = p.call("run", {{"file", prog}});
+  ASSERT_TRUE(run.contains("result")) << run.dump();
+  // Inside the curve, some way along it.
+  const json inside = p.wait_status(
+      [](const json& s) {
+        const int line = s["line"].get<int>();
+        return s["state"] == "RUNNING" && line >= kCurveFirst && line <= kCurveLast && s["program_time_s"].get<double>() > 8.0;
+      },
+      60);
+  ASSERT_EQ(inside["state"], "RUNNING") << inside.dump();
+  p.kill_host(SIGKILL);
+  Status st{};
+  for (int i = 0; i < 1000; ++i) {
+    if (read_rt_status(tag, st) && st.state == MachineState::kHostLost) break;
+    std::this_thread::sleep_for(5ms);
+  }
+  ASSERT_EQ(st.state, MachineState::kHostLost) << to_string(st.state);
+  ASSERT_GE(st.line, static_cast<std::uint32_t>(kCurveFirst));
+  ASSERT_LE(st.line, static_cast<std::uint32_t>(kCurveLast)) << "stopped inside the curve";
+  const Vec3 held = st.commanded;
+
+  ASSERT_TRUE(p.start_host()) << p.host_log();
+  json s = p.wait_status([](const json& x) { return x["rt"]["state"] == "attached"; }, 10);
+  ASSERT_EQ(s["state"], "HOST_LOST");
+  const json r = p.call("resume", json::object(), 60);
+  ASSERT_TRUE(r.contains("result")) << r.dump() << p.host_log();
+  EXPECT_TRUE(r["result"]["resumed"].get<bool>());
+  EXPECT_GE(r["result"]["line"].get<int>(), kCurveFirst);
+  for (int i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(r["result"]["from"][std::string(1, "xyz"[i])].get<double>(), held[i]);
+  s = p.wait_status(idle_after_job, 180);
+  ASSERT_TRUE(s["last_job"].is_object()) << s.dump();
+  EXPECT_EQ(s["last_job"]["end"], "completed") << s.dump();
+  const Vec3 expected{12.5 + 9.0, 12.5, 24.0};
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(pos(s, "commanded", i), expected[i], 1e-6);
+
+  // The trace: no step in the commanded position beyond an axis's max velocity over one
+  // period, the hold visible, and the machine inside the curve both before and after it.
+  p.kill_rt(SIGTERM);
+  std::ifstream in(trace);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line)) << trace;
+  const double dt = m.cycle_period_s();
+  double prev_t = -1.0, prev[3] = {0, 0, 0}, worst = 0.0;
+  std::size_t rows = 0, lost_rows = 0, curve_rows_after = 0;
+  bool seen_lost = false;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string f[13];
+    for (auto& x : f) std::getline(ss, x, ',');
+    const double t = std::stod(f[0]);
+    double cmd[3];
+    for (int i = 0; i < 3; ++i) cmd[i] = std::stod(f[3 + i]);
+    if (f[2] == "HOST_LOST") {
+      ++lost_rows;
+      seen_lost = true;
+    }
+    const int ln = std::stoi(f[1]);
+    if (seen_lost && f[2] == "RUNNING" && ln >= kCurveFirst && ln <= kCurveLast) ++curve_rows_after;
+    if (prev_t >= 0.0 && std::abs(t - prev_t - dt) < 0.25 * dt) {
+      for (int i = 0; i < 3; ++i) worst = std::max(worst, std::abs(cmd[i] - prev[i]) / (m.axes[i].max_velocity_mm_s * dt));
+    }
+    prev_t = t;
+    for (int i = 0; i < 3; ++i) prev[i] = cmd[i];
+    ++rows;
+  }
+  EXPECT_GT(rows, 1000u);
+  EXPECT_GT(lost_rows, 0u);
+  EXPECT_GT(curve_rows_after, 100u) << "the rest of the curve was cut after the resume";
+  EXPECT_LE(worst, 1.0 + 1e-6) << "a setpoint step beyond the axis's max velocity: a jump";
+  std::cout << "[ figures  ] kill host inside a NURBS curve: trace rows " << rows << ", curve cycles after resume "
+            << curve_rows_after << ", max setpoint step " << worst << " x vmax*dt\n";
+}
+
+}  // namespace
+}  // namespace pcnc::test
