@@ -308,7 +308,10 @@ bool Soak::setup() {
   sock_ = dir_ + "/pcnc.sock";
   std::string t = text.str();
   t = std::regex_replace(t, std::regex(R"((^|\n)shm_name *=[^\n]*)"), "$1shm_name = \"" + shm_ + "\"");
-  t = std::regex_replace(t, std::regex(R"((^|\n)socket_path *=[^\n]*)"), "$1socket_path = \"" + sock_ + "\"");
+  // socket and journal in the soak's folder (the shipped configs leave these lines commented:
+  // the service then uses its runtime and state directories, shared with a real service)
+  t = std::regex_replace(t, std::regex(R"((^|\n)#? *socket_path *=[^\n]*)"), "$1socket_path = \"" + sock_ + "\"");
+  t = std::regex_replace(t, std::regex(R"((^|\n)#? *state_dir *=[^\n]*)"), "$1state_dir = \"" + dir_ + "/state\"");
   cfg_file_ = dir_ + "/soak.toml";
   std::ofstream(cfg_file_) << t;
   cfg_ = load_config(cfg_file_);
