@@ -36,16 +36,6 @@ bool idle_after_job(const json& s) { return s["state"] == "IDLE" && !s["job"]["a
 
 MachineConfig machine() { return load_config(default_config()); }
 
-// The rt's status read straight from the segment (while no host is there to ask).
-bool read_rt_status(const std::string& tag, Status& out) {
-  try {
-    HostSegment seg(test_shm_name(tag));
-    seg.shm().status.load(out);
-    return true;
-  } catch (const SegmentError&) {
-    return false;
-  }
-}
 
 // Program for the host-kill tests: long enough to be killed in the middle under either clock.
 std::string program_for(const std::string& dir, const std::string& clock) {

@@ -18,14 +18,8 @@ namespace {
 using namespace std::chrono_literals;
 
 MachineState rt_state(const std::string& tag) {
-  try {
-    HostSegment seg(test_shm_name(tag));
-    Status st;
-    seg.shm().status.load(st);
-    return st.state;
-  } catch (const SegmentError&) {
-    return MachineState::kStarting;
-  }
+  Status st;
+  return read_rt_status(tag, st) ? st.state : MachineState::kStarting;
 }
 
 TEST(OneHost, ASecondHostIsRefusedAndTheFirstOnesLossIsStillSeen) {

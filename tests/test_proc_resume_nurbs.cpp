@@ -26,15 +26,6 @@ using namespace std::chrono_literals;
 double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
 bool idle_after_job(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].get<bool>() && s["last_job"].is_object(); }
 
-bool read_rt_status(const std::string& tag, Status& out) {
-  try {
-    HostSegment seg(test_shm_name(tag));
-    seg.shm().status.load(out);
-    return true;
-  } catch (const SegmentError&) {
-    return false;
-  }
-}
 
 // Lines 1-3 lead in; the curve is lines 4-8 (G5.2 .. G5.3); line 9 leads out.
 constexpr int kCurveFirst = 4, kCurveLast = 9;

@@ -29,15 +29,6 @@ MachineConfig machine() { return load_config(default_config()); }
 double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
 bool attached_idle(const json& s) { return s["rt"]["state"] == "attached" && s["state"] == "IDLE"; }
 
-// The rt's status straight from the segment (also a stale one: a killed rt leaves it behind).
-bool read_rt_status(const std::string& tag, Status& out) {
-  try {
-    HostSegment seg(test_shm_name(tag));
-    return seg.shm().status.load(out, 1 << 16);
-  } catch (const SegmentError&) {
-    return false;
-  }
-}
 
 void expect_at(const json& s, const Vec3& where, const MachineConfig& m, const char* what) {
   for (int i = 0; i < 3; ++i) {

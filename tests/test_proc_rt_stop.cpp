@@ -28,22 +28,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// Ends a background process the test did not end itself (a failed assertion), never one it
-// reaped: wait_for() forgets the pid once it has the exit status.
-struct Reaped {
-  BackgroundProcess& p;
-  ~Reaped() {
-    if (p.pid > 0 && p.wait(0.0) < 0) {
-      kill(p.pid, SIGKILL);
-      p.wait(5.0);
-    }
-  }
-};
-int wait_for(BackgroundProcess& p, double timeout_s) {
-  const int code = p.wait(timeout_s);
-  if (code >= 0) p.pid = -1;
-  return code;
-}
 
 using Clock = std::chrono::steady_clock;
 
@@ -118,15 +102,6 @@ TraceEnd read_trace(const std::string& path, const MachineConfig& m) {
   return c;
 }
 
-// The rt's status straight from the segment.
-bool read_rt_status(const std::string& tag, Status& out) {
-  try {
-    HostSegment seg(test_shm_name(tag));
-    return seg.shm().status.load(out, 1 << 16);
-  } catch (const SegmentError&) {
-    return false;
-  }
-}
 
 // Polls the rt's status until `pred` holds (or timeout); returns whether it did.
 bool wait_rt(const std::string& tag, const std::function<bool(const Status&)>& pred, double timeout_s, Status& st) {

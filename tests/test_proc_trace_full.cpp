@@ -24,22 +24,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// Ends a background process the test did not end itself (a failed assertion), never one it
-// reaped: wait_for() forgets the pid once it has the exit status.
-struct Reaped {
-  BackgroundProcess& p;
-  ~Reaped() {
-    if (p.pid > 0 && p.wait(0.0) < 0) {
-      kill(p.pid, SIGKILL);
-      p.wait(5.0);
-    }
-  }
-};
-int wait_for(BackgroundProcess& p, double timeout_s) {
-  const int code = p.wait(timeout_s);
-  if (code >= 0) p.pid = -1;
-  return code;
-}
 
 
 TEST(TraceFull, PcncRunWithStopExitsOneNamingTheTraceAndTheProgramIsStopped) {

@@ -113,6 +113,15 @@ std::string write_program(const std::string& dir, const std::string& name, const
   return path;
 }
 
+bool read_rt_status(const std::string& tag, Status& out) {
+  try {
+    HostSegment seg(test_shm_name(tag));
+    return seg.shm().status.load(out, 1 << 16);
+  } catch (const SegmentError&) {
+    return false;
+  }
+}
+
 std::string zigzag_program(const std::string& dir, int rows, double width, double feed) {
   std::ostringstream p;
   p << "G21 G90 G17 G54\nG00 Z-1\nG00 X" << -width / 2 << " Y-8\n";

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ctl.hpp"
+#include "ipc/status.hpp"
 #include "subprocess.hpp"
 
 namespace pcnc::test {
@@ -63,6 +64,10 @@ std::string pcnc_exe();
 std::string write_program(const std::string& dir, const std::string& name, const std::string& text);
 /// A zig-zag of `rows` X strokes of `width` mm at F`feed` mm/min around program zero, ending at
 /// program X0 Y0 Z-1 (machine 12.5, 12.5, 24 with the default G54).
+/// The rt's status read straight from the segment of test `tag` (also a stale one: a killed
+/// rt leaves it behind); false when there is none.
+bool read_rt_status(const std::string& tag, Status& out);
+
 std::string zigzag_program(const std::string& dir, int rows, double width, double feed);
 
 }  // namespace pcnc::test

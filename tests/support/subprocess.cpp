@@ -146,6 +146,19 @@ int BackgroundProcess::wait(double timeout_s) {
   }
 }
 
+Reaped::~Reaped() {
+  if (p.pid > 0 && p.wait(0.0) < 0) {
+    kill(p.pid, SIGKILL);
+    p.wait(5.0);
+  }
+}
+
+int wait_for(BackgroundProcess& p, double timeout_s) {
+  const int code = p.wait(timeout_s);
+  if (code >= 0) p.pid = -1;
+  return code;
+}
+
 std::string BackgroundProcess::out() const { return read_file(out_path); }
 std::string BackgroundProcess::err() const { return read_file(err_path); }
 

@@ -31,6 +31,15 @@ struct BackgroundProcess {
 };
 BackgroundProcess start_process(const std::vector<std::string>& argv, const std::string& scratch_prefix);
 
+/// Ends a background process the test did not end itself (a failed assertion), never one it
+/// reaped: wait_for() forgets the pid once it has the exit status.
+struct Reaped {
+  BackgroundProcess& p;
+  ~Reaped();
+};
+/// BackgroundProcess::wait, forgetting the pid once the exit status is in.
+int wait_for(BackgroundProcess& p, double timeout_s);
+
 /// Writes a copy of configs/desktop-mill.toml into `dir` with a shared-memory name and socket
 /// path unique to this test process, plus `extra_replacements` (pairs of exact text, new text).
 /// Returns the file path.
