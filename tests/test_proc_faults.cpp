@@ -105,11 +105,7 @@ TEST_P(KillHost, RtHoldsOnThePathAndANewHostResumesTheProgram) {
   p.kill_host(SIGKILL);
 
   // The rt decelerates along the path and holds in HOST_LOST, without a fault.
-  Status st{};
-  for (int i = 0; i < 1000; ++i) {
-    if (read_rt_status(tag, st) && st.state == MachineState::kHostLost) break;
-    std::this_thread::sleep_for(5ms);
-  }
+  Status st = wait_rt_state(tag, MachineState::kHostLost);
   ASSERT_EQ(st.state, MachineState::kHostLost) << to_string(st.state);
   EXPECT_EQ(st.fault, FaultCode::kNone);
   EXPECT_EQ(st.path_speed, 0.0);

@@ -60,11 +60,7 @@ TEST(KillHostInNurbs, ANewHostResumesInsideTheCurveAndTheProgramCompletesWithout
       60);
   ASSERT_EQ(inside["state"], "RUNNING") << inside.dump();
   p.kill_host(SIGKILL);
-  Status st{};
-  for (int i = 0; i < 1000; ++i) {
-    if (read_rt_status(tag, st) && st.state == MachineState::kHostLost) break;
-    std::this_thread::sleep_for(5ms);
-  }
+  Status st = wait_rt_state(tag, MachineState::kHostLost);
   ASSERT_EQ(st.state, MachineState::kHostLost) << to_string(st.state);
   ASSERT_GE(st.line, static_cast<std::uint32_t>(kCurveFirst));
   ASSERT_LE(st.line, static_cast<std::uint32_t>(kCurveLast)) << "stopped inside the curve";

@@ -184,18 +184,27 @@ bool Soak::start_host() {
   return wait([](const json& s) { return s["rt"].is_object() && s["rt"]["state"] == "attached"; }, 15.0);
 }
 
-void Soak::fault_host_kill() {
+// kill -9 of one of the two processes, reaped at once: the fault's record with the machine
+// time at the kill, the rt's last status before it (read from the segment) and the wall
+// time of the kill (recovery times count from it).
+Fault Soak::kill_process(const char* kind, pid_t& pid, Status& before, Clock::time_point& killed_at) {
   Fault f;
-  f.kind = "kill -9 host";
+  f.kind = kind;
   f.trace = trace_index_;
-  Status st{};
-  read_segment(shm_, st);
-  f.t_kill = st.time_s;
-  const auto t0 = Clock::now();
-  kill(host_, SIGKILL);
+  read_segment(shm_, before);
+  f.t_kill = before.time_s;
+  killed_at = Clock::now();
+  kill(pid, SIGKILL);
   int w = 0;
-  waitpid(host_, &w, 0);
-  host_ = -1;
+  waitpid(pid, &w, 0);
+  pid = -1;
+  return f;
+}
+
+void Soak::fault_host_kill() {
+  Status st{};
+  Clock::time_point t0;
+  Fault f = kill_process("kill -9 host", host_, st, t0);
   bool lost = false;
   while (since(t0) < 5.0) {
     if (read_segment(shm_, st) && st.state == MachineState::kHostLost) {
@@ -284,17 +293,9 @@ void Soak::fault_override() {
 }
 
 void Soak::fault_rt_kill() {
-  Fault f;
-  f.kind = "kill -9 rt";
-  f.trace = trace_index_;
   Status before{};
-  read_segment(shm_, before);
-  f.t_kill = before.time_s;
-  const auto t0 = Clock::now();
-  kill(rt_, SIGKILL);
-  int w = 0;
-  waitpid(rt_, &w, 0);
-  rt_ = -1;
+  Clock::time_point t0;
+  Fault f = kill_process("kill -9 rt", rt_, before, t0);
   json s;
   if (wait([](const json& x) { return x["rt"].is_object() && x["rt"]["state"] != "attached"; }, 5.0, &s)) {
     f.to_lost_ms = 1000.0 * since(t0);

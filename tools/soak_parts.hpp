@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/types.h>
+
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -14,6 +16,7 @@
 
 #include "config/config.hpp"
 #include "ipc/block.hpp"
+#include "ipc/status.hpp"
 
 namespace pcnc::soak {
 
@@ -79,6 +82,7 @@ class Soak {
   void log(const std::string& text) { std::printf("[%7.1f s] %s\n", since(t0_), text.c_str()); std::fflush(stdout); }
 
   // faults; each returns false when the attempt ends with it (an rt kill)
+  Fault kill_process(const char* kind, pid_t& pid, Status& before, Clock::time_point& killed_at);
   void fault_host_kill();
   void fault_pause(bool jog);
   void fault_override();

@@ -122,6 +122,15 @@ bool read_rt_status(const std::string& tag, Status& out) {
   }
 }
 
+Status wait_rt_state(const std::string& tag, MachineState state, double timeout_s) {
+  Status st{};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (!(read_rt_status(tag, st) && st.state == state) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return st;
+}
+
 std::string zigzag_program(const std::string& dir, int rows, double width, double feed) {
   std::ostringstream p;
   p << "G21 G90 G17 G54\nG00 Z-1\nG00 X" << -width / 2 << " Y-8\n";

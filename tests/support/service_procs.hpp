@@ -67,6 +67,9 @@ std::string write_program(const std::string& dir, const std::string& name, const
 /// The rt's status read straight from the segment of test `tag` (also a stale one: a killed
 /// rt leaves it behind); false when there is none.
 bool read_rt_status(const std::string& tag, Status& out);
+/// Polls the segment of test `tag` until the rt's state is `state` (or `timeout_s` passes);
+/// returns the last status read (check its state).
+Status wait_rt_state(const std::string& tag, MachineState state, double timeout_s = 5.0);
 
 std::string zigzag_program(const std::string& dir, int rows, double width, double feed);
 
