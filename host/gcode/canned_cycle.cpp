@@ -196,9 +196,9 @@ CycleResult resolve(const CycleInput& in, const CannedCycleModal& modal, double 
     }
   }
   if (step_bound(c) > static_cast<double>(kMaxCycleSteps)) {
-    return failure(in.has_l ? 'L' : 0, g + " line would expand to about " + num(step_bound(c)) +
-                                           " steps; expected at most " + std::to_string(kMaxCycleSteps) +
-                                           " (fewer repeats L or a larger peck Q)");
+    const char letter = c.repeats > 1 ? 'L' : (uses_q(c.code10) ? 'Q' : 0);
+    return failure(letter, g + " line would expand to about " + num(step_bound(c)) + " steps; expected at most " +
+                               std::to_string(kMaxCycleSteps) + " (fewer repeats L or a larger peck Q)");
   }
   return CycleResult{};
 }
