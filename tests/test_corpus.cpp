@@ -109,8 +109,8 @@ TEST(Corpus, LinuxCncGoodArcsAccepted) {
 // ---- linuxcnc/interp/bad: rejected, with our own reason ----
 TEST(Corpus, LinuxCncBadRejectedWithOurReason) {
   const std::map<std::string, std::string> reason = {
-      {"a-in-canned-cycle.ngc", "canned cycles"},
-      {"a-in-canned-cycle2.ngc", "canned cycles"},
+      {"a-in-canned-cycle.ngc", "no A axis"},
+      {"a-in-canned-cycle2.ngc", "no A axis"},
       {"bad-arc.big.imperial.center-format.ngc", "radius to end of arc differs"},
       {"bad-arc.big.metric.center-format.ngc", "radius to end of arc differs"},
       {"bad-arc.medium.imperial.center-format.ngc", "radius to end of arc differs"},
@@ -121,14 +121,14 @@ TEST(Corpus, LinuxCncBadRejectedWithOurReason) {
       {"ccomp-gouging.ngc", "cutter radius compensation"},
       {"exists-1.ngc", "EXISTS"},
       {"exists-2.ngc", "EXISTS"},
-      {"exists-3.ngc", "parameters"},
+      {"exists-3.ngc", "EXISTS"},
       {"exists-4.ngc", "EXISTS"},
-      {"exists-5.ngc", "EXISTS"},
+      {"exists-5.ngc", "not closed"},
       {"exists-6.ngc", "EXISTS"},
       {"exists-7.ngc", "EXISTS"},
       {"g64-m19-r-ambiguous.ngc", "M19"},
       {"g64-r-on-g61.ngc", "R word with no G code"},
-      {"nested.ngc", "control flow"},
+      {"nested.ngc", "nested"},
       {"no-feed-rate.ngc", "no feed rate"},
       {"no-ijr.ngc", "I, J, K and R words all missing"},
       {"probe-no-axes.ngc", "probing"},
@@ -193,8 +193,6 @@ TEST(Corpus, OpcodeNegativeProgramsRejected) {
 TEST(Corpus, EveryCamProgramCheckedOrRejectedForAReason) {
   // Programs rejected on purpose, with the reason a user would read.
   const std::map<std::string, std::string> rejected = {
-      // PyCAM writes "#2=-1.5" and then "Z#2": parameters are outside our dialect.
-      {"camotics/tiny_cat_outline.ngc", "parameters ('#') are not supported"},
       // "G0 G53 Z-10" retracts to machine Z-10, below this machine's Z travel (0..25 mm);
       // a machine-coordinate move is never moved by --fit.
       {"linuxcnc-tp/Cereal.ngc", "Z -10.0000 mm (machine) is below the travel minimum"},

@@ -212,15 +212,21 @@ TEST(Interpreter, PercentDelimitsTheProgram) {
 }
 
 TEST(Interpreter, G28RetractIdiomGoesHome) {
+  // G28 goes to the stored G28 position, by default the config's home_mm; with axis words
+  // it passes the intermediate point first and moves only those axes.
   MachineConfig c = wide_config();
   c.axes[2].travel_max_mm = 30.0;
-  const auto r = run_program("G0 X5 Y5 Z1\nG28 G91 Z0\nG90\nG28 G91 X0 Y0\nM30\n", c);
+  c.axes[0].home_mm = 1.0;
+  c.axes[1].home_mm = 2.0;
+  c.axes[2].home_mm = 30.0;
+  const auto r = run_program("G0 X5 Y5 Z1\nG28 G91 Z0\nG90\nG28 G91 X0 Y0\nG90 G28 X7\nM30\n", c);
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
   const auto m = r.motion();
-  ASSERT_EQ(m.size(), 3u);
+  ASSERT_EQ(m.size(), 5u);
   expect_point(m[1].end, 5, 5, 30);
-  expect_point(m[2].end, -1000, -1000, 30);
-  EXPECT_TRUE(r.has_warning("G28"));
+  expect_point(m[2].end, 1, 2, 30);
+  expect_point(m[3].end, 7, 2, 30);  // the intermediate point in G90
+  expect_point(m[4].end, 1, 2, 30);
 }
 
 TEST(Interpreter, G53MovesInMachineCoordinates) {
@@ -265,13 +271,12 @@ INSTANTIATE_TEST_SUITE_P(Table, WarnedWords,
                          ::testing::Values(WarnCase{"S1000", "no spindle"}, WarnCase{"M3 S100", "no spindle"},
                                            WarnCase{"M4", "no spindle"}, WarnCase{"M5", "no spindle"},
                                            WarnCase{"M7", "no coolant"}, WarnCase{"M8", "no coolant"},
-                                           WarnCase{"M9", "no coolant"}, WarnCase{"T2 M6", "single-tool"},
-                                           WarnCase{"T1", "single-tool"}, WarnCase{"G40", "cutter compensation"},
-                                           WarnCase{"G49", "tool length"}, WarnCase{"G43 H1", "no tool length table"},
-                                           WarnCase{"G80", "canned cycle"}, WarnCase{"G61", "contouring off"},
+                                           WarnCase{"M9", "no coolant"}, WarnCase{"T2 M6", "tool change to T2"},
+                                           WarnCase{"T1", "no tool table"}, WarnCase{"G40", "cutter compensation"},
+                                           WarnCase{"G43 H1", "no tool table"}, WarnCase{"G61", "contouring off"},
                                            WarnCase{"G61.1", "contouring off"},
                                            WarnCase{"G64 P0.01 Q0.01", "contouring on"}, WarnCase{"G97", "no spindle"},
-                                           WarnCase{"/G0 X1", "block delete"}, WarnCase{"G80 G0 X1", "G80 ignored"},
+                                           WarnCase{"/G0 X1", "block delete"}, WarnCase{"G80 G0 X1", "motion code applies"},
                                            WarnCase{"G0 X10\nG2 X0 Y10 I-10 K0 F60", "normal axis"}));
 
 // ---- words and programs rejected ----
@@ -311,14 +316,14 @@ TEST_P(RejectedWords, RejectedWithLineColumnAndReason) {
 INSTANTIATE_TEST_SUITE_P(
     Table, RejectedWords,
     ::testing::Values(
-        RejectCase{"G81 X0 Y0 Z-1 R1 F10", "canned cycles", 1, "G81"},
-        RejectCase{"G83 X0 Y0 Z-1 R1 Q1 F10", "canned cycles", 1, "G83"},
+        RejectCase{"G84 X0 Y0 Z-1 R1 F10", "tapping", 1, "G84"},
+        RejectCase{"G83 X0 Y0 Z-1 R1 F10", "Q", 1, "G83"},
         RejectCase{"G41 D1", "cutter radius compensation", 1, "G41"},
         RejectCase{"G42.1 D1", "cutter radius compensation", 1, "G42"}, RejectCase{"G93", "inverse time", 1, "G93"},
-        RejectCase{"G95", "feed per revolution", 1, "G95"}, RejectCase{"G10 L2 P1 X0", "G10", 1, "G10"},
-        RejectCase{"G92 X0", "G92", 1, "G92"}, RejectCase{"G38.2 Z-1 F1", "probing", 1, "G38"},
-        RejectCase{"G33 Z-1 K1", "spindle-synchronized", 1, "G33"}, RejectCase{"G30", "G30", 1, "G30"},
-        RejectCase{"G90.1", "absolute arc centers", 1, "G90"}, RejectCase{"G59.1", "G59.1", 1, "G59"},
+        RejectCase{"G95", "feed per revolution", 1, "G95"}, RejectCase{"G10 L3 P1 X0", "L3 is not supported", 1, "L3"},
+        RejectCase{"G92", "without axis words", 1, "G92"}, RejectCase{"G38.2 Z-1 F1", "probing", 1, "G38"},
+        RejectCase{"G33 Z-1 K1", "spindle-synchronized", 1, "G33"}, RejectCase{"G10 L2 P1 R30 X0", "rotation", 1, "R30"},
+        RejectCase{"G90.1", "absolute arc centers", 1, "G90"}, RejectCase{"G43.2 H1", "G43.2", 1, "G43"},
         RejectCase{"G96 S100", "constant surface speed", 1, "G96"}, RejectCase{"G7", "lathe", 1, "G7"},
         RejectCase{"G5 X1 Y1 I1 J1 P1 Q1", "splines", 1, "G5 "},
         RejectCase{"G5.2 X0 Y0 P1 L3", "no feed rate", 1, "G5."},
@@ -340,14 +345,13 @@ INSTANTIATE_TEST_SUITE_P(
         RejectCase{"G0 X0 Y0\nG2 X10 Y0 I4 F100", "radius to end of arc differs", 2, "G2 "},
         RejectCase{"G17 G2 X1 Y1 K1 F1", "not an offset in the G17 plane", 1, "K1"},
         RejectCase{"G4", "G4 without P", 1, "G4"}, RejectCase{"G4 P-1", "negative dwell", 1, "P-1"},
-        RejectCase{"G28 X10", "G28 with an intermediate point", 1, "X10"},
-        RejectCase{"G91 G28 Z5", "nonzero intermediate", 1, "Z5"},
+        RejectCase{"G10 L2 P10 X1", "P0 (the active system) to P9", 1, "P10"},
         RejectCase{"G53 G2 X1 I1 F1", "G53 needs G0 or G1", 1, "G53"},
-        RejectCase{"G91 G53 G0 X1", "G53 in incremental", 1, "G53"}, RejectCase{"#1=5", "parameters", 1, "#1="},
-        RejectCase{"G0 X#1", "parameters", 1, "#1"}, RejectCase{"O100 sub", "control flow", 1, "O10"},
-        RejectCase{"o<foo> call", "named O-words", 1, "o<f"},
+        RejectCase{"G91 G53 G0 X1", "G53 in incremental", 1, "G53"}, RejectCase{"#1=[1/0]", "division by zero", 1, "/0]"},
+        RejectCase{"G0 X#<nowhere>", "not defined", 1, "#<n"}, RejectCase{"#5420=1", "read-only", 1, "#54"},
+        RejectCase{"o<foo> call", "unknown subroutine", 1, "o<f"}, RejectCase{"M99", "M99 outside", 1, "M99"},
+        RejectCase{"O100 endif", "without a matching if", 1, "O10"},
         RejectCase{"G0 X1 (unclosed", "comment not closed", 1, "(un"},
-        RejectCase{"G0 X1 (a (nested) )", "nested comment", 1, "(ne"},
         RejectCase{"G0 Xm", "expected a number after X", 1, "m"},
         RejectCase{"G0 X1.2.3", "two decimal points", 1, ".3"}, RejectCase{"G0 X[1/0]", "division by zero", 1, "/0]"},
         RejectCase{"G0 X[1+2", "expected ']'", 1, "$END"}, RejectCase{"G0 X1 $", "unexpected '$'", 1, "$"},
@@ -357,17 +361,17 @@ INSTANTIATE_TEST_SUITE_P(
         RejectCase{"G1.25 X1", "bad G number", 1, "G1."}));
 
 TEST(Interpreter, ErrorMessageFormatNamesFileLineColumn) {
-  const auto r = run_program("G0 X0\nG81 X1\n", wide_config());
+  const auto r = run_program("G0 X0\nG84 X1\n", wide_config());
   ASSERT_FALSE(r.check.ok);
   const std::string text = format_diagnostic(*r.first_error());
-  EXPECT_EQ(text.rfind("test.ngc:2:1: error: G81: canned cycles", 0), 0u) << text;
+  EXPECT_EQ(text.rfind("test.ngc:2:1: error: G84: tapping", 0), 0u) << text;
 }
 
 TEST(Interpreter, AnyErrorMeansNoBlocksAtAll) {
   // A valid first half and an error at the very end: nothing may be produced.
   std::string program;
   for (int i = 0; i < 100; ++i) program += "G0 X" + std::to_string(i) + "\n";
-  program += "G81\nM2\n";
+  program += "G84\nM2\n";
   const auto r = run_program(program, wide_config());
   EXPECT_FALSE(r.check.ok);
   EXPECT_TRUE(r.blocks.empty());

@@ -6,6 +6,7 @@
 #include <random>
 #include <string>
 
+#include "gcode/expression.hpp"
 #include "gcode/lexer.hpp"
 
 namespace pcnc {
@@ -98,13 +99,13 @@ INSTANTIATE_TEST_SUITE_P(
     Table, LexErrors,
     ::testing::Values(ErrorCase{"G1 X", "without a value", 4}, ErrorCase{"G1 X-", "without a value", 5},
                       ErrorCase{"X.", "without a value", 2}, ErrorCase{"X1..2", "two decimal points", 4},
-                      ErrorCase{"X#5", "parameters", 2}, ErrorCase{"#<a>=1", "parameters", 1},
-                      ErrorCase{"G1 (open", "not closed", 4}, ErrorCase{"(a(b))", "nested", 3},
+                      ErrorCase{"X#0", "out of range", 2}, ErrorCase{"#<a>", "without '='", 1},
+                      ErrorCase{"G1 (open", "not closed", 4}, ErrorCase{"X#<nobody>", "not defined", 2},
                       ErrorCase{"G1 *", "unexpected '*'", 4}, ErrorCase{"G1 \x01", "byte 0x01", 4},
                       ErrorCase{"X[1", "expected ']'", 4}, ErrorCase{"X[1/0]", "division by zero", 4},
-                      ErrorCase{"X[SQRT[-1]]", "SQRT of a negative", 3}, ErrorCase{"X[1 EQ 1]", "operator 'EQ'", 5},
-                      ErrorCase{"X[FOO[1]]", "unknown function", 3}, ErrorCase{"X[EXISTS[#1]]", "EXISTS", 3},
-                      ErrorCase{"X[ATAN[1]]", "ATAN needs two arguments", 10}, ErrorCase{"O1 call", "control flow", 1},
+                      ErrorCase{"X[SQRT[-1]]", "SQRT of a negative", 3}, ErrorCase{"X[1 FOO 1]", "operator 'FOO'", 5},
+                      ErrorCase{"X[FOO[1]]", "unknown function", 3}, ErrorCase{"X[EXISTS[#1]]", "EXISTS", 10},
+                      ErrorCase{"X[ATAN[1]]", "ATAN needs two arguments", 10}, ErrorCase{"O1 frob", "keyword", 4},
                       ErrorCase{"G1 O1", "O word after other words", 4}, ErrorCase{"[1]", "without a word letter", 1},
                       ErrorCase{"G1 % ", "unexpected '%'", 4}, ErrorCase{"G1 X1 Y", "without a value", 7},
                       ErrorCase{"X1000000000.5", "out of range", 1}, ErrorCase{"X[10**400]", "no finite number", 5},

@@ -36,7 +36,6 @@ std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 // Refused before anything moves, with this in the message (the same reasons test_corpus states).
 const std::map<std::string, std::string> kRefused = {
-    {"camotics/tiny_cat_outline.ngc", "parameters ('#') are not supported"},
     {"linuxcnc-tp/Cereal.ngc", "below the travel minimum"},  // G53 Z-10: outside this machine's Z travel
     {"linuxcnc-tp/Pasta.ngc", "below the travel minimum"},
 };

@@ -15,20 +15,36 @@ namespace pcnc {
 
 using namespace interp;
 
-Interpreter::Interpreter(const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink)
-    : config_(config), frame_(frame), sink_(sink) {
+Interpreter::Interpreter(const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink,
+                         ParameterStore& params)
+    : config_(config), frame_(frame), sink_(sink), params_(params) {
   if (!(frame_.scale > 0.0)) frame_.scale = 1.0;
   max_feed_mm_s_ = config.gcode.max_feed_mm_min > 0.0 ? config.gcode.max_feed_mm_min / 60.0 : 0.0;
   if (max_feed_mm_s_ <= 0.0) {
     for (const AxisConfig& a : config.axes) max_feed_mm_s_ = std::max(max_feed_mm_s_, a.max_velocity_mm_s);
   }
   q_ = to_job(frame_.start);
-  work_index_ = std::clamp(frame_.work_offset_index, 0, 5);
   contouring_ = frame_.contouring;
-}
-
-Vec3 Interpreter::home_position() const {
-  return {config_.axes[0].travel_min_mm, config_.axes[1].travel_min_mm, config_.axes[2].travel_max_mm};
+  // The offsets' parameters (mm), as the state file left them.
+  const WorkState w = frame_.work ? *frame_.work : default_work_state(config);
+  for (int k = 0; k < 9; ++k) {
+    for (int i = 0; i < 3; ++i) params_.at(5221 + 20 * k + i) = w.g5x[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)];
+  }
+  for (int i = 0; i < 3; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    params_.at(5161 + i) = w.g28[k];
+    params_.at(5181 + i) = w.g30[k];
+    params_.at(5211 + i) = w.g92[k];
+  }
+  params_.at(5210) = w.g92_applied ? 1.0 : 0.0;
+  if (w.g92_applied) g92_ = w.g92;
+  base_ = w.g5x[0];
+  if (frame_.tools) {
+    tools_ = *frame_.tools;
+    have_tools_ = true;
+  }
+  params_.set_system(this);
+  select_system(std::clamp(frame_.work_offset_index, 0, 8));
 }
 
 Move Interpreter::base_move(MoveKind kind, const ParsedLine& l, int column) const {
@@ -72,8 +88,14 @@ bool Interpreter::check_words(const ParsedLine& l) {
   const int normal = plane_word == 180 ? 1 : plane_word == 190 ? 0 : plane_word == 170 ? 2 : normal_axis_;
 
   std::uint32_t allowed = bit('N') | bit('F') | bit('S') | bit('T');
-  if (nonmodal == 280 || is_straight(motion) || is_arc(motion)) allowed |= kAxisBits;
-  if (is_arc(motion) && nonmodal != 280) {
+  if (nonmodal == 280 || nonmodal == 300 || is_straight(motion) || is_arc(motion)) allowed |= kAxisBits;
+  if (nonmodal == 100) allowed |= kAxisBits | bit('L') | bit('P') | bit('R');
+  if (nonmodal == 520 || nonmodal == 920) allowed |= kAxisBits;
+  if (l.g[kGToolLength] == 431) allowed |= kAxisBits;
+  const bool other_axes = nonmodal == 280 || nonmodal == 300 || nonmodal == 100 || nonmodal == 520 || nonmodal == 920;
+  if (is_cycle(motion) && !other_axes) allowed |= kAxisBits | bit('R') | bit('L') | bit('P') | bit('Q');
+  if (l.m[kMSubprogram] == 98) allowed |= bit('P') | bit('L');
+  if (is_arc(motion) && nonmodal != 280 && nonmodal != 300) {
     const auto pa = plane_axes(normal);
     allowed |= bit(center_letter(pa[0])) | bit(center_letter(pa[1])) | bit('R');
     // A center offset along the normal axis is meaningless; FreeCAD writes it as 0 (K0 on G17).
@@ -89,7 +111,8 @@ bool Interpreter::check_words(const ParsedLine& l) {
   if (motion == 52) allowed |= kAxisBits | bit('P') | bit('L');
   if (motion == 62) allowed |= kAxisBits | bit('P') | bit('K') | bit('R');
   if (nonmodal == 40 || l.g[kGPathControl] == 640) allowed |= bit('P');
-  if (l.g[kGPathControl] == 640 || l.m[kMToolChange] == 61) allowed |= bit('Q');
+  if (l.m[kMToolChange] == 61) allowed |= bit('Q');
+  if (l.g[kGPathControl] == 640) allowed |= bit('P') | bit('Q');
   if (l.g[kGToolLength] == 430) allowed |= bit('H');
 
   const std::uint32_t extra = l.present & ~allowed;
@@ -144,6 +167,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
 
 bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if (l.empty) return true;
+  last_line_ = l.line;
   // Inside an open NURBS group every line is a control point, a knot or its end.
   if (nurbs_.open) return nurbs_line(l, out);
   const int motion_word = l.g[kGMotion];
@@ -161,14 +185,6 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if (l.has('S'))
     warn(l, l.column('S'), "S",
          [&] { return std::string("S" + num(l.get('S')) + " ignored: the machine has no spindle"); });
-  if (l.has('T'))
-    warn(l, l.column('T'), "T",
-         [&] { return std::string("T" + num(l.get('T')) + " ignored: single-tool machine (no tool changer)"); });
-  if (l.m[kMToolChange] >= 0) {
-    warn(l, l.m_col[kMToolChange], "M6", [&] {
-      return std::string("M" + std::to_string(l.m[kMToolChange]) + " (tool change) ignored: single-tool machine");
-    });
-  }
   if (l.m[kMSpindle] >= 0) {
     warn(l, l.m_col[kMSpindle], "spindle",
          [&] { return std::string("M" + std::to_string(l.m[kMSpindle]) + " ignored: the machine has no spindle"); });
@@ -195,16 +211,15 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     warn(l, l.g_col[kGCutterComp], "G40",
          [&] { return std::string("G40 ignored: cutter compensation is never active on this machine"); });
   }
-  if (l.g[kGToolLength] == 490) {
-    warn(l, l.g_col[kGToolLength], "G49",
-         [&] { return std::string("G49 ignored: no tool length offset is ever active on this machine"); });
-  } else if (l.g[kGToolLength] == 430) {
-    warn(l, l.g_col[kGToolLength], "G43", [&] {
-      return std::string("G43" + (l.has('H') ? " H" + num(l.get('H')) : std::string()) +
-                         " ignored: the machine has no tool length table, the tool length offset stays 0");
-    });
+  // T, M6, M61 and the tool length offset (after the units: G43.1's words are in them).
+  if (!tool_words(l)) {
+    out.count = first;
+    return false;
   }
-  if (l.g[kGCoordSystem] >= 0) work_index_ = (l.g[kGCoordSystem] - 540) / 10;
+  if (l.g[kGCoordSystem] >= 0) {
+    const int c = l.g[kGCoordSystem];
+    select_system(c <= 590 ? (c - 540) / 10 : 6 + (c - 591));
+  }
   if (l.g[kGPathControl] >= 0) {
     const int c = l.g[kGPathControl];
     const bool on = c == 640;
@@ -219,28 +234,28 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     });
   }
   if (l.g[kGDistance] >= 0) incremental_ = l.g[kGDistance] == 910;
+  if (l.g[kGCannedReturn] >= 0) retract_r_ = l.g[kGCannedReturn] == 990;
   if (l.g[kGSpindleMode] == 970)
     warn(l, l.g_col[kGSpindleMode], "G97", [&] { return std::string("G97 ignored: the machine has no spindle"); });
 
   if (l.g80_col > 0)
-    warn(l, l.g80_col, "G80",
-         [&] { return std::string("G80 ignored: no canned cycle is ever active on this machine"); });
-  if (motion_word >= 0) {
-    if (motion_word == 800) {
-      warn(l, l.g_col[kGMotion], "G80",
-           [&] { return std::string("G80 ignored: no canned cycle is ever active on this machine"); });
-      motion_ = -1;
-    } else {
-      motion_ = motion_word;
-    }
-  }
+    warn(l, l.g80_col, "G80", [&] { return std::string("G80 next to a motion code: the motion code applies"); });
+  const int previous_motion = motion_;
+  if (motion_word >= 0) motion_ = motion_word == 800 ? -1 : motion_word;
+  if (motion_word >= 0 && !is_cycle(motion_word)) cycle_.end_series();  // G0-G3, G80: the series ends
   bool ok = true;
-  if (nonmodal == 280) {
-    if (motion_word >= 0 && !is_straight(motion_word) && motion_word != 800) {
-      return fail(l, l.g_col[kGMotion],
-                  "G28 and " + g_name(motion_word) + " both use the axis words; expected them on separate lines");
-    }
+  const bool uses_axes = nonmodal == 280 || nonmodal == 300 || nonmodal == 100 || nonmodal == 520 || nonmodal == 920;
+  if (uses_axes && motion_word >= 0 && motion_word != 800 && axis_words(l)) {
+    return fail(l, l.g_col[kGMotion],
+                g_name(nonmodal) + " and " + g_name(motion_word) +
+                    " both use the axis words; expected them on separate lines");
+  }
+  if (nonmodal == 280 || nonmodal == 300 || nonmodal == 281 || nonmodal == 301) {
     ok = home(l, out);
+  } else if (nonmodal == 100) {
+    ok = set_offsets(l);
+  } else if (nonmodal == 520 || (nonmodal >= 920 && nonmodal <= 923)) {
+    ok = axis_offset(l);
   } else if (nonmodal == 530) {
     if (!is_straight(motion_))
       return fail(l, l.g_col[kGNonModal], "G53 needs G0 or G1 in effect; expected G53 G0 or G53 G1");
@@ -253,8 +268,8 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     ok = straight(l, motion_, false, out);
   } else if (is_arc(motion_) && (axis_words(l) || (l.present & (bit('I') | bit('J') | bit('K') | bit('R'))) != 0)) {
     ok = arc(l, motion_, out);
-  } else if (motion_word == 10 && !axis_words(l) && feed_ <= 0.0 && !l.has('F')) {
-    // "G1" alone only selects the mode; the feed is checked at the first G1 move.
+  } else if (is_cycle(motion_) && axis_words(l)) {
+    ok = cycle(l, motion_, previous_motion != motion_, out);
   }
   if (!ok) {
     out.count = first;
@@ -268,6 +283,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     out.push(m);
   } else if (stop == 2 || stop == 30) {
     out.push(base_move(MoveKind::kEnd, l, l.m_col[kMStop]));
+    select_system(0);  // M2/M30: back to G54, as LinuxCNC does
     ended_ = true;
   }
   return true;

@@ -1,22 +1,33 @@
 // interpreter.hpp — third stage of the G-code front end: the modal state machine.
 //
 // Executes parsed lines in RS274 order (feed, spindle/coolant/tool words, dwell, plane, units,
-// offsets, path control, distance mode, motion, stop) and emits Moves in machine millimetres.
-// Every word is executed, accepted with a warning (no meaning on this machine) or rejected with
-// an error naming the word; docs/gcode.md is the list. The interpreter holds O(1) state, so it
-// streams programs of any length; the one exception is an open NURBS group (G5.2 ... G5.3,
-// G6.2 ... closing knots), whose control points it collects (at most kMaxNurbsCurvePoints)
-// until the curve is complete and handed on as one Move.
+// tool length, coordinate system, path control, distance mode, retract mode, G10/G28/G30/
+// G52/G92, motion and canned cycles, stop) and emits Moves in machine millimetres. Every word
+// is executed, accepted with a warning (no meaning on this machine) or rejected with an error
+// naming the word; docs/gcode.md is the list. The offsets live where LinuxCNC keeps them, in
+// the numbered parameters (#5161-#5390, always in mm): machine = program point + G5x offset +
+// G92/G52 offset + tool length offset, then the job's --fit scale. The interpreter holds O(1)
+// state, so it streams programs of any length; the one exception is an open NURBS group
+// (G5.2 ... G5.3, G6.2 ... closing knots), whose control points it collects (at most
+// kMaxNurbsCurvePoints) until the curve is complete and handed on as one Move.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include <memory>
+#include <optional>
+#include <string_view>
+
 #include "config/config.hpp"
+#include "config/work_state.hpp"
+#include "gcode/canned_cycle.hpp"
 #include "gcode/diagnostics.hpp"
 #include "gcode/move.hpp"
+#include "gcode/parameters.hpp"
 #include "gcode/parser.hpp"
+#include "gcode/tool_table.hpp"
 
 namespace pcnc {
 
@@ -26,24 +37,34 @@ namespace pcnc {
 struct JobFrame {
   Vec3 offset{};
   double scale = 1.0;
-  int work_offset_index = 0;  // initial G54..G59 selection
+  int work_offset_index = 0;  // initial G54..G59.3 selection (0..8)
   Vec3 start{};               // machine position before the first move
   bool contouring = false;    // initial M21/M22 state
+  // Offsets, G92 and the stored G28/G30 positions at the start (the state file's; g5x[0] is
+  // the G54 that `offset` was made from). Unset: the config's defaults.
+  std::optional<WorkState> work;
+  std::shared_ptr<const ToolTable> tools;  // null: no tool table (tools have length 0)
 };
 
+/// The moves one line makes (a canned cycle with repeats makes many); reused line after line.
 struct MoveList {
-  static constexpr int kCapacity = 4;  // dwell, motion, stop
-  Move moves[kCapacity];
+  static constexpr int kMaxPerLine = 100000;
+  std::vector<Move> moves;
   int count = 0;
   void clear() { count = 0; }
   void push(const Move& m) {
-    if (count < kCapacity) moves[count++] = m;
+    if (count < static_cast<int>(moves.size())) {
+      moves[static_cast<std::size_t>(count)] = m;
+    } else {
+      moves.push_back(m);
+    }
+    ++count;
   }
 };
 
-class Interpreter {
+class Interpreter : public SystemParameters {
  public:
-  Interpreter(const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink);
+  Interpreter(const MachineConfig& config, const JobFrame& frame, DiagnosticSink& sink, ParameterStore& params);
 
   /// Executes one line; appends its moves to `out`. On an error (reported to the sink) the line
   /// produces no moves. Returns false on error.
@@ -59,9 +80,14 @@ class Interpreter {
   Vec3 position() const { return to_machine(q_); }
   /// Machine maximum path feed, mm/s (config max_feed_mm_min, else the fastest axis).
   double max_feed_mm_s() const { return max_feed_mm_s_; }
-  /// The home position G28 moves to (machine coordinates): X and Y at their travel minimum,
-  /// Z at the top of its travel.
-  Vec3 home_position() const;
+  /// The work state now (offsets, G92, G28/G30 positions in mm), for the state file.
+  WorkState work_state() const;
+  /// A program's '#n=' (numbered parameters; the offsets' parameters included).
+  bool write_parameter(int number, double value, std::string& why);
+
+  // SystemParameters: #5400-#5428 and #<_x>, #<_metric>, ...
+  bool numbered(int number, double& value) const override;
+  bool named(std::string_view name, double& value) const override;
 
  private:
   bool check_words(const ParsedLine& l);
@@ -74,7 +100,16 @@ class Interpreter {
   void nurbs_abandon();
   bool straight(const ParsedLine& l, int motion, bool g53, MoveList& out);
   bool arc(const ParsedLine& l, int motion, MoveList& out);
-  bool home(const ParsedLine& l, MoveList& out);
+  bool home(const ParsedLine& l, MoveList& out);  // G28/G30 and their .1 forms
+  bool set_offsets(const ParsedLine& l);   // G10 L1/L2/L10/L11/L20
+  bool axis_offset(const ParsedLine& l);   // G52, G92, G92.1-G92.3
+  bool tool_words(const ParsedLine& l);    // T, M6, M61, G43/G43.1/G49
+  bool cycle(const ParsedLine& l, int motion, bool first_of_series, MoveList& out);
+  void select_system(int index);           // makes g5x_ the offset of system index (0..8)
+  void update_origin();                    // origin_ from g5x_, g92_, tlo_
+  Vec3 program_point() const;              // the current point in program coordinates (mm)
+  Vec3 param_vec(int base) const;          // #base..#base+2 (mm)
+  void set_param_vec(int base, const Vec3& v_mm);
   bool feed_for_move(const ParsedLine& l, int column, double& feed_mm_s);
   Vec3 axis_target(const ParsedLine& l, const Vec3& from, std::uint8_t& known, int& first_col) const;
   Vec3 to_machine(const Vec3& q) const { return frame_.scale * q + frame_.offset; }
@@ -98,7 +133,24 @@ class Interpreter {
   const MachineConfig& config_;
   JobFrame frame_;
   DiagnosticSink& sink_;
+  ParameterStore& params_;
   double max_feed_mm_s_ = 0.0;
+
+  // offsets (mm): machine (before the --fit scale) = program point + g5x_ + g92_ + tlo_;
+  // the job frame is relative to base_ (the G54 offset the frame was made from)
+  Vec3 g5x_{};
+  Vec3 g92_{};
+  Vec3 tlo_{};
+  Vec3 base_{};
+  Vec3 origin_{};  // g5x_ + g92_ + tlo_ - base_
+  ToolTable tools_;
+  bool have_tools_ = false;
+  int tool_ = 0;            // in the spindle (M6/M61)
+  int selected_tool_ = -1;  // T, -1 = none
+  bool tool_offset_on_ = false;
+  bool retract_r_ = false;  // G99 (else G98)
+  CannedCycleModal cycle_{};
+  int last_line_ = 0;
 
   // modal state
   Vec3 q_{};                  // current point, job frame (mm)

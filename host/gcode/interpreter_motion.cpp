@@ -1,6 +1,6 @@
-// interpreter_motion.cpp — straight moves (G0/G1, G53) and the G28 retract: the axis words
-// of a line in the program's units (G20/G21), distance mode (G90/G91) and work offset
-// (G54-G59), turned into machine millimetres; and the feed a move runs at.
+// interpreter_motion.cpp — straight moves (G0/G1, G53): the axis words of a line in the
+// program's units (G20/G21), distance mode (G90/G91) and offsets (G54-G59.3, G92/G52, tool
+// length), turned into machine millimetres; and the feed a move runs at.
 #include <string>
 
 #include "gcode/interpreter.hpp"
@@ -35,11 +35,11 @@ bool Interpreter::feed_for_move(const ParsedLine& l, int column, double& feed_mm
 
 // The program point (job frame, mm) the X/Y/Z words of `l` name, starting from `from` (an
 // axis not written keeps its value): the program's units (G20/G21), distance mode (G90/G91)
-// and work offset (G54-G59, relative to G54). Axes written in G90 become known; first_col is
+// and offsets (origin_: the G5x, G92/G52 and tool offsets, relative to G54). Axes written in G90 become known; first_col is
 // the column of the first axis word (0: none).
 Vec3 Interpreter::axis_target(const ParsedLine& l, const Vec3& from, std::uint8_t& known, int& first_col) const {
   const double u = inches_ ? kInch : 1.0;
-  const Vec3 wofs = config_.gcode.work_offsets[static_cast<std::size_t>(work_index_)] - config_.gcode.work_offsets[0];
+  const Vec3& wofs = origin_;
   Vec3 q = from;
   first_col = 0;
   for (int i = 0; i < kAxes; ++i) {
@@ -94,44 +94,6 @@ bool Interpreter::straight(const ParsedLine& l, int motion, bool g53, MoveList& 
   q_ = q;
   known_ = known;
   out.push(m);  // even with no displacement: under --fit the same line may move (the stream skips it)
-  return true;
-}
-
-bool Interpreter::home(const ParsedLine& l, MoveList& out) {
-  const int col = l.g_col[kGNonModal];
-  std::uint8_t axes = 0;
-  for (int i = 0; i < kAxes; ++i) {
-    const char c = static_cast<char>('X' + i);
-    if (!l.has(c)) continue;
-    if (!incremental_) {
-      return fail(l, l.column(c),
-                  "G28 with an intermediate point in G90 is not supported; expected the CAM retract form G28 G91 Z0");
-    }
-    if (l.get(c) != 0.0) {
-      return fail(l, l.column(c),
-                  "G28 with a nonzero intermediate move is not supported; expected the CAM retract form G28 G91 Z0");
-    }
-    axes = static_cast<std::uint8_t>(axes | (1u << i));
-  }
-  if (axes == 0) axes = 7;  // G28 alone: every axis
-  const Vec3 home = home_position();
-  Move m = base_move(MoveKind::kRapid, l, col);
-  std::string what;
-  for (int i = 0; i < kAxes; ++i) {
-    if (!((axes >> i) & 1u)) continue;
-    m.end[static_cast<std::size_t>(i)] = home[static_cast<std::size_t>(i)];
-    q_[static_cast<std::size_t>(i)] =
-        (home[static_cast<std::size_t>(i)] - frame_.offset[static_cast<std::size_t>(i)]) / frame_.scale;
-    what += std::string(what.empty() ? "" : " ") + axis_name(i) + num(home[static_cast<std::size_t>(i)]);
-  }
-  known_ = static_cast<std::uint8_t>(known_ | axes);
-  m.known = known_;
-  m.machine_frame = true;
-  warn(l, col, "G28" + what, [&] {
-    return std::string("G28: rapid to the home position " + what +
-                       " (machine coordinates; Z home is the top of its travel)");
-  });
-  out.push(m);
   return true;
 }
 

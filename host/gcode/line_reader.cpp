@@ -50,7 +50,23 @@ LineReader::LineReader(const std::string& path) {
   buf_.resize(kChunk + kMaxLine);
 }
 
-LineReader::LineReader(FromText, std::string_view text) : text_(text), from_text_(true), total_(text.size()) {}
+LineReader::LineReader(FromText, std::string_view text)
+    : text_(text), full_text_(text), from_text_(true), total_(text.size()) {}
+
+bool LineReader::seek(const Position& pos) {
+  if (pos.offset > total_ && from_text_) return false;
+  skipping_ = false;
+  line_no_ = pos.line;
+  consumed_ = pos.offset;
+  if (from_text_) {
+    text_ = full_text_.substr(static_cast<std::size_t>(pos.offset));
+    return true;
+  }
+  if (::lseek(fd_, static_cast<off_t>(pos.offset), SEEK_SET) < 0) return false;
+  begin_ = end_ = 0;
+  eof_ = false;
+  return true;
+}
 
 LineReader::~LineReader() {
   if (fd_ >= 0) ::close(fd_);

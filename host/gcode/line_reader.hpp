@@ -36,6 +36,17 @@ class LineReader {
   /// Next line; false at end of input. `too_long` is set when the line was cut at kMaxLine.
   bool next(std::string_view& line, bool& too_long);
 
+  /// Where the next line starts: saved by the control flow (a loop's head, a subroutine's
+  /// body, a call's return) and given back to seek().
+  struct Position {
+    std::uint64_t offset = 0;  // bytes from the start of the input
+    std::uint64_t line = 0;    // the number of the line before it
+  };
+  Position tell() const { return {consumed_, line_no_}; }
+  /// Goes back (or forward) to a position tell() gave. False when the input cannot be read
+  /// there (the file shrank, a read error).
+  bool seek(const Position& pos);
+
   std::uint64_t line_number() const { return line_no_; }  // of the line last returned
   std::uint64_t bytes_read() const { return consumed_; }
   std::uint64_t total_bytes() const { return total_; }
@@ -49,6 +60,7 @@ class LineReader {
   bool eof_ = false;
   bool skipping_ = false;  // discarding the rest of an over-long line
   std::string_view text_;
+  std::string_view full_text_;
   bool from_text_ = false;
   std::uint64_t line_no_ = 0;
   std::uint64_t consumed_ = 0;

@@ -61,6 +61,15 @@ class Pipeline {
   /// without making blocks: the --fit measuring pass, or the rest of a failed program.
   void drain();
 
+  /// The moves as they leave the front end (interpreter, then cutter compensation when it
+  /// exists), before the preflight: `pcnc check --print-moves`. False after the End move.
+  /// Not to be mixed with next()/drain() on one pipeline.
+  bool front_end_move(Move& m) { return geometry_move(m); }
+  /// Message comments ((MSG,...), (DEBUG,...), (PRINT,...)) as their lines run.
+  void set_message_handler(MessageHandler handler) { source_.set_message_handler(std::move(handler)); }
+  /// The offsets and stored positions as the program has left them so far.
+  WorkState work_state() const { return source_.interpreter().work_state(); }
+
   bool failed() const { return sink_.has_errors(); }
   const Preflight& preflight() const { return preflight_; }
   const LineReader& reader() const { return *reader_; }

@@ -38,11 +38,20 @@ Vec3 clamp_to_travel(const Vec3& p, const MachineConfig& c) {
   return r;
 }
 
+// The work state a job starts from: the state file's (or the config's), --offset as its G54.
+WorkState start_work(const MachineConfig& config, const JobOptions& options) {
+  WorkState w = options.work ? *options.work : default_work_state(config);
+  if (options.offset) w.g5x[0] = *options.offset;
+  return w;
+}
+
 JobFrame make_frame(const MachineConfig& config, const JobOptions& options, const Transform& t) {
   JobFrame f;
+  f.work = start_work(config, options);
+  f.tools = options.tools;
   f.offset = t.offset;
   f.scale = t.scale;
-  f.work_offset_index = std::clamp(options.work_offset_index, 0, 5);
+  f.work_offset_index = std::clamp(options.work_offset_index, 0, 8);
   f.start = options.start_position ? *options.start_position : clamp_to_travel(t.offset, config);
   f.contouring = options.contouring ? *options.contouring : config.motion.contouring_default;
   return f;
@@ -102,7 +111,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
   DiagnosticSink sink(name);
   try {
     Transform t;
-    t.offset = options.offset ? *options.offset : config.gcode.work_offsets[0];
+    t.offset = start_work(config, options).g5x[0];
     if (options.fit) {
       t = fit_transform(in, name, config, options, t);
       if (options.offset)
@@ -170,6 +179,67 @@ CheckResult check_program_text(std::string_view text, const std::string& name, c
   Input in;
   in.text = text;
   return check_input(in, name, config, options, &on_block);
+}
+
+namespace {
+
+MoveListing list_input(const Input& in, const std::string& name, const MachineConfig& config, const JobOptions& options,
+                       const std::function<void(const Move&)>& on_move, const MessageHandler& on_message) {
+  MoveListing result;
+  DiagnosticSink sink(name);
+  try {
+    Transform t;
+    t.offset = start_work(config, options).g5x[0];
+    Pipeline pipeline(in.open(), config, make_frame(config, options, t), sink, false);
+    pipeline.set_message_handler(on_message);
+    Move m;
+    while (pipeline.front_end_move(m)) {
+      ++result.moves;
+      if (on_move) on_move(m);
+    }
+    result.lines = pipeline.lines();
+    result.work = pipeline.work_state();
+  } catch (const std::exception& e) {
+    sink.error(0, 0, e.what());
+  }
+  result.ok = !sink.has_errors();
+  result.diagnostics = sink.take();
+  return result;
+}
+
+}  // namespace
+
+MoveListing list_moves(const std::string& path, const MachineConfig& config, const JobOptions& options,
+                       const std::function<void(const Move&)>& on_move, const MessageHandler& on_message) {
+  Input in;
+  in.path = &path;
+  return list_input(in, path, config, options, on_move, on_message);
+}
+
+MoveListing list_moves_text(std::string_view text, const std::string& name, const MachineConfig& config,
+                            const JobOptions& options, const std::function<void(const Move&)>& on_move,
+                            const MessageHandler& on_message) {
+  Input in;
+  in.text = text;
+  return list_input(in, name, config, options, on_move, on_message);
+}
+
+std::string format_move(const Move& m) {
+  const char* kind = nullptr;
+  switch (m.kind) {
+    case MoveKind::kRapid: kind = "rapid"; break;
+    case MoveKind::kLine: kind = "line"; break;
+    case MoveKind::kArc: kind = "arc"; break;
+    case MoveKind::kNurbs: kind = "nurbs"; break;
+    case MoveKind::kDwell: kind = "dwell"; break;
+    case MoveKind::kPause:
+    case MoveKind::kEnd: return {};
+  }
+  auto c = [](double v) { return std::fabs(v) < 5e-7 ? 0.0 : v; };
+  char buf[256];
+  const int n = std::snprintf(buf, sizeof buf, "L%d %s (%.6f,%.6f,%.6f)->(%.6f,%.6f,%.6f)", m.line, kind, c(m.start[0]),
+                              c(m.start[1]), c(m.start[2]), c(m.end[0]), c(m.end[1]), c(m.end[2]));
+  return std::string(buf, n > 0 ? std::min<std::size_t>(static_cast<std::size_t>(n), sizeof buf - 1) : 0);
 }
 
 struct BlockStream::Impl {

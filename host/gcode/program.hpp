@@ -15,7 +15,11 @@
 
 #include "ipc/block.hpp"
 #include "config/config.hpp"
+#include "config/work_state.hpp"
 #include "gcode/diagnostics.hpp"
+#include "gcode/move.hpp"
+#include "gcode/move_source.hpp"
+#include "gcode/tool_table.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -28,6 +32,10 @@ struct JobOptions {
   // Machine position before the first move (the launcher passes the rt's actual position).
   // Default: program zero (the G54 point after --offset/--fit) clamped into the travel.
   std::optional<Vec3> start_position;
+  // The work offsets, G92 and G28/G30 positions at the start (the state file's); unset: the
+  // config's. --offset replaces its G54.
+  std::optional<WorkState> work;
+  std::shared_ptr<const ToolTable> tools;  // --tool-table / gcode.tool_table; null: none
 };
 
 struct Transform {
@@ -103,5 +111,29 @@ class BlockStream {
 
 /// The stable one-line text form used by `pcnc check --print-blocks` and the golden tests.
 std::string format_block(const Block& b);
+
+/// `pcnc check --print-moves`: the program through the front end only (lexer, control flow,
+/// interpreter and, once it exists, cutter compensation), each move handed to `on_move` and
+/// each message comment to `on_message` in program order. The travel and the blocks are not
+/// checked (that is check_program's), as LinuxCNC's interpreter does not: ok means the
+/// program is valid G-code. The work state after the program (G10, G92, G28.1...) is returned
+/// in `work` for a caller that keeps it.
+struct MoveListing {
+  std::vector<Diagnostic> diagnostics;
+  bool ok = false;
+  std::uint64_t lines = 0;
+  std::uint64_t moves = 0;
+  WorkState work;
+};
+MoveListing list_moves(const std::string& path, const MachineConfig& config, const JobOptions& options,
+                       const std::function<void(const Move&)>& on_move, const MessageHandler& on_message);
+MoveListing list_moves_text(std::string_view text, const std::string& name, const MachineConfig& config,
+                            const JobOptions& options, const std::function<void(const Move&)>& on_move,
+                            const MessageHandler& on_message);
+
+/// The one-line form of a move for --print-moves: "L<line> <kind> (x,y,z)->(x,y,z)", machine
+/// mm with six decimals. Kinds: rapid, line, arc, nurbs, dwell. Pauses and the end are not
+/// moves (empty string).
+std::string format_move(const Move& m);
 
 }  // namespace pcnc

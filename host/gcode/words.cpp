@@ -7,11 +7,9 @@
 namespace pcnc {
 namespace {
 
-constexpr const char* kCanned =
-    "canned cycles are not supported; expected the CAM post-processor to write drilling as G0/G1 moves";
-constexpr const char* kProgramOffsets =
-    "coordinate offsets from the program (G52/G92) are not supported; expected G54-G59 (offsets from the config), "
-    "--offset or the control socket";
+constexpr const char* kTapping =
+    "tapping and boring cycles with the spindle (G74, G76, G84, G86-G88) are not supported: the machine has no "
+    "spindle; expected G73, G81-G83, G85 or G89";
 constexpr const char* kCutterComp =
     "cutter radius compensation (G41/G42) is not supported; expected a tool path already offset by the CAM system";
 
@@ -20,16 +18,12 @@ constexpr const char* kCutterComp =
 constexpr CodeInfo kGCodes[] = {
     // non-modal
     {40, 40, 1, kGNonModal, nullptr},  // G4 dwell
-    {100, 100, 1, kGNonModal,
-     "setting offsets or tool data from the program (G10) is not supported; expected offsets in the config, "
-     "--offset or the control socket"},
-    {280, 280, 1, kGNonModal, nullptr},  // G28 home (the retract form)
-    {281, 301, 20, kGNonModal,
-     "storing a home position (G28.1/G30.1) is not supported; expected G28 G91 Z0 for a safe retract"},
-    {300, 300, 1, kGNonModal, "a second home position (G30) is not supported; expected G28 G91 Z0 for a safe retract"},
-    {520, 520, 1, kGNonModal, kProgramOffsets},
+    {100, 100, 1, kGNonModal, nullptr},  // G10 L1/L2/L10/L11/L20
+    {280, 281, 1, kGNonModal, nullptr},  // G28, G28.1
+    {300, 301, 1, kGNonModal, nullptr},  // G30, G30.1
+    {520, 520, 1, kGNonModal, nullptr},  // G52 local offset
     {530, 530, 1, kGNonModal, nullptr},  // G53 machine coordinates
-    {920, 923, 1, kGNonModal, kProgramOffsets},
+    {920, 923, 1, kGNonModal, nullptr},  // G92, G92.1, G92.2, G92.3
     // motion
     {0, 30, 10, kGMotion, nullptr},  // G0 rapid, G1 line, G2/G3 arcs
     {50, 51, 1, kGMotion, "cubic and quadratic splines (G5/G5.1) are not supported; expected G1/G2/G3 moves"},
@@ -38,10 +32,15 @@ constexpr CodeInfo kGCodes[] = {
     {330, 331, 1, kGMotion,
      "spindle-synchronized motion (G33) is not supported: the machine has no spindle; expected G0/G1/G2/G3 moves"},
     {382, 385, 1, kGMotion, "probing (G38.x) is not supported: the machine has no probe; expected G0/G1/G2/G3 moves"},
-    {730, 740, 10, kGMotion, kCanned},  // G73 G74
-    {760, 760, 1, kGMotion, kCanned},
-    {800, 800, 1, kGMotion, nullptr},    // G80: no canned cycle is ever active (warned)
-    {810, 890, 10, kGMotion, kCanned},  // G81-G89
+    {730, 730, 1, kGMotion, nullptr},  // G73 chip-break drilling
+    {740, 740, 1, kGMotion, kTapping},
+    {760, 760, 1, kGMotion, kTapping},
+    {800, 800, 1, kGMotion, nullptr},  // G80 cancels the canned cycle
+    {810, 830, 10, kGMotion, nullptr},  // G81 G82 G83
+    {840, 840, 1, kGMotion, kTapping},
+    {850, 850, 1, kGMotion, nullptr},  // G85
+    {860, 880, 10, kGMotion, kTapping},
+    {890, 890, 1, kGMotion, nullptr},  // G89
     // plane
     {170, 190, 10, kGPlane, nullptr},  // G17 G18 G19
     {171, 191, 10, kGPlane, "the UV/WU/VW planes (G17.1/G18.1/G19.1) are not supported; expected G17, G18 or G19"},
@@ -59,13 +58,13 @@ constexpr CodeInfo kGCodes[] = {
     {410, 411, 1, kGCutterComp, kCutterComp},
     {420, 421, 1, kGCutterComp, kCutterComp},
     {430, 430, 1, kGToolLength, nullptr},  // G43: the offset stays 0 (warned)
-    {431, 432, 1, kGToolLength, "dynamic tool length offsets (G43.1/G43.2) are not supported; expected G43 H or G49"},
+    {431, 431, 1, kGToolLength, nullptr},  // G43.1 dynamic tool length
+    {432, 432, 1, kGToolLength, "adding a second tool length offset (G43.2) is not supported; expected G43 H or G43.1"},
     {490, 490, 1, kGToolLength, nullptr},
-    {980, 990, 10, kGCannedReturn,
-     "canned-cycle return modes (G98/G99) are not supported: there are no canned cycles; expected G0/G1 retracts"},
+    {980, 990, 10, kGCannedReturn, nullptr},  // G98 G99
     // work coordinate systems
     {540, 590, 10, kGCoordSystem, nullptr},  // G54-G59
-    {591, 593, 1, kGCoordSystem, "work offsets G59.1-G59.3 are not supported; expected G54-G59"},
+    {591, 593, 1, kGCoordSystem, nullptr},  // G59.1-G59.3
     // path control, spindle mode, lathe
     {610, 611, 1, kGPathControl, nullptr},  // G61 G61.1: contouring off
     {640, 640, 1, kGPathControl, nullptr},  // G64: contouring on
@@ -91,6 +90,7 @@ constexpr CodeInfo kMCodes[] = {
     {62, 68, 1, kMOther, "digital and analog I/O (M62-M68) is not supported; expected a program without I/O words"},
     {70, 73, 1, kMOther, "saving and restoring modal state (M70-M73) is not supported; expected explicit modal words"},
     {100, 199, 1, kMOther, "user M codes (M100-M199) are not supported; expected M codes listed in docs/gcode.md"},
+    {98, 99, 1, kMSubprogram, nullptr},  // M98 call, M99 return (MoveSource)
 };
 
 // The G table indexed by code (x10) once, at compile time: the parser looks up every G word.

@@ -34,7 +34,8 @@ enum MGroup : int {
   kMOverride = 4,    // M48-M53
   kMContouring = 5,  // M21 M22 (pcnc: contouring on/off)
   kMOther = 6,       // M62-M68, M70-M73, M100-M199 (known, never executed here)
-  kMGroupCount = 7
+  kMSubprogram = 7,  // M98 M99 (Fanuc subprograms)
+  kMGroupCount = 8
 };
 
 /// One row of the table: the codes first, first + step, ..., last (G: x10), their group, and

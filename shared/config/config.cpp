@@ -174,6 +174,7 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     for (int i = 0; i < 6; ++i) g.vec3(names[i], c.gcode.work_offsets[i]);
     g.integer("nurbs_knots", c.gcode.nurbs_knots, 0, 1);
     g.number("nurbs_chord_tolerance_mm", c.gcode.nurbs_chord_tolerance_mm, 1e-7, 1.0);
+    g.number("max_executed_lines", c.gcode.max_executed_lines, 1.0, 1e12);
     g.finish();
   }
   {

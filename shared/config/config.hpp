@@ -70,6 +70,9 @@ struct GcodeConfig {
   std::array<Vec3, 6> work_offsets{};       // G54..G59, mm, program zero in machine coordinates
   int nurbs_knots = 0;                      // 0: open uniform (LinuxCNC); 1: chord length (seed)
   double nurbs_chord_tolerance_mm = 0.001;  // δ of the NURBS feed schedule
+  // Lines a program may execute (loops and subroutine calls count each time they run): a loop
+  // that never ends is an error at this count, not a hang. Key: max_executed_lines.
+  double max_executed_lines = 50e6;
 };
 
 struct ProcessConfig {

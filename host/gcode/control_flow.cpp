@@ -1,0 +1,381 @@
+// control_flow.cpp — O-word control flow and subprograms (see control_flow.hpp).
+#include "gcode/control_flow.hpp"
+
+#include <cmath>
+
+namespace pcnc {
+namespace {
+
+const char* keyword(OKind k) {
+  switch (k) {
+    case OKind::kSub: return "sub";
+    case OKind::kEndsub: return "endsub";
+    case OKind::kReturn: return "return";
+    case OKind::kCall: return "call";
+    case OKind::kIf: return "if";
+    case OKind::kElseif: return "elseif";
+    case OKind::kElse: return "else";
+    case OKind::kEndif: return "endif";
+    case OKind::kWhile: return "while";
+    case OKind::kEndwhile: return "endwhile";
+    case OKind::kDo: return "do";
+    case OKind::kRepeat: return "repeat";
+    case OKind::kEndrepeat: return "endrepeat";
+    case OKind::kBreak: return "break";
+    case OKind::kContinue: return "continue";
+    case OKind::kNone: break;
+  }
+  return "?";
+}
+
+std::string name_of(const std::string& label) {
+  if (!label.empty() && label[0] >= '0' && label[0] <= '9') return "O" + label;
+  return "o<" + label + ">";
+}
+
+}  // namespace
+
+std::string ControlFlow::ident(const std::string& label, bool fanuc) { return fanuc ? "P" + label : label; }
+
+void ControlFlow::fail(int line, int column, std::string message) {
+  sink_.error(line, column, std::move(message));
+  failed_ = true;
+  skip_ = Skip::kNone;
+}
+
+void ControlFlow::go(const LineReader::Position& pos, int line) {
+  if (!reader_.seek(pos)) fail(line, 0, "cannot read the program file again (it changed or cannot be read); expected an unchanged file");
+}
+
+void ControlFlow::start_skip(Skip s, const std::string& label, int line) {
+  skip_ = s;
+  skip_label_ = label;
+  skip_line_ = line;
+}
+
+bool ControlFlow::top_is(Kind k, const std::string& label) const {
+  return !stack_.empty() && stack_.back().kind == k && stack_.back().label == label;
+}
+
+int ControlFlow::find_loop(const std::string& label) const {
+  for (int i = static_cast<int>(stack_.size()) - 1; i >= 0; --i) {
+    const Frame& f = stack_[static_cast<std::size_t>(i)];
+    if (f.kind == Kind::kCall || f.kind == Kind::kFanucCall) return -1;  // not across a call
+    if ((f.kind == Kind::kWhile || f.kind == Kind::kDo || f.kind == Kind::kRepeat) && f.label == label) return i;
+  }
+  return -1;
+}
+
+int ControlFlow::innermost_loop_line() const {
+  for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) {
+    if (it->kind == Kind::kWhile || it->kind == Kind::kDo || it->kind == Kind::kRepeat) return it->line;
+  }
+  return 0;
+}
+
+void ControlFlow::on_oword(const OWord& o, int line, const LineReader::Position& line_start) {
+  if (failed_) return;
+  if (skipping()) {
+    skipped(o, line, line_start);
+  } else {
+    running(o, line, line_start);
+  }
+}
+
+void ControlFlow::skipped(const OWord& o, int line, const LineReader::Position& line_start) {
+  if (skip_ == Skip::kSubDefinition && o.kind == OKind::kSub) {
+    return fail(line, o.column,
+                name_of(o.label) + " sub inside the definition of " + name_of(skip_label_) +
+                    ": subroutine definitions cannot be nested; expected " + name_of(skip_label_) + " endsub first");
+  }
+  if (o.label != skip_label_) return;
+  switch (skip_) {
+    case Skip::kSubDefinition:
+      if (o.kind == OKind::kEndsub) skip_ = Skip::kNone;
+      return;
+    case Skip::kIfBranch:
+      if (o.kind == OKind::kElseif || o.kind == OKind::kElse) {
+        skip_ = Skip::kNone;
+        go(line_start, line);  // read it again, running: its condition is evaluated then
+      } else if (o.kind == OKind::kEndif) {
+        skip_ = Skip::kNone;
+        if (top_is(Kind::kIf, o.label)) stack_.pop_back();
+      }
+      return;
+    case Skip::kIfEnd:
+      if (o.kind == OKind::kEndif) {
+        skip_ = Skip::kNone;
+        if (top_is(Kind::kIf, o.label)) stack_.pop_back();
+      }
+      return;
+    case Skip::kLoopEnd: {
+      const bool closes_do = o.kind == OKind::kWhile && top_is(Kind::kDo, o.label);
+      if (o.kind == OKind::kEndwhile || o.kind == OKind::kEndrepeat || closes_do) {
+        skip_ = Skip::kNone;
+        if (!stack_.empty() && stack_.back().label == o.label) stack_.pop_back();
+      }
+      return;
+    }
+    case Skip::kToDoWhile:
+      if (o.kind == OKind::kWhile) {
+        skip_ = Skip::kNone;
+        go(line_start, line);  // the do-loop's condition, evaluated
+      }
+      return;
+    case Skip::kNone: return;
+  }
+}
+
+void ControlFlow::running(const OWord& o, int line, const LineReader::Position& line_start) {
+  const std::string& label = o.label;
+  const int col = o.column;
+  const auto unmatched = [&](const char* opener) {
+    fail(line, col,
+         name_of(label) + " " + keyword(o.kind) + " without a matching " + opener + "; expected " + name_of(label) +
+             " " + opener + " before it");
+  };
+  switch (o.kind) {
+    case OKind::kSub:
+      for (const Frame& f : stack_) {
+        if (f.kind == Kind::kCall)
+          return fail(line, col,
+                      name_of(label) + " sub inside subroutine " + name_of(f.label) +
+                          ": subroutine definitions cannot be nested; expected it outside every sub ... endsub");
+      }
+      subs_[ident(label, false)] = reader_.tell();
+      start_skip(Skip::kSubDefinition, label, line);
+      return;
+    case OKind::kEndsub:
+    case OKind::kReturn: leave_call(o.has_value, o.value, line, col); return;
+    case OKind::kCall: call(o, line); return;
+    case OKind::kIf: {
+      Frame f{Kind::kIf, label, line};
+      f.taken = o.value != 0.0;
+      stack_.push_back(std::move(f));
+      if (o.value == 0.0) start_skip(Skip::kIfBranch, label, line);
+      return;
+    }
+    case OKind::kElseif:
+    case OKind::kElse:
+      if (!top_is(Kind::kIf, label)) return unmatched("if");
+      if (stack_.back().taken) {
+        start_skip(Skip::kIfEnd, label, line);
+      } else if (o.kind == OKind::kElse || o.value != 0.0) {
+        stack_.back().taken = true;
+      } else {
+        start_skip(Skip::kIfBranch, label, line);
+      }
+      return;
+    case OKind::kEndif:
+      if (!top_is(Kind::kIf, label)) return unmatched("if");
+      stack_.pop_back();
+      return;
+    case OKind::kWhile:
+      if (top_is(Kind::kDo, label)) {  // the end of a do-loop
+        if (o.value != 0.0) {
+          go(stack_.back().body, line);
+        } else {
+          stack_.pop_back();
+        }
+        return;
+      }
+      if (!(top_is(Kind::kWhile, label) && stack_.back().head.offset == line_start.offset)) {
+        Frame f{Kind::kWhile, label, line};
+        f.head = line_start;
+        stack_.push_back(std::move(f));
+      }
+      if (o.value == 0.0) start_skip(Skip::kLoopEnd, label, line);
+      return;
+    case OKind::kEndwhile:
+      if (!top_is(Kind::kWhile, label)) return unmatched("while");
+      go(stack_.back().head, line);
+      return;
+    case OKind::kDo: {
+      Frame f{Kind::kDo, label, line};
+      f.body = reader_.tell();
+      stack_.push_back(std::move(f));
+      return;
+    }
+    case OKind::kRepeat: {
+      Frame f{Kind::kRepeat, label, line};
+      f.body = reader_.tell();
+      f.count = std::floor(o.value);
+      stack_.push_back(std::move(f));
+      if (!(o.value >= 1.0)) start_skip(Skip::kLoopEnd, label, line);
+      return;
+    }
+    case OKind::kEndrepeat:
+      if (!top_is(Kind::kRepeat, label)) return unmatched("repeat");
+      if (--stack_.back().count >= 1.0) {
+        go(stack_.back().body, line);
+      } else {
+        stack_.pop_back();
+      }
+      return;
+    case OKind::kBreak:
+    case OKind::kContinue: {
+      const int i = find_loop(label);
+      if (i < 0) {
+        return fail(line, col,
+                    name_of(label) + " " + keyword(o.kind) + " outside a loop labelled " + name_of(label) +
+                        "; expected it inside " + name_of(label) + " while, do or repeat");
+      }
+      stack_.resize(static_cast<std::size_t>(i) + 1);
+      Frame& f = stack_.back();
+      if (o.kind == OKind::kBreak) {
+        start_skip(Skip::kLoopEnd, label, line);
+      } else if (f.kind == Kind::kWhile) {
+        go(f.head, line);
+      } else if (f.kind == Kind::kRepeat) {
+        if (--f.count >= 1.0) {
+          go(f.body, line);
+        } else {
+          start_skip(Skip::kLoopEnd, label, line);
+        }
+      } else {
+        start_skip(Skip::kToDoWhile, label, line);
+      }
+      return;
+    }
+    case OKind::kNone: return;
+  }
+}
+
+void ControlFlow::call(const OWord& o, int line) {
+  LineReader::Position body{};
+  if (!find_sub(o.label, false, body)) {
+    return fail(line, o.column,
+                "unknown subroutine " + name_of(o.label) + "; expected " + name_of(o.label) +
+                    " sub ... endsub in this file");
+  }
+  if (!params_.push_call(o.args.data(), static_cast<int>(o.args.size()))) {
+    return fail(line, o.column,
+                "subroutine calls nested more than " + std::to_string(ParameterStore::kMaxCallDepth) +
+                    " deep (runaway recursion?); expected a recursion that ends");
+  }
+  Frame f{Kind::kCall, o.label, line};
+  f.ret = reader_.tell();
+  f.head = body;
+  stack_.push_back(std::move(f));
+  go(body, line);
+}
+
+void ControlFlow::leave_call(bool has_value, double value, int line, int column) {
+  int i = static_cast<int>(stack_.size()) - 1;
+  while (i >= 0 && stack_[static_cast<std::size_t>(i)].kind != Kind::kCall) --i;
+  if (i < 0) return fail(line, column, "endsub/return outside a subroutine; expected it inside O.. sub ... endsub");
+  const Frame f = stack_[static_cast<std::size_t>(i)];
+  stack_.resize(static_cast<std::size_t>(i));
+  params_.pop_call();
+  params_.set_return_value(has_value, value);
+  go(f.ret, line);
+}
+
+bool ControlFlow::find_sub(const std::string& label, bool fanuc, LineReader::Position& body) {
+  const std::string key = ident(label, fanuc);
+  auto it = (fanuc ? programs_ : subs_).find(key);
+  if (it != (fanuc ? programs_ : subs_).end()) {
+    body = it->second;
+    return true;
+  }
+  // Read ahead (then from the start) for its definition, recording every one on the way.
+  const LineReader::Position back = reader_.tell();
+  LexedLine lexed;
+  DiagnosticSink quiet;
+  const auto scan = [&](std::uint64_t stop_offset) {
+    std::string_view text;
+    bool too_long = false;
+    while (reader_.tell().offset < stop_offset && reader_.next(text, too_long)) {
+      lex_line(text, static_cast<int>(reader_.line_number()), lexed, quiet, nullptr, true);
+      if (lexed.program_number) {
+        programs_.emplace("P" + lexed.oword.label, reader_.tell());
+      } else if (lexed.oword.kind == OKind::kSub) {
+        subs_.emplace(lexed.oword.label, reader_.tell());
+      }
+      auto found = (fanuc ? programs_ : subs_).find(key);
+      if (found != (fanuc ? programs_ : subs_).end()) {
+        body = found->second;
+        return true;
+      }
+    }
+    return false;
+  };
+  if (scan(~std::uint64_t{0})) return true;
+  if (reader_.seek(LineReader::Position{}) && scan(back.offset)) return true;
+  reader_.seek(back);
+  return false;
+}
+
+void ControlFlow::on_program_number(const std::string& label, int line) {
+  (void)line;
+  if (failed_ || skipping()) return;
+  programs_.emplace("P" + label, reader_.tell());
+}
+
+void ControlFlow::m98(double p, bool has_l, double l, int line, int column) {
+  if (failed_) return;
+  if (!(p >= 0.0) || p != std::floor(p)) return fail(line, column, "M98 needs P with a program number; expected M98 P1000");
+  const std::string label = std::to_string(static_cast<long>(p));
+  const double count = has_l ? std::floor(l) : 1.0;
+  if (!(count >= 1.0)) return fail(line, column, "M98 L must be at least 1; expected the number of times to run it");
+  LineReader::Position body{};
+  if (!find_sub(label, true, body)) {
+    return fail(line, column, "M98 P" + label + ": no subprogram O" + label + " in this file; expected a line O" +
+                                  label + " starting it, ended by M99");
+  }
+  int depth = 0;
+  for (const Frame& f : stack_) depth += (f.kind == Kind::kFanucCall || f.kind == Kind::kCall) ? 1 : 0;
+  if (depth >= ParameterStore::kMaxCallDepth)
+    return fail(line, column, "subprogram calls nested too deeply; expected a recursion that ends");
+  Frame f{Kind::kFanucCall, label, line};
+  f.body = body;
+  f.ret = reader_.tell();
+  f.count = count;
+  stack_.push_back(std::move(f));
+  go(body, line);
+}
+
+bool ControlFlow::m99(int line, int column) {
+  (void)column;
+  int i = static_cast<int>(stack_.size()) - 1;
+  while (i >= 0 && stack_[static_cast<std::size_t>(i)].kind != Kind::kFanucCall) --i;
+  if (i < 0) return false;
+  stack_.resize(static_cast<std::size_t>(i) + 1);
+  Frame& f = stack_.back();
+  if (--f.count >= 1.0) {
+    go(f.body, line);
+  } else {
+    const LineReader::Position ret = f.ret;
+    stack_.pop_back();
+    go(ret, line);
+  }
+  return true;
+}
+
+void ControlFlow::end_of_input(int line) {
+  if (failed_) return;
+  switch (skip_) {
+    case Skip::kSubDefinition:
+      return fail(skip_line_, 0, name_of(skip_label_) + " sub has no endsub; expected " + name_of(skip_label_) + " endsub");
+    case Skip::kIfBranch:
+    case Skip::kIfEnd:
+      return fail(skip_line_, 0, name_of(skip_label_) + " if has no endif; expected " + name_of(skip_label_) + " endif");
+    case Skip::kLoopEnd:
+    case Skip::kToDoWhile:
+      return fail(skip_line_, 0, name_of(skip_label_) + " loop has no end; expected its endwhile, endrepeat or while");
+    case Skip::kNone: break;
+  }
+  if (stack_.empty()) return;
+  const Frame& f = stack_.back();
+  const char* want = f.kind == Kind::kIf        ? "endif"
+                     : f.kind == Kind::kWhile   ? "endwhile"
+                     : f.kind == Kind::kDo      ? "while"
+                     : f.kind == Kind::kRepeat  ? "endrepeat"
+                     : f.kind == Kind::kCall    ? "endsub"
+                                                : "M99";
+  fail(f.line, 0,
+       name_of(f.label) + " opened at line " + std::to_string(f.line) + " is not closed at the end of the file (line " +
+           std::to_string(line) + "); expected " + want);
+}
+
+}  // namespace pcnc
