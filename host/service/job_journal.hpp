@@ -4,7 +4,7 @@
 // started after a crash of the previous one can re-stream the same program and resume it
 // where pcnc-rt held it (HOST_LOST). Written when a program starts, removed when it ends.
 //
-// May include: shared/geometry only (the file format is private to job_journal.cpp).
+// May include: shared/geometry, config/atomic_file.hpp (the file format is private to job_journal.cpp).
 #pragma once
 
 #include <array>
@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "config/atomic_file.hpp"  // write_file_atomically
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -41,11 +42,6 @@ std::string journal_path(const std::string& state_dir);
 /// Writes atomically (write_file_atomically). Returns false with `error` set on failure; the
 /// journal already there is then left as it was.
 bool write_journal(const std::string& path, const JobJournal& journal, std::string* error);
-/// `text` to `path` through `path`.tmp, created with O_EXCL|O_NOFOLLOW (whatever is at the
-/// temporary name, a symlink included, is unlinked first, never followed), every write
-/// checked, fsync'ed, then renamed over `path`. On any failure `path` is untouched and
-/// `error` says what failed.
-bool write_file_atomically(const std::string& path, const std::string& text, std::string* error);
 /// Reads a journal; nullopt (with `error` set) when absent or unreadable.
 std::optional<JobJournal> read_journal(const std::string& path, std::string* error);
 void remove_journal(const std::string& path);
