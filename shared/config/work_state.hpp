@@ -28,8 +28,10 @@ constexpr int kWorkSystems = 9;                  // G54, G55, ..., G59, G59.1, G
 constexpr double kWorkStateLimitMm = 1e6;        // |value| allowed in the file
 constexpr int kWorkStateVersion = 1;
 
+using WorkOffsets = std::array<Vec3, kWorkSystems>;  // G54..G59.3
+
 struct WorkState {
-  std::array<Vec3, kWorkSystems> g5x{};  // G54..G59.3, mm: program zero in machine coordinates
+  WorkOffsets g5x{};                     // G54..G59.3, mm: program zero in machine coordinates
   int active = 0;                        // 0..8: the selected system (G54 = 0)
   Vec3 g92{};                            // G92/G52 axis offset, mm
   bool g92_applied = false;              // LinuxCNC #5210
