@@ -164,6 +164,9 @@ void Service::run(const std::atomic<bool>& stop) {
     throw WorkStateError(std::string(e.what()) + "; the service does not start (fix the file, or remove it to start from the "
                                                  "config's gcode.g54..g59)");
   }
+  const Vec3& g54 = s.work.state().g5x[0];
+  spdlog::info("work offsets: {} (G54 X{} Y{} Z{}; {} selected)", s.work.path(), g54[0], g54[1], g54[2],
+               work_system_name(s.work.state().active));
   ServerLimits limits = s.opt.limits;
   limits.idle_timeout_s = s.config.process.client_idle_timeout_s;
   s.server = std::make_unique<ControlServer>(socket, s.config.process.socket_mode, group, limits, h);
