@@ -203,6 +203,9 @@ TEST(WorkState, SaveIntoAnUnusableDirectoryThrowsNamingTheFile) {
   const std::string e = error_of([&] { save_work_state(d.path + "/file/work_state.json", sample()); });
   EXPECT_NE(e.find("cannot save the work-coordinate state"), std::string::npos) << e;
   EXPECT_NE(e.find(d.path + "/file/work_state.json"), std::string::npos) << e;
+  // A relative path is refused: its directory (the working one) is not made private.
+  EXPECT_NE(error_of([&] { save_work_state("work_state.json", sample()); }).find("must be absolute"), std::string::npos);
+  EXPECT_FALSE(fs::exists("work_state.json"));
 }
 
 // ---- the config's keys for the tool table and M6

@@ -161,8 +161,12 @@ WorkState load_work_state(const MachineConfig& config, const std::string& path) 
 }
 
 void save_work_state(const std::string& path, const WorkState& state) {
+  // Absolute only: its directory is made private (0700), which must never be the working one.
+  if (path.empty() || path.front() != '/') {
+    throw WorkStateError("cannot save the work-coordinate state '" + path + "': the path must be absolute");
+  }
   const auto slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  const std::string dir = slash == 0 ? "/" : path.substr(0, slash);
   try {
     ensure_private_dir(dir, 0700);
   } catch (const RuntimePathError& e) {

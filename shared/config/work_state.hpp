@@ -65,7 +65,8 @@ WorkState parse_work_state(const std::string& text, const std::string& origin);
 /// file, an unreadable or corrupt one throws WorkStateError naming the file and what is wrong.
 WorkState load_work_state(const MachineConfig& config, const std::string& path);
 /// Writes atomically (atomic_file.hpp), mode 0600, after creating its directory private
-/// (ensure_private_dir, 0700). Throws WorkStateError (the old file is then left as it was).
+/// (ensure_private_dir, 0700). `path` must be absolute. Throws WorkStateError (the old file is
+/// then left as it was).
 void save_work_state(const std::string& path, const WorkState& state);
 
 }  // namespace pcnc
