@@ -293,6 +293,7 @@ struct Session {
   explicit Session(Harness& h)
       : harness(h),
         config(h.config),
+        work("", pcnc::default_work_state(config)),  // in memory: set_offset is fuzzed, not the disk
         subs([this](pcnc::ClientId c, std::string_view line) { sent(c, line); }),
         jobs(pcnc::journal_path(config.process.socket_path),
              pcnc::JobNotices{[this](pcnc::ClientId c, json id, pcnc::Outcome o) {
@@ -301,7 +302,7 @@ struct Session {
                               [this](json ev) { post([this, ev = std::move(ev)] { subs.broadcast_event(ev); }); }}),
         jogs(config, h.monitor, [this](pcnc::ClientId c, const json& id, const pcnc::Outcome& o) { reply(c, id, o); },
              [this](const json& ev) { subs.broadcast_event(ev); }),
-        parts{config, h.monitor, jobs, jogs, subs},
+        parts{config, work, h.monitor, jobs, jogs, subs},
         dispatcher(pcnc::method_table(parts), h.monitor) {}
 
   ~Session() {
@@ -413,6 +414,7 @@ struct Session {
 
   Harness& harness;
   pcnc::MachineConfig config;
+  pcnc::WorkStore work;
   pcnc::Subscriptions subs;
   pcnc::JobControl jobs;
   pcnc::JogControl jogs;

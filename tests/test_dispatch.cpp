@@ -19,11 +19,12 @@ using rpc::json;
 // The service's parts with no rt attached (the monitor is never started) and no socket.
 struct Parts {
   MachineConfig config = load_config(test::default_config());
+  WorkStore work{"", default_work_state(config)};  // in memory only
   RtMonitor rt{config, 0.005, 0.1, {}};
   Subscriptions subs{[](ClientId, std::string_view) {}};
   JobControl jobs{"/nonexistent/pcnc-test-dispatch.job", JobNotices{[](ClientId, json, Outcome) {}, [](json) {}}};
   JogControl jogs{config, rt, [](ClientId, const json&, const Outcome&) {}, [](const json&) {}};
-  ServiceParts parts{config, rt, jobs, jogs, subs};
+  ServiceParts parts{config, work, rt, jobs, jogs, subs};
   Dispatcher dispatcher{method_table(parts), rt};
 
   json call(const std::string& line) { return json::parse(dispatcher.handle(1, line)); }
@@ -80,6 +81,35 @@ TEST(Dispatch, MethodsThatNeedNoRtAreAnsweredWithoutOne) {
 
   EXPECT_EQ(p.call(R"({"id":4,"method":"subscribe","params":{"rate_hz":0}})")["result"]["rate_hz"], 0);
   EXPECT_EQ(code(p.call(R"({"id":5,"method":"jog_keepalive"})")), rpc::kRefused);
+}
+
+TEST(Dispatch, SetOffsetReachesG59_3AndStatusListsTheWorkState) {
+  Parts p;
+  const json r = p.call(R"({"id":1,"method":"set_offset","params":{"offset":"g59.3","z":-4}})");
+  ASSERT_TRUE(r.contains("result")) << r.dump();
+  EXPECT_EQ(r["result"]["offset"], "G59.3");
+  EXPECT_EQ(p.work.state().g5x[8], (Vec3{0, 0, -4}));
+  EXPECT_EQ(p.config.gcode.work_offsets, load_config(test::default_config()).gcode.work_offsets) << "the config is not changed";
+  const json s = p.call(R"({"id":2,"method":"status"})")["result"];
+  ASSERT_EQ(s["work_offsets"].size(), 9u) << s["work_offsets"].dump();
+  EXPECT_EQ(s["work_offsets"]["G59.3"]["z"], -4.0);
+  EXPECT_EQ(s["work_offsets"]["G54"]["x"], 12.5);
+  EXPECT_EQ(s["work_state"]["active"], "G54");
+  EXPECT_EQ(s["work_state"]["G92_applied"], false);
+  EXPECT_EQ(s["work_state"]["G28"]["z"], 25.0);
+  EXPECT_TRUE(s["work_state"]["file"].is_null()) << "this one is in memory only";
+}
+
+TEST(Dispatch, SetOffsetThatCannotBeSavedChangesNothing) {
+  Parts p;
+  p.work = WorkStore("/proc/pcnc-no-such-dir/work_state.json", default_work_state(p.config));
+  const json r = p.call(R"({"id":1,"method":"set_offset","params":{"offset":"G55","x":1}})");
+  EXPECT_EQ(code(r), rpc::kInternalError) << r.dump();
+  const std::string m = r["error"]["message"].get<std::string>();
+  EXPECT_NE(m.find("the work offset was not changed"), std::string::npos) << m;
+  EXPECT_NE(m.find("/proc/pcnc-no-such-dir/work_state.json"), std::string::npos) << m;
+  EXPECT_EQ(p.work.state().g5x[1], p.config.gcode.work_offsets[1]);
+  EXPECT_EQ(p.call(R"({"id":2,"method":"status"})")["result"]["work_offsets"]["G55"]["x"], 0.0);
 }
 
 TEST(Dispatch, AHandlerExceptionIsAnInternalErrorReply) {

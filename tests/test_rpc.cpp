@@ -244,6 +244,13 @@ TEST(RpcParams, RunSetOffsetSubscribe) {
   EXPECT_FALSE(rpc::check_set_offset_params(json{{"offset", "G55"}}).ok()) << "needs an axis";
   EXPECT_FALSE(rpc::check_set_offset_params(json{{"offset", "G53"}, {"x", 1}}).ok());
   EXPECT_FALSE(rpc::check_set_offset_params(json{{"offset", "G54"}, {"x", "1"}}).ok());
+  EXPECT_EQ(rpc::check_set_offset_params(json{{"offset", "G59.1"}, {"x", 1}}).value->index, 6);
+  EXPECT_EQ(rpc::check_set_offset_params(json{{"offset", "g59.3"}, {"x", 1}}).value->index, 8);
+  const auto bad = rpc::check_set_offset_params(json{{"offset", "G59.4"}, {"x", 1}});
+  EXPECT_FALSE(bad.ok());
+  EXPECT_NE(bad.error.message.find("G54..G59, G59.1, G59.2, G59.3"), std::string::npos) << bad.error.message;
+  // A program starts in G54..G59 (the interpreter selects among those).
+  EXPECT_FALSE(rpc::check_run_params(json{{"file", "/a"}, {"work_offset", "G59.1"}}).ok());
 
   EXPECT_EQ(rpc::check_subscribe_params(json::object()).value->rate_hz, 10.0);
   EXPECT_EQ(rpc::check_subscribe_params(json{{"rate_hz", 50}}).value->rate_hz, 50.0);
@@ -259,6 +266,9 @@ TEST(RpcParams, NamesOfAxesAndOffsets) {
   EXPECT_EQ(rpc::parse_work_offset_name("G5"), -1);
   EXPECT_EQ(rpc::work_offset_name(0), "G54");
   EXPECT_EQ(rpc::work_offset_name(5), "G59");
+  EXPECT_EQ(rpc::work_offset_name(6), "G59.1");
+  EXPECT_EQ(rpc::work_offset_name(8), "G59.3");
+  EXPECT_EQ(rpc::parse_work_offset_name("G59.2"), 7);
 }
 
 // ---- replies ----
@@ -356,6 +366,29 @@ TEST(JobJournal, RoundTripAndMissingFile) {
   remove_journal(path);
   EXPECT_FALSE(read_journal(path, &err));
   EXPECT_NE(err.find("no program journal"), std::string::npos);
+}
+
+TEST(JobJournal, CarriesG59_3AndReadsAnOlderJournalWithSix) {
+  const std::string dir = test::make_temp_dir("journal9");
+  const std::string path = journal_path(dir);
+  JobJournal j;
+  j.file = "/p.ngc";
+  for (std::size_t i = 0; i < j.work_offsets.size(); ++i) j.work_offsets[i] = {1.0 * i, 2.0, -3.0};
+  std::string err;
+  ASSERT_TRUE(write_journal(path, j, &err)) << err;
+  auto r = read_journal(path, &err);
+  ASSERT_TRUE(r) << err;
+  EXPECT_EQ(r->work_offsets, j.work_offsets);
+
+  // An older pcnc-host wrote G54..G59 only: still read, G59.1..G59.3 zero.
+  nlohmann::json doc = nlohmann::json::parse(test::read_file(path));
+  while (doc["work_offsets"].size() > 6) doc["work_offsets"].erase(6);
+  ASSERT_EQ(doc["work_offsets"].size(), 6u);
+  ASSERT_TRUE(write_file_atomically(path, doc.dump(), &err)) << err;
+  r = read_journal(path, &err);
+  ASSERT_TRUE(r) << err;
+  EXPECT_EQ(r->work_offsets[5], j.work_offsets[5]);
+  EXPECT_EQ(r->work_offsets[6], (Vec3{0, 0, 0}));
 }
 
 // ---- resume: cutting the interrupted block ----

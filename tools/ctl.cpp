@@ -464,11 +464,11 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
   });
 
   // set_offset
-  auto* off = ctl->add_subcommand("set_offset", "set a work offset for later runs: `set_offset G55 --x 5 --y 6 --z 20` (mm)");
+  auto* off = ctl->add_subcommand("set_offset", "set a work offset for later runs, kept across restarts: `set_offset G55 --x 5 --y 6 --z 20` (mm)");
   off->alias("set-offset");
   static std::string which;
   static double ox = NAN, oy = NAN, oz = NAN;
-  off->add_option("OFFSET", which, "G54..G59")->required();
+  off->add_option("OFFSET", which, "G54..G59, G59.1..G59.3")->required();
   off->add_option("--x", ox, "program zero X in machine coordinates, mm");
   off->add_option("--y", oy, "program zero Y, mm");
   off->add_option("--z", oz, "program zero Z, mm");

@@ -10,6 +10,7 @@
 
 #include "service/resume.hpp"
 #include "service/sha256.hpp"
+#include "service/work_store.hpp"
 
 namespace pcnc {
 
@@ -121,7 +122,7 @@ void JobControl::describe(json& j, const std::optional<Status>& st) const {
 }
 
 Outcome JobControl::run(ClientId client, const json& id, const rpc::RunParams& params, std::shared_ptr<RtLink> link,
-                        const Status& st, const MachineConfig& config) {
+                        const Status& st, const MachineConfig& config, const WorkState& work) {
   if (active_.load()) return Outcome::fail(refused("a program is already running; stop it first"));
   if (st.state != MachineState::kIdle) {
     std::string why = std::string("the machine is ") + to_string(st.state) + ", not IDLE";
@@ -129,15 +130,17 @@ Outcome JobControl::run(ClientId client, const json& id, const rpc::RunParams& p
     if (st.state == MachineState::kFault || st.state == MachineState::kEstop) why += ": reset first";
     return Outcome::fail(refused(why));
   }
-  MachineConfig job_config = config;  // set_offset may change the service's copy meanwhile
-  start_worker(client, id, [this, client, id, rp = params, link, job_config, start = st.commanded] {
-    run_job(client, id, rp, link, job_config, start);
+  // Copies: set_offset may change the service's work state meanwhile.
+  MachineConfig job_config = config;
+  job_config.gcode.work_offsets = first_six(work.g5x);
+  start_worker(client, id, [this, client, id, rp = params, link, job_config, g5x = work.g5x, start = st.commanded] {
+    run_job(client, id, rp, link, job_config, g5x, start);
   });
   return Outcome::later();
 }
 
 void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& rp, std::shared_ptr<RtLink> l,
-                         const MachineConfig& cfg, const Vec3& start) {
+                         const MachineConfig& cfg, const WorkOffsets& g5x, const Vec3& start) {
   JobOptions opts;
   opts.work_offset_index = rp.work_offset;
   opts.fit = rp.fit;
@@ -167,7 +170,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   JobJournal jj;
   jj.file = rp.file;
   jj.work_offset = rp.work_offset;
-  jj.work_offsets = cfg.gcode.work_offsets;
+  jj.work_offsets = g5x;
   jj.fit = rp.fit;
   jj.contouring = rp.contouring ? (*rp.contouring ? 1 : 0) : -1;
   jj.start_position = start;
@@ -260,7 +263,7 @@ Outcome JobControl::resume(ClientId client, const json& id, std::shared_ptr<RtLi
                                  "); use stop or reset"));
   }
   MachineConfig job_config = config;
-  job_config.gcode.work_offsets = jj->work_offsets;
+  job_config.gcode.work_offsets = first_six(jj->work_offsets);
   start_worker(client, id, [this, client, id, link, job_config, j = *jj] { resume_job(client, id, link, job_config, j); });
   return Outcome::later();
 }

@@ -9,7 +9,7 @@
 // Threads: run(), resume(), interrupt(), abandon_interrupted() and describe() are called on
 // the loop thread; the worker only reports back through the notices it is given.
 //
-// May include: outcome.hpp, rpc.hpp, job_runner.hpp, job_journal.hpp, resume.hpp,
+// May include: outcome.hpp, rpc.hpp, job_runner.hpp, job_journal.hpp, resume.hpp, work_store.hpp,
 // rt_link.hpp, gcode/program.hpp, shared/.
 #pragma once
 
@@ -22,6 +22,7 @@
 #include <thread>
 
 #include "config/config.hpp"
+#include "config/work_state.hpp"
 #include "gcode/program.hpp"
 #include "service/control_server.hpp"
 #include "service/job_journal.hpp"
@@ -53,10 +54,12 @@ class JobControl {
 
   /// The `run` method once its parameters are checked (`file` absolute): refused while a
   /// job is active or the machine is not IDLE; else the job starts with a copy of `config`
-  /// (set_offset may change the service's meanwhile) and the reply comes later.
+  /// whose G54..G59 are `work`'s (set_offset may change the service's meanwhile), the
+  /// journal records all of `work`'s G54..G59.3, and the reply comes later.
   Outcome run(ClientId client, const rpc::json& id, const rpc::RunParams& params, std::shared_ptr<RtLink> link,
-              const Status& st, const MachineConfig& config);
-  /// The `resume` method in HOST_LOST: continues the journal's program (reply later).
+              const Status& st, const MachineConfig& config, const WorkState& work);
+  /// The `resume` method in HOST_LOST: continues the journal's program with the work offsets
+  /// the journal recorded (reply later).
   Outcome resume(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> link, const Status& st,
                  const MachineConfig& config);
   /// The program interrupted by a lost host is abandoned (stop or reset in HOST_LOST).
@@ -71,7 +74,7 @@ class JobControl {
   void job_reply(ClientId client, const rpc::json& id, Outcome outcome);  // the job's one reply
   void end_job(const rpc::json* last);
   void run_job(ClientId client, const rpc::json& id, const rpc::RunParams& rp, std::shared_ptr<RtLink> l,
-               const MachineConfig& cfg, const Vec3& start);
+               const MachineConfig& cfg, const WorkOffsets& g5x, const Vec3& start);
   void resume_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg, JobJournal jj);
   void follow_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
                   rpc::json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body);

@@ -4,7 +4,7 @@
 // started after a crash of the previous one can re-stream the same program and resume it
 // where pcnc-rt held it (HOST_LOST). Written when a program starts, removed when it ends.
 //
-// May include: shared/geometry only (the file format is private to job_journal.cpp).
+// May include: shared/geometry, config/atomic_file.hpp, config/work_state.hpp (the file format is private to job_journal.cpp).
 #pragma once
 
 #include <array>
@@ -12,6 +12,8 @@
 #include <optional>
 #include <string>
 
+#include "config/atomic_file.hpp"  // write_file_atomically
+#include "config/work_state.hpp"   // WorkOffsets
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -19,7 +21,9 @@ namespace pcnc {
 struct JobJournal {
   std::string file;                // absolute path of the G-code program
   int work_offset = 0;             // 0..5 = G54..G59 at program start
-  std::array<Vec3, 6> work_offsets{};  // G54..G59 values in effect (set_offset may change later)
+  // G54..G59.3 in effect at the start (set_offset may change them later). A journal of an
+  // older pcnc-host holds only G54..G59: G59.1..G59.3 then read as 0 (a job used none of them).
+  WorkOffsets work_offsets{};
   bool fit = false;
   int contouring = -1;             // -1: the config's default, 0 off, 1 on
   Vec3 start_position{};           // the machine position the program was checked from
@@ -41,11 +45,6 @@ std::string journal_path(const std::string& state_dir);
 /// Writes atomically (write_file_atomically). Returns false with `error` set on failure; the
 /// journal already there is then left as it was.
 bool write_journal(const std::string& path, const JobJournal& journal, std::string* error);
-/// `text` to `path` through `path`.tmp, created with O_EXCL|O_NOFOLLOW (whatever is at the
-/// temporary name, a symlink included, is unlinked first, never followed), every write
-/// checked, fsync'ed, then renamed over `path`. On any failure `path` is untouched and
-/// `error` says what failed.
-bool write_file_atomically(const std::string& path, const std::string& text, std::string* error);
 /// Reads a journal; nullopt (with `error` set) when absent or unreadable.
 std::optional<JobJournal> read_journal(const std::string& path, std::string* error);
 void remove_journal(const std::string& path);

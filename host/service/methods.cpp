@@ -95,13 +95,14 @@ Outcome do_reset(Call& c, JobControl& jobs) {
   return sent(*c.link, CommandKind::kReset, json{{"state", "IDLE"}, {"was", to_string(s)}});
 }
 
-Outcome do_set_offset(MachineConfig& config, const rpc::SetOffsetParams& p) {
-  Vec3& o = config.gcode.work_offsets[static_cast<std::size_t>(p.index)];
-  for (int i = 0; i < kAxes; ++i) {
-    if (p.xyz[i]) o[static_cast<std::size_t>(i)] = *p.xyz[i];
+Outcome do_set_offset(WorkStore& work, const rpc::SetOffsetParams& p) {
+  if (auto error = work.set_g5x(p.index, p.xyz)) {
+    spdlog::error("set_offset {}: {}", rpc::work_offset_name(p.index), *error);
+    return Outcome::fail(rpc::Error{rpc::kInternalError, "the work offset was not changed: " + *error, nullptr});
   }
-  spdlog::info("work offset {} set to X{} Y{} Z{} (used by programs started from now on)", rpc::work_offset_name(p.index), o[0],
-               o[1], o[2]);
+  const Vec3& o = work.state().g5x[static_cast<std::size_t>(p.index)];
+  spdlog::info("work offset {} set to X{} Y{} Z{} (used by programs started from now on; saved in {})",
+               rpc::work_offset_name(p.index), o[0], o[1], o[2], work.path().empty() ? "memory only" : work.path());
   json r = rpc::vec3_to_json(o);
   r["offset"] = rpc::work_offset_name(p.index);
   return Outcome::ok(r);
@@ -118,7 +119,9 @@ std::vector<Method> method_table(ServiceParts parts) {
       {"status", kNoParams, kNoRt, [s](Call&) { return Outcome::ok(status_object(s)); }},
       {"run", kParams, kRt,
        with_params(check_run,
-                   [s](Call& c, const rpc::RunParams& p) { return s.jobs.run(c.client, c.id, p, c.link, c.status, s.config); })},
+                   [s](Call& c, const rpc::RunParams& p) {
+                     return s.jobs.run(c.client, c.id, p, c.link, c.status, s.config, s.work.state());
+                   })},
       {"pause", kNoParams, kRt, do_pause},
       {"resume", kNoParams, kRt,
        [s](Call& c) {
@@ -154,7 +157,7 @@ std::vector<Method> method_table(ServiceParts parts) {
          return sent(*c.link, CommandKind::kJogStop, json{{"ok", true}});
        }},
       {"set_offset", kParams, kNoRt,
-       with_params(rpc::check_set_offset_params, [s](Call&, const rpc::SetOffsetParams& p) { return do_set_offset(s.config, p); })},
+       with_params(rpc::check_set_offset_params, [s](Call&, const rpc::SetOffsetParams& p) { return do_set_offset(s.work, p); })},
       {"subscribe", kParams, kNoRt,
        with_params(rpc::check_subscribe_params,
                    [s](Call& c, const rpc::SubscribeParams& p) {
@@ -179,11 +182,16 @@ json status_object(const ServiceParts& parts) {
   if (l) rt["heartbeat_age_ms"] = l->rt_heartbeat_age_s() * 1000.0;
   j["rt"] = rt;
   parts.jobs.describe(j, st);
+  const WorkState& w = parts.work.state();
   json offsets = json::object();
-  for (int i = 0; i < 6; ++i) {
-    offsets[rpc::work_offset_name(i)] = rpc::vec3_to_json(parts.config.gcode.work_offsets[static_cast<std::size_t>(i)]);
-  }
+  for (int i = 0; i < kWorkSystems; ++i) offsets[rpc::work_offset_name(i)] = rpc::vec3_to_json(w.g5x[static_cast<std::size_t>(i)]);
   j["work_offsets"] = offsets;
+  j["work_state"] = json{{"active", rpc::work_offset_name(w.active)},
+                         {"G92", rpc::vec3_to_json(w.g92)},
+                         {"G92_applied", w.g92_applied},
+                         {"G28", rpc::vec3_to_json(w.g28)},
+                         {"G30", rpc::vec3_to_json(w.g30)},
+                         {"file", parts.work.path().empty() ? json(nullptr) : json(parts.work.path())}};
   j["jog"] = json{{"continuous", parts.jogs.continuous_active()}};
   return j;
 }

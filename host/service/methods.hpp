@@ -6,7 +6,7 @@
 // gathers what every part knows, is built here too.
 //
 // May include: dispatch.hpp and the service's parts (rt_monitor, job_control, jog_control,
-// subscriptions), rpc.hpp, shared/.
+// subscriptions, work_store), rpc.hpp, shared/.
 #pragma once
 
 #include <vector>
@@ -17,12 +17,14 @@
 #include "service/jog_control.hpp"
 #include "service/rt_monitor.hpp"
 #include "service/subscriptions.hpp"
+#include "service/work_store.hpp"
 
 namespace pcnc {
 
 /// The service's parts, as the handlers see them (loop thread).
 struct ServiceParts {
-  MachineConfig& config;  // the service's copy: set_offset changes its work offsets
+  const MachineConfig& config;  // the service's copy (its gcode.g54..g59 are only the work state's defaults)
+  WorkStore& work;              // the work-coordinate state: set_offset changes and saves it
   const RtMonitor& rt;
   JobControl& jobs;
   JogControl& jogs;
@@ -33,7 +35,8 @@ struct ServiceParts {
 std::vector<Method> method_table(ServiceParts parts);
 
 /// The `status` result (also pushed to subscribers): the rt's status (or state NO_RT), the
-/// rt link, the job and the last job, work offsets, jog, and what `resume` would continue.
+/// rt link, the job and the last job, the work-coordinate state, jog, and what `resume` would
+/// continue.
 rpc::json status_object(const ServiceParts& parts);
 
 }  // namespace pcnc

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <initializer_list>
 
+#include "config/work_state.hpp"
+
 namespace pcnc::rpc {
 namespace {
 
@@ -246,16 +248,9 @@ ParsedRequest parse_request(std::string_view line) {
   return out;
 }
 
-int parse_work_offset_name(std::string_view name) {
-  const std::string l = lower(name);
-  static const char* names[] = {"g54", "g55", "g56", "g57", "g58", "g59"};
-  for (int i = 0; i < 6; ++i) {
-    if (l == names[i]) return i;
-  }
-  return -1;
-}
+int parse_work_offset_name(std::string_view name) { return parse_work_system_name(name); }
 
-std::string work_offset_name(int index) { return "G5" + std::to_string(4 + index); }
+std::string work_offset_name(int index) { return work_system_name(index); }
 
 int parse_axis_name(std::string_view name) {
   const std::string l = lower(name);
@@ -281,7 +276,8 @@ Checked<RunParams> check_run_params(const json& params) {
   }
   if (auto w = r.string("work_offset", false)) {
     p.work_offset = parse_work_offset_name(*w);
-    if (p.work_offset < 0) r.fail("parameter 'work_offset' of run must be one of G54..G59, got '" + *w + "'");
+    // G59.1..G59.3 are kept and set, but a program starts in G54..G59 (the interpreter's).
+    if (p.work_offset < 0 || p.work_offset > 5) r.fail("parameter 'work_offset' of run must be one of G54..G59, got '" + *w + "'");
   }
   p.contouring = r.boolean("contouring");
   p.fit = r.boolean("fit").value_or(false);
@@ -342,7 +338,9 @@ Checked<SetOffsetParams> check_set_offset_params(const json& params) {
   SetOffsetParams p;
   if (auto w = r.string("offset", true)) {
     p.index = parse_work_offset_name(*w);
-    if (p.index < 0) r.fail("parameter 'offset' of set_offset must be one of G54..G59, got '" + *w + "'");
+    if (p.index < 0) {
+      r.fail("parameter 'offset' of set_offset must be one of G54..G59, G59.1, G59.2, G59.3, got '" + *w + "'");
+    }
   }
   static const char* keys[kAxes] = {"x", "y", "z"};
   bool any = false;

@@ -88,7 +88,7 @@ struct JogParams {
 };
 
 struct SetOffsetParams {
-  int index = 0;                      // 0..5 = G54..G59
+  int index = 0;                      // 0..8 = G54..G59, G59.1..G59.3
   std::optional<double> xyz[kAxes];   // program zero in machine coordinates, mm; missing: unchanged
 };
 
@@ -116,7 +116,7 @@ Checked<SubscribeParams> check_subscribe_params(const json& params);
 /// For methods without parameters: params must be absent, null or an empty object.
 std::optional<Error> check_no_params(const std::string& method, const json& params);
 
-/// "G54".."G59" (case-insensitive) -> 0..5, else -1.
+/// "G54".."G59", "G59.1".."G59.3" (case-insensitive) -> 0..8, else -1 (config/work_state.hpp).
 int parse_work_offset_name(std::string_view name);
 std::string work_offset_name(int index);
 /// "X"/"Y"/"Z" (case-insensitive) -> 0..2, else -1.

@@ -7,6 +7,7 @@
 //   job_control     run and resume in a worker, the job record, the journal
 //   jog_control     jogs, their replies, the continuous jog's deadman
 //   subscriptions   status pushes and events for subscribed clients
+//   work_store      the work-coordinate state (G54..G59.3): its file, set_offset
 //
 // Everything a part reports from another thread (the rt monitor, the job worker) reaches
 // the clients through ControlServer::post, on the loop thread.
@@ -27,6 +28,7 @@
 #include "service/methods.hpp"
 #include "service/rt_monitor.hpp"
 #include "service/subscriptions.hpp"
+#include "service/work_store.hpp"
 
 namespace pcnc {
 
@@ -44,12 +46,13 @@ struct Service::Impl {
                              post_event(json{{"event", "rt_lost"}, {"message", why}, {"heartbeat_age_ms", age_ms}});
                            }}),
         subs([this](ClientId client, std::string_view line) { server->send(client, line); }),
+        work(work_state_path(c), default_work_state(c)),
         jobs(journal_path(state_dir(c)),
              JobNotices{[this](ClientId client, json id, Outcome o) { post_reply(client, std::move(id), std::move(o)); },
                         [this](json event) { post_event(std::move(event)); }}),
         jogs(config, rt, [this](ClientId client, const json& id, const Outcome& o) { reply(client, id, o); },
              [this](const json& event) { subs.broadcast_event(event); }),
-        parts{config, rt, jobs, jogs, subs},
+        parts{config, work, rt, jobs, jogs, subs},
         dispatcher(method_table(parts), rt) {}
 
   // ---- loop thread ----
@@ -94,11 +97,12 @@ struct Service::Impl {
 
   // Construction order is the order of dependence; destruction runs backwards, so the job
   // worker (the last holder of an rt link besides the monitor) ends before the monitor goes.
-  MachineConfig config;  // the service's: set_offset changes its work offsets (loop thread)
+  const MachineConfig config;  // the service's; its gcode.g54..g59 are only the work state's defaults
   ServiceOptions opt;
   std::unique_ptr<ControlServer> server;  // created by run()
   RtMonitor rt;
   Subscriptions subs;
+  WorkStore work;  // G54..G59.3 and the rest (loop thread): loaded in run(), changed by set_offset
   JobControl jobs;
   JogControl jogs;
   ServiceParts parts;
@@ -152,11 +156,22 @@ void Service::run(const std::atomic<bool>& stop) {
     check_socket_dir(socket);
   }
   ensure_private_dir(state_dir(s.config), 0700);
+  // The work offsets the operator set survive a restart; a file that cannot be trusted stops
+  // the start here (never zeros in its place).
+  try {
+    s.work.load(s.config);
+  } catch (const WorkStateError& e) {
+    throw WorkStateError(std::string(e.what()) + "; the service does not start (fix the file, or remove it to start from the "
+                                                 "config's gcode.g54..g59)");
+  }
+  const Vec3& g54 = s.work.state().g5x[0];
+  spdlog::info("work offsets: {} (G54 X{} Y{} Z{}; {} selected)", s.work.path(), g54[0], g54[1], g54[2],
+               work_system_name(s.work.state().active));
   ServerLimits limits = s.opt.limits;
   limits.idle_timeout_s = s.config.process.client_idle_timeout_s;
   s.server = std::make_unique<ControlServer>(socket, s.config.process.socket_mode, group, limits, h);
-  spdlog::info("serving the control socket {} (mode {:04o}); journal in {}", socket, s.config.process.socket_mode,
-               state_dir(s.config));
+  spdlog::info("serving the control socket {} (mode {:04o}); journal and work offsets in {}", socket,
+               s.config.process.socket_mode, state_dir(s.config));
   s.rt.start();
   s.server->run(stop, s.opt.tick_s);
 

@@ -128,6 +128,14 @@ void read_axis(Section& parent, const char* key, AxisConfig& a) {
   }
 }
 
+// A path named in the config: relative ones are relative to the config file's directory
+// (not the working directory of whichever process reads it).
+std::string resolve_beside(const std::string& path, const std::string& config_origin) {
+  if (path.empty() || path.front() == '/') return path;
+  const std::filesystem::path dir = std::filesystem::path(config_origin).parent_path();
+  return dir.empty() ? path : (dir / path).lexically_normal().string();
+}
+
 }  // namespace
 
 MachineConfig parse_config(const std::string& toml_text, const std::string& origin) {
@@ -175,7 +183,10 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     g.integer("nurbs_knots", c.gcode.nurbs_knots, 0, 1);
     g.number("nurbs_chord_tolerance_mm", c.gcode.nurbs_chord_tolerance_mm, 1e-7, 1.0);
     g.number("max_executed_lines", c.gcode.max_executed_lines, 1.0, 1e12);
+    g.string("tool_table", c.gcode.tool_table);
+    g.boolean("pause_on_tool_change", c.gcode.pause_on_tool_change);
     g.finish();
+    c.gcode.tool_table = resolve_beside(c.gcode.tool_table, origin);
   }
   {
     Section p(top.subtable("process"), "process", origin);

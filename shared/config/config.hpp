@@ -67,12 +67,18 @@ struct GcodeConfig {
   double arc_radius_tolerance_rel = 0.001;  // ... plus this fraction of the radius
   bool clamp_excess_feed = true;            // F above the machine maximum: clamp (warn) or reject
   double max_feed_mm_min = 0.0;             // 0: from the axis limits
-  std::array<Vec3, 6> work_offsets{};       // G54..G59, mm, program zero in machine coordinates
+  // G54..G59, mm, program zero in machine coordinates: the defaults of the work-coordinate
+  // state (config/work_state.hpp) until its file exists; the file then wins.
+  std::array<Vec3, 6> work_offsets{};
   int nurbs_knots = 0;                      // 0: open uniform (LinuxCNC); 1: chord length (seed)
   double nurbs_chord_tolerance_mm = 0.001;  // δ of the NURBS feed schedule
   // Lines a program may execute (loops and subroutine calls count each time they run): a loop
   // that never ends is an error at this count, not a hang. Key: max_executed_lines.
   double max_executed_lines = 50e6;
+  // LinuxCNC-format tool table (host/gcode/tool_table.hpp); empty: none. A relative path in
+  // the file is made relative to the config file's directory when the config is parsed.
+  std::string tool_table;
+  bool pause_on_tool_change = false;        // M6 pauses the program for the operator (false: it does not)
 };
 
 struct ProcessConfig {

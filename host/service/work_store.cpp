@@ -1,0 +1,34 @@
+// work_store.cpp — the service's work-coordinate state (see work_store.hpp).
+#include "service/work_store.hpp"
+
+namespace pcnc {
+
+void WorkStore::load(const MachineConfig& config) {
+  if (!path_.empty()) state_ = load_work_state(config, path_);
+}
+
+std::optional<std::string> WorkStore::set_g5x(int index, const std::optional<double> (&xyz)[kAxes]) {
+  if (index < 0 || index >= kWorkSystems) return "no work coordinate system " + std::to_string(index);
+  WorkState next = state_;
+  Vec3& o = next.g5x[static_cast<std::size_t>(index)];
+  for (int i = 0; i < kAxes; ++i) {
+    if (xyz[i]) o[static_cast<std::size_t>(i)] = *xyz[i];
+  }
+  if (!path_.empty()) {
+    try {
+      save_work_state(path_, next);
+    } catch (const WorkStateError& e) {
+      return e.what();
+    }
+  }
+  state_ = next;
+  return std::nullopt;
+}
+
+std::array<Vec3, 6> first_six(const WorkOffsets& g5x) {
+  std::array<Vec3, 6> out{};
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = g5x[i];
+  return out;
+}
+
+}  // namespace pcnc
