@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
                "feeds) before anything moves, preprocesses each move into a block and feeds pcnc-rt through the "
                "4-slot shared-memory ring. pcnc-rt must be running with the same config."};
   std::string config_path = pcnc::default_config_path();
-  std::string run_file, contouring, offset, summary_path, log_level = "warn";
+  std::string run_file, contouring, offset, summary_path, tool_table, log_level = "warn";
   int progress_fd = -1;
   bool fit = false, serve = false;
   double wait_rt_s = 5.0;
@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   app.add_flag("--fit", fit, "scale the program down uniformly so it fits the travel");
+  app.add_option("--tool-table", tool_table, "tool table (LinuxCNC format, mm); default: the config's gcode.tool_table");
   app.add_option("--summary", summary_path,
                  "after the run, write its machine-readable summary (JSON: check, transform, job, final status) to this "
                  "file; `pcnc run --report` builds the HTML page from it and the trace");
@@ -114,6 +115,14 @@ int main(int argc, char** argv) {
     }
     options.offset = v;
   }
+  if (const std::string why = pcnc::load_job_state(config, tool_table, options); !why.empty()) {
+    std::fprintf(stderr, "pcnc-host: %s\n", why.c_str());
+    return 2;
+  }
+  options.on_message = [&](const pcnc::ProgramMessage& m) {
+    std::fprintf(stderr, "%s:%d: %s: %s\n", run_file.c_str(), m.line,
+                 m.kind == pcnc::MessageKind::kPrint ? "print" : "message", m.text.c_str());
+  };
 
   try {
     auto link = pcnc::RtLink::attach(config, wait_rt_s);
@@ -143,6 +152,13 @@ int main(int argc, char** argv) {
       };
     }
     report.job = runner.run(run_file, options, check, g_interrupt, on_progress);
+    if (runner.work_after()) {  // G10, G92, G28.1 ...: kept for the next program, as LinuxCNC's var file
+      try {
+        pcnc::save_work_state(pcnc::work_state_path(config), *runner.work_after());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "pcnc-host: the work offsets were not saved: %s\n", e.what());
+      }
+    }
     if (progress_fd >= 0 && write(progress_fd, "done\n", 5) == 5) {
       pollfd pfd{progress_fd, POLLIN, 0};  // the launcher clears its display, then answers
       char ok[8];

@@ -70,6 +70,32 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
     return 2;
   }
 
+  if (const std::string why = load_job_state(config, o.tool_table, job); !why.empty()) {
+    err << "pcnc check: " << why << "\n";
+    return 2;
+  }
+  if (o.print_moves) {
+    const MoveListing r = list_moves(
+        o.file, config, job,
+        [&](const Move& m) {
+          const std::string s = format_move(m);
+          if (!s.empty()) out << s << "\n";
+        },
+        [&](const ProgramMessage& m) {
+          if (m.kind == MessageKind::kPrint) {
+            err << m.text << "\n";
+          } else {
+            out << "MSG " << m.text << "\n";
+          }
+        });
+    for (const Diagnostic& d : r.diagnostics) {
+      if (d.severity == Diagnostic::Severity::kError || !o.quiet) err << format_diagnostic(d) << "\n";
+    }
+    return r.ok ? 0 : 2;
+  }
+  job.on_message = [&](const ProgramMessage& m) {
+    if (!o.quiet) err << o.file << ":" << m.line << ": " << (m.kind == MessageKind::kPrint ? "print" : "message") << ": " << m.text << "\n";
+  };
   const CheckResult r = check_program(o.file, config, job);
   std::size_t errors = 0, warnings = 0;
   for (const Diagnostic& d : r.diagnostics) {
@@ -123,6 +149,10 @@ void add_check_subcommand(CLI::App& app, int& exit_code) {
   sub->add_option("--offset", opts->offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   sub->add_option("--contouring", opts->contouring, "contouring at program start: on|off (default: the config's)");
   sub->add_flag("--print-blocks", opts->print_blocks, "print the preprocessed ring blocks, one per line");
+  sub->add_flag("--print-moves", opts->print_moves,
+                "print the moves as they leave the interpreter (L<line> <kind> (x,y,z)->(x,y,z), machine mm) and "
+                "the MSG/DEBUG messages, in program order; checks the program as G-code only (not the travel)");
+  sub->add_option("--tool-table", opts->tool_table, "tool table (LinuxCNC format, mm); default: the config's gcode.tool_table");
   sub->add_flag("-q,--quiet", opts->quiet, "print only errors and the verdict");
   sub->callback([opts, &exit_code] { exit_code = run_check_command(*opts, std::cout, std::cerr); });
 }

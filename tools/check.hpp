@@ -3,7 +3,10 @@
 // Runs the whole front-end pipeline over the program (pass 1: lexer, parser, interpreter,
 // preflight, preprocessor, and the rt's own block check on every block), prints errors and
 // warnings ("file:line:col: error: ..."), the transform, extents and feed time, and with
-// --print-blocks streams the very same blocks (pass 2) in their stable text form.
+// --print-blocks streams the very same blocks (pass 2) in their stable text form. With
+// --print-moves it runs the front end only (lexer, control flow, interpreter) and prints the
+// moves as they leave it, one per line, with the (MSG,...)/(DEBUG,...) messages in order:
+// the form to compare with LinuxCNC's interpreter (docs/gcode.md).
 #pragma once
 
 #include <array>
@@ -24,6 +27,8 @@ struct CheckCommandOptions {
   std::string offset;      // "X,Y,Z" mm, empty: the config's G54
   std::string contouring;  // "on" | "off" | empty (config default)
   bool print_blocks = false;
+  bool print_moves = false;
+  std::string tool_table;  // empty: the config's gcode.tool_table
   bool quiet = false;  // only errors and the verdict
 };
 

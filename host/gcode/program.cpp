@@ -119,6 +119,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     }
     const JobFrame frame = make_frame(config, options, t);
     Pipeline pipeline(in.open(), config, frame, sink);
+    if (options.on_message) pipeline.set_message_handler(options.on_message);
     Block b;
     while (pipeline.next(b)) {
       ++result.blocks;
@@ -224,6 +225,18 @@ MoveListing list_moves_text(std::string_view text, const std::string& name, cons
   return list_input(in, name, config, options, on_move, on_message);
 }
 
+std::string load_job_state(const MachineConfig& config, const std::string& tool_table_path, JobOptions& options) {
+  try {
+    const std::string path = work_state_path(config);
+    options.work = load_work_state(config, path);
+    const std::string table = tool_table_path.empty() ? config.gcode.tool_table : tool_table_path;
+    if (!table.empty()) options.tools = std::make_shared<const ToolTable>(load_tool_table(table));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return {};
+}
+
 std::string format_move(const Move& m) {
   const char* kind = nullptr;
   switch (m.kind) {
@@ -252,12 +265,18 @@ struct BlockStream::Impl {
 BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
                          const Transform& transform)
     : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(path), path, config,
-                                   make_frame(config, options, transform))) {}
+                                   make_frame(config, options, transform))) {
+  if (options.on_message) impl_->pipeline.set_message_handler(options.on_message);
+}
 
 BlockStream::BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config,
                          const JobOptions& options, const Transform& transform)
     : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(LineReader::FromText{}, text), name, config,
-                                   make_frame(config, options, transform))) {}
+                                   make_frame(config, options, transform))) {
+  if (options.on_message) impl_->pipeline.set_message_handler(options.on_message);
+}
+
+WorkState BlockStream::work_state() const { return impl_->pipeline.work_state(); }
 
 BlockStream::~BlockStream() = default;
 BlockStream::BlockStream(BlockStream&&) noexcept = default;

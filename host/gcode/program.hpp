@@ -36,7 +36,15 @@ struct JobOptions {
   // config's. --offset replaces its G54.
   std::optional<WorkState> work;
   std::shared_ptr<const ToolTable> tools;  // --tool-table / gcode.tool_table; null: none
+  // (MSG,...), (DEBUG,...), (PRINT,...) as their lines run (in check and in the stream).
+  MessageHandler on_message;
 };
+
+/// Completes `options` for a job on this machine: the work state from the state file
+/// (work_state_path; none: the config's offsets) and the tool table (`tool_table_path`, else
+/// the config's gcode.tool_table; empty: none). Returns why it cannot (a corrupt state file, a
+/// bad tool table: the messages name the file), or an empty string.
+std::string load_job_state(const MachineConfig& config, const std::string& tool_table_path, JobOptions& options);
 
 struct Transform {
   Vec3 offset{};
@@ -103,6 +111,9 @@ class BlockStream {
   std::uint64_t lines_read() const;  // for progress
   std::uint64_t total_bytes() const;
   std::uint64_t bytes_read() const;
+  /// The offsets and stored positions as the program has left them (G10, G92, G28.1...), for
+  /// the state file once the program has run to its end.
+  WorkState work_state() const;
 
  private:
   struct Impl;

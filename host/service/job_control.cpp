@@ -133,15 +133,25 @@ Outcome JobControl::run(ClientId client, const json& id, const rpc::RunParams& p
   // Copies: set_offset may change the service's work state meanwhile.
   MachineConfig job_config = config;
   job_config.gcode.work_offsets = first_six(work.g5x);
-  start_worker(client, id, [this, client, id, rp = params, link, job_config, g5x = work.g5x, start = st.commanded] {
-    run_job(client, id, rp, link, job_config, g5x, start);
+  start_worker(client, id, [this, client, id, rp = params, link, job_config, ws = work, start = st.commanded] {
+    run_job(client, id, rp, link, job_config, ws, start);
   });
   return Outcome::later();
 }
 
 void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& rp, std::shared_ptr<RtLink> l,
-                         const MachineConfig& cfg, const WorkOffsets& g5x, const Vec3& start) {
+                         const MachineConfig& cfg, const WorkState& ws, const Vec3& start) {
+  const WorkOffsets& g5x = ws.g5x;
   JobOptions opts;
+  opts.work = ws;  // G92 and the G28/G30 positions too, as the service's state file holds them
+  if (!cfg.gcode.tool_table.empty()) {
+    if (const std::string why = load_job_state(cfg, cfg.gcode.tool_table, opts); !why.empty()) {
+      end_job(nullptr);
+      job_reply(client, id, Outcome::fail(rpc::Error{rpc::kPreflightFailed, why, json()}));
+      return;
+    }
+    opts.work = ws;  // the service's own copy, not the file's
+  }
   opts.work_offset_index = rp.work_offset;
   opts.fit = rp.fit;
   opts.contouring = rp.contouring;

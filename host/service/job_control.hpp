@@ -74,7 +74,7 @@ class JobControl {
   void job_reply(ClientId client, const rpc::json& id, Outcome outcome);  // the job's one reply
   void end_job(const rpc::json* last);
   void run_job(ClientId client, const rpc::json& id, const rpc::RunParams& rp, std::shared_ptr<RtLink> l,
-               const MachineConfig& cfg, const WorkOffsets& g5x, const Vec3& start);
+               const MachineConfig& cfg, const WorkState& ws, const Vec3& start);
   void resume_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg, JobJournal jj);
   void follow_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
                   rpc::json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body);

@@ -39,7 +39,10 @@ JobResult JobRunner::run(const std::string& path, const JobOptions& options, con
   BlockSource source;
   source.next = [&](Block& b) { return stream.next(b); };
   source.progress = [&] { return JobProgress{stream.lines_read(), stream.bytes_read(), stream.total_bytes(), Status{}}; };
-  return run_source(source, options.contouring.value_or(config_.motion.contouring_default), interrupt, progress);
+  work_after_.reset();
+  JobResult r = run_source(source, options.contouring.value_or(config_.motion.contouring_default), interrupt, progress);
+  if (r.end == JobEnd::kCompleted) work_after_ = stream.work_state();
+  return r;
 }
 
 JobResult JobRunner::run_source(const BlockSource& source, bool contouring, const std::atomic<bool>& interrupt,

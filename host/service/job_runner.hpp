@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "gcode/program.hpp"
@@ -35,6 +36,10 @@ class JobRunner {
   JobRunner(RtLink& link, const MachineConfig& config);
   /// Runs `path` (already checked: `check` is its CheckResult). `interrupt` stops the run
   /// with a controlled stop. `progress` is called now and then from this thread.
+  /// After run() completed the program: the offsets and stored positions as it left them (for
+  /// the state file); nothing otherwise.
+  const std::optional<WorkState>& work_after() const { return work_after_; }
+
   JobResult run(const std::string& path, const JobOptions& options, const CheckResult& check,
                 const std::atomic<bool>& interrupt, const std::function<void(const JobProgress&)>& progress = {});
   /// The same over any block source; `contouring` is the mode at program start.
@@ -44,6 +49,7 @@ class JobRunner {
   void set_on_started(std::function<void()> fn) { on_started_ = std::move(fn); }
 
  private:
+  std::optional<WorkState> work_after_;
   bool wait_until_state(const std::function<bool(const Status&)>& done, const std::atomic<bool>& interrupt,
                         double timeout_s, Status& last);
   RtLink& link_;
