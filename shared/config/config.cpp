@@ -166,7 +166,9 @@ class Section {
       return;
     }
     for (const auto& [k, unit] : missing_) {
-      problems_.push_back(position(origin_, table_->source()) + label() + ": missing key '" + k + "'" + unit);
+      // at the section's header; a top-level key has none
+      const std::string where = name_.empty() ? origin_ + ": " : position(origin_, table_->source());
+      problems_.push_back(where + label() + ": missing key '" + k + "'" + unit);
     }
     for (auto&& [k, v] : *table_) {
       const std::string key(k.str());
