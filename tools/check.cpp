@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "config/config.hpp"
+#include "config/exit_status.hpp"
 #include "gcode/program.hpp"
 
 namespace pcnc {
@@ -80,7 +81,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
   if (!r.ok) {
     out << o.file << ": FAILED: " << r.lines << " lines, " << errors << " error" << (errors == 1 ? "" : "s")
         << "; nothing would move\n";
-    return 1;
+    return kExitBadInput;
   }
   if (!o.quiet) {
     const Transform& t = r.transform;
@@ -106,7 +107,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
       }
     } catch (const std::exception& e) {
       err << "pcnc check: " << e.what() << "\n";
-      return 1;
+      return kExitBadInput;
     }
   }
   return 0;

@@ -71,9 +71,9 @@ int main(int argc, char** argv) {
     if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
     lo.rt_args = {"--config", config_path, "--clock", clock};
     lo.host_args = {"--config", config_path, "--run", file};
-    if (quiet || verbose) {
-      for (auto* args : {&lo.rt_args, &lo.host_args}) args->insert(args->end(), {"--log-level", quiet ? "error" : "info"});
-    }
+    // stderr: warnings and errors by default; --quiet errors only; --verbose the processes' info log
+    const char* level = quiet ? "error" : verbose ? "info" : "warn";
+    for (auto* args : {&lo.rt_args, &lo.host_args}) args->insert(args->end(), {"--log-level", level});
     if (quiet) lo.host_args.push_back("--quiet");
     // --report: the HTML page needs the trace and the host's summary; when the user did not
     // ask for them, they go to a temporary directory that is removed afterwards.
