@@ -59,6 +59,9 @@ TEST(PcncRun, BundledExampleRunsToItsLastPoint) {
       {pcnc_exe(), "run", source_dir() + "/examples/demo.ngc", "--clock", "virtual", "--config", config}, 300);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("result            completed"), std::string::npos) << r.out;
+  // what its comments and the README say: under M21 the circle (2) and the contour's 18
+  // segments turning by 5 degrees flow through; the square's corners and the rapids stop
+  EXPECT_NE(r.out.find("junctions         20 passed without stopping, 11 stops"), std::string::npos) << r.out;
   // demo.ngc ends at program X0 Y0 Z-1; G54 is (12.5, 12.5, 25) on the default machine.
   const Vec3 expected{12.5, 12.5, 24.0};
   Vec3 commanded{}, actual{};

@@ -48,9 +48,9 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
   MachineConfig config;
   try {
     config = load_config(o.config_path.empty() ? default_config_path() : o.config_path);
-  } catch (const std::exception& e) {
-    err << "pcnc check: " << e.what() << "\n";
-    return 2;
+  } catch (const ConfigError& e) {
+    for (const auto& p : e.problems) err << "pcnc check: " << p << "\n";
+    return kExitBadInput;
   }
   JobOptions job;
   job.fit = o.fit;

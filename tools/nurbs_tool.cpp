@@ -29,8 +29,8 @@ int run_nurbs_rough(const NurbsToolOptions& o, std::ostream& out, std::ostream& 
   MachineConfig cfg;
   try {
     cfg = load_config(o.config_path.empty() ? default_config_path() : o.config_path);
-  } catch (const std::exception& e) {
-    err << "pcnc nurbs: " << e.what() << "\n";
+  } catch (const ConfigError& e) {
+    for (const auto& p : e.problems) err << "pcnc nurbs: " << p << "\n";
     return 2;
   }
   const double tol = o.tolerance_mm >= 0.0 ? o.tolerance_mm : cfg.gcode.nurbs_chord_tolerance_mm;
