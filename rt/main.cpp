@@ -42,7 +42,7 @@ int report_shutdown(const pcnc::ShutdownReport& r) {
     return 1;
   }
   if (r.was_moving) {
-    spdlog::info("SIG{}: brought the machine to rest before exiting: {} at {:.1f} mm/s, setpoint at rest after {:.1f} ms, "
+    spdlog::warn("SIG{}: brought the machine to rest before exiting: {} at {:.1f} mm/s, setpoint at rest after {:.1f} ms, "
                  "axes still after {:.1f} ms of machine time ({:.1f} ms wall)",
                  sig ? sig : "?", pcnc::to_string(r.state_at_request), r.speed_at_request, r.motion_rest_s * 1e3,
                  r.settled_s * 1e3, r.wall_s * 1e3);
