@@ -106,6 +106,21 @@ TEST(ExitCodes, ABadConfigExits2BeforeAnythingStarts) {
   EXPECT_THROW(HostSegment seg(test_shm_name("xbadcfg")), SegmentError);
 }
 
+// pcnc serve restarts a process that dies, but not a pcnc-host that refused its config (a
+// journal directory that is a file): that would only be refused again.
+TEST(ExitCodes, AServiceWhoseHostRefusesItsStateDirectoryExits2) {
+  const std::string dir = make_temp_dir("xstate");
+  const std::string not_a_dir = dir + "/not-a-directory";
+  std::ofstream(not_a_dir) << "x";
+  const std::string config =
+      write_test_config(dir, "xstate", {{"state_dir = \"" + dir + "/state\"", "state_dir = \"" + not_a_dir + "\""}});
+  const ProcessResult r = run_process({pcnc_exe(), "serve", "--clock", "virtual", "--config", config}, 60);
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(has(r.err, "not-a-directory")) << r.err;
+  EXPECT_FALSE(has(r.err, "starting pcnc-host again")) << r.err;
+}
+
 TEST(ExitCodes, ARefusedProgramExits2) {
   const std::string dir = make_temp_dir("xprog");
   const std::string config = write_test_config(dir, "xprog");
