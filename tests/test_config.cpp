@@ -4,6 +4,7 @@
 // (for a value) its unit. The shipped configs themselves must pass.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <regex>
 #include <set>
@@ -224,8 +225,12 @@ std::string with(const std::string& from, const std::string& to) {
 TEST(Config, WrongTypesAndRulesBetweenKeysAreRefused) {
   EXPECT_TRUE(has(refusal(with("cycle_hz = 2000.0", "cycle_hz = \"fast\"")),
                   "[motion] cycle_hz: expected a number (Hz), not a string"));
+  const std::string text = shipped_text();
+  const auto travel_line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(text.find("travel_max_mm = 25.0")), '\n');
   EXPECT_TRUE(has(refusal(with("travel_max_mm = 25.0", "travel_max_mm = -5.0")),
-                  "[axis.x]: travel_max_mm (-5 mm) must exceed travel_min_mm (0 mm)"));
+                  kOrigin + ":" + std::to_string(travel_line) +
+                      ":17: [axis.x]: travel_max_mm (-5 mm) must exceed travel_min_mm (0 mm)"))
+      << "at the value";
   EXPECT_TRUE(has(refusal(with("home_mm = 25.0", "home_mm = 26.0")), "[axis.z]: home_mm (26 mm) must lie within the travel"));
   EXPECT_TRUE(has(refusal(with("shm_name = \"/pcnc-desktop-mill\"", "shm_name = \"no-slash\"")), "[process]: shm_name"));
   EXPECT_TRUE(has(refusal(with("contouring_default = false", "contouring_default = 0")),
@@ -234,6 +239,7 @@ TEST(Config, WrongTypesAndRulesBetweenKeysAreRefused) {
   const std::string syntax = refusal(with("[motion]", "[motion"));
   EXPECT_TRUE(has(syntax, kOrigin + ":8:")) << "a TOML syntax error names its line: " << syntax;
   EXPECT_TRUE(has(refusal(with("[axis.z]", "[axis.w]")), "unknown section [axis.w]"));
+  EXPECT_TRUE(has(refusal(with("name = \"desktop-mill\"", "name = \"../mill\"")), "(top level): name '../mill' must name"));
   EXPECT_TRUE(refusal(with("rt_spin_us = 0.0", "rt_spin_us = 200.0")).empty());
 }
 

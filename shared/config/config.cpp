@@ -150,9 +150,12 @@ class Section {
   std::string child(const char* key) const { return name_.empty() ? key : name_ + "." + key; }
   const std::string& origin() const { return origin_; }
 
-  // A problem about the section as a whole (a rule between its keys), at its header.
-  void problem(const std::string& why) {
-    problems_.push_back(position(origin_, table_ ? table_->source() : toml::source_region{}) + label() + ": " + why);
+  // A problem with a value that was read (a rule between keys, a name's form): at that key's
+  // value, or at the section's header.
+  void problem(const std::string& why, const char* at_key = nullptr) {
+    const toml::node* n = table_ && at_key ? table_->get(at_key) : nullptr;
+    const toml::source_region where = n ? n->source() : table_ ? table_->source() : toml::source_region{};
+    problems_.push_back(position(origin_, where) + label() + ": " + why);
   }
 
   void finish() {
@@ -238,10 +241,12 @@ void read_axis(Section& parent, const char* key, AxisConfig& a, std::vector<std:
   s.number("integrator_limit_a", a.integrator_limit_a, 0.0, 1e4, "A");
   if (min_ok && max_ok && !(a.travel_max_mm > a.travel_min_mm)) {
     s.problem("travel_max_mm (" + show(a.travel_max_mm) + " mm) must exceed travel_min_mm (" + show(a.travel_min_mm) +
-              " mm)");
+              " mm)",
+              "travel_max_mm");
   } else if (min_ok && max_ok && home_ok && !(a.home_mm >= a.travel_min_mm && a.home_mm <= a.travel_max_mm)) {
     s.problem("home_mm (" + show(a.home_mm) + " mm) must lie within the travel, " + show(a.travel_min_mm) + " .. " +
-              show(a.travel_max_mm) + " mm");
+              show(a.travel_max_mm) + " mm",
+              "home_mm");
   }
   s.finish();
 }
@@ -261,7 +266,12 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
   c.source_path = origin;
   std::vector<std::string> problems;
   Section top(&root, "", origin, problems);
-  top.string("name", c.name);
+  if (top.string("name", c.name) &&
+      (c.name.empty() || c.name == "." || c.name == ".." || c.name.find('/') != std::string::npos)) {
+    top.problem("name '" + c.name + "' must name a directory (the machine's runtime and state directories): not empty, "
+                "'.' or '..', no '/'",
+                "name");
+  }
 
   {
     Section axes(top.subtable("axis"), "axis", origin, problems);
@@ -303,17 +313,17 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     if (p.string("shm_name", c.process.shm_name) &&
         (c.process.shm_name.empty() || c.process.shm_name[0] != '/' ||
          c.process.shm_name.find('/', 1) != std::string::npos || c.process.shm_name.size() > 200)) {
-      p.problem("shm_name '" + c.process.shm_name + "' must be '/name' with no further '/' (a POSIX shared-memory name)");
+      p.problem("shm_name '" + c.process.shm_name + "' must be '/name' with no further '/' (a POSIX shared-memory name)", "shm_name");
     }
     if (p.string("socket_path", c.process.socket_path, Need::kOptional) && !c.process.socket_path.empty() &&
         c.process.socket_path[0] != '/') {
-      p.problem("socket_path '" + c.process.socket_path + "' must be an absolute path");
+      p.problem("socket_path '" + c.process.socket_path + "' must be an absolute path", "socket_path");
     }
     p.integer("socket_mode", c.process.socket_mode, 0, 0777, "file mode, e.g. 0o600", Need::kOptional);
     p.string("socket_group", c.process.socket_group, Need::kOptional);
     if (p.string("state_dir", c.process.state_dir, Need::kOptional) && !c.process.state_dir.empty() &&
         c.process.state_dir[0] != '/') {
-      p.problem("state_dir '" + c.process.state_dir + "' must be an absolute path");
+      p.problem("state_dir '" + c.process.state_dir + "' must be an absolute path", "state_dir");
     }
     p.number("host_timeout_s", c.process.host_timeout_s, 0.005, 60.0, "s");
     p.number("rt_timeout_s", c.process.rt_timeout_s, 0.005, 60.0, "s");
@@ -324,7 +334,7 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     std::string on_trace_failure = c.process.trace_failure_stops ? "stop" : "continue";
     if (p.string("on_trace_failure", on_trace_failure, Need::kOptional)) {
       if (on_trace_failure != "stop" && on_trace_failure != "continue") {
-        p.problem("on_trace_failure '" + on_trace_failure + "' must be \"stop\" or \"continue\"");
+        p.problem("on_trace_failure '" + on_trace_failure + "' must be \"stop\" or \"continue\"", "on_trace_failure");
       }
       c.process.trace_failure_stops = on_trace_failure != "continue";
     }
