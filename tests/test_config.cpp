@@ -254,6 +254,7 @@ TEST(Config, EveryProblemIsReportedAtOnce) {
     EXPECT_TRUE(has(e.what(), "missing key 'cycle_hz' (Hz)")) << e.what();
     EXPECT_TRUE(has(e.what(), "unknown key 'cyle_hz' (did you mean 'cycle_hz'?)")) << e.what();
     EXPECT_TRUE(has(e.what(), "kp_a_per_mm = -45 A/mm: out of range, must be 0 .. 1e+09 A/mm")) << e.what();
+    EXPECT_TRUE(has(e.problems[0], "cycle_hz") && has(e.problems[2], "kp_a_per_mm")) << "in the file's order: " << e.what();
   }
 }
 

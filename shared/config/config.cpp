@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -341,7 +342,19 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     p.finish();
   }
   top.finish();
-  if (!problems.empty()) throw ConfigError(std::move(problems));
+  if (!problems.empty()) {
+    // in the file's order: the file-wide ones (a missing section or top-level key) first
+    auto line_of = [&](const std::string& p) {
+      const std::size_t at = origin.size() + 1;
+      if (p.compare(0, origin.size(), origin) != 0 || p.size() <= at || !std::isdigit(static_cast<unsigned char>(p[at]))) {
+        return 0L;
+      }
+      return std::strtol(p.c_str() + at, nullptr, 10);
+    };
+    std::stable_sort(problems.begin(), problems.end(),
+                     [&](const std::string& a, const std::string& b) { return line_of(a) < line_of(b); });
+    throw ConfigError(std::move(problems));
+  }
   return c;
 }
 
