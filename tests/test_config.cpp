@@ -87,6 +87,14 @@ std::string refusal(const std::string& text) {
 
 bool has(const std::string& message, const std::string& part) { return message.find(part) != std::string::npos; }
 
+// The generated variants, from each shipped config's text.
+class ShippedConfig : public ::testing::TestWithParam<std::string> {
+ protected:
+  std::string text() const { return test::read_file(test::source_dir() + "/configs/" + GetParam()); }
+};
+INSTANTIATE_TEST_SUITE_P(Configs, ShippedConfig, ::testing::Values("desktop-mill.toml", "bench-peers.toml"),
+                         [](const auto& info) { return info.param.substr(0, info.param.find('-')); });
+
 TEST(Config, ShippedConfigsPass) {
   int checked = 0;
   for (const auto& entry : std::filesystem::directory_iterator(test::source_dir() + "/configs")) {
@@ -110,8 +118,8 @@ TEST(Config, DefaultConfigLoadsWithItsTravel) {
   EXPECT_EQ(c.process.socket_mode, 0600);
 }
 
-TEST(Config, EachSectionDeletedIsRefusedNamingFileSectionAndKeys) {
-  const auto lines = split_lines(shipped_text());
+TEST_P(ShippedConfig, EachSectionDeletedIsRefusedNamingFileSectionAndKeys) {
+  const auto lines = split_lines(text());
   std::vector<std::pair<std::size_t, std::string>> headers;  // index, name
   const std::regex header(R"(^\[([a-z._]+)\])");
   for (std::size_t i = 0; i < lines.size(); ++i) {
@@ -119,7 +127,7 @@ TEST(Config, EachSectionDeletedIsRefusedNamingFileSectionAndKeys) {
     if (std::regex_search(lines[i], m, header)) headers.emplace_back(i, m[1]);
   }
   ASSERT_EQ(headers.size(), 6u) << "motion, gcode, process, axis.x, axis.y, axis.z";
-  const auto keys = key_lines(shipped_text());
+  const auto keys = key_lines(text());
   for (std::size_t h = 0; h < headers.size(); ++h) {
     const std::size_t end = h + 1 < headers.size() ? headers[h + 1].first : lines.size();
     std::vector<std::string> variant(lines.begin(), lines.begin() + static_cast<long>(headers[h].first));
@@ -136,10 +144,10 @@ TEST(Config, EachSectionDeletedIsRefusedNamingFileSectionAndKeys) {
   }
 }
 
-TEST(Config, EachKeyDeletedIsRefusedUnlessOptional) {
-  const auto lines = split_lines(shipped_text());
+TEST_P(ShippedConfig, EachKeyDeletedIsRefusedUnlessOptional) {
+  const auto lines = split_lines(text());
   int required = 0;
-  for (const KeyLine& k : key_lines(shipped_text())) {
+  for (const KeyLine& k : key_lines(text())) {
     std::vector<std::string> variant = lines;
     variant.erase(variant.begin() + k.line - 1);
     const std::string message = refusal(join_lines(variant));
@@ -157,9 +165,9 @@ TEST(Config, EachKeyDeletedIsRefusedUnlessOptional) {
   EXPECT_GE(required, 70);
 }
 
-TEST(Config, EachKeyMisspeltIsRefusedWithFileLineAndColumn) {
-  const auto lines = split_lines(shipped_text());
-  for (const KeyLine& k : key_lines(shipped_text())) {
+TEST_P(ShippedConfig, EachKeyMisspeltIsRefusedWithFileLineAndColumn) {
+  const auto lines = split_lines(text());
+  for (const KeyLine& k : key_lines(text())) {
     std::vector<std::string> variant = lines;
     const std::string typo = k.key + k.key.substr(k.key.size() - 1);  // last letter doubled
     variant[static_cast<std::size_t>(k.line - 1)].replace(0, k.key.size(), typo);
@@ -189,10 +197,10 @@ std::string unit_of(const std::string& key) {
   return unit_found;
 }
 
-TEST(Config, EachNumberOutOfRangeIsRefusedWithItsUnitAndPosition) {
-  const auto lines = split_lines(shipped_text());
+TEST_P(ShippedConfig, EachNumberOutOfRangeIsRefusedWithItsUnitAndPosition) {
+  const auto lines = split_lines(text());
   int checked = 0;
-  for (const KeyLine& k : key_lines(shipped_text())) {
+  for (const KeyLine& k : key_lines(text())) {
     // floating-point numbers only (integers, booleans, strings and arrays have their own tests)
     if (k.value.find_first_not_of("0123456789.-e") != std::string::npos || k.value.find('.') == std::string::npos) continue;
     std::vector<std::string> variant = lines;
