@@ -64,6 +64,7 @@ TEST(ExitCodes, ABadOptionExits2ForEveryCommand) {
   // the parser's other errors: a missing argument, a value not allowed, a file that is not there
   for (const Args& a : {Args{pcnc_exe(), "run"}, Args{pcnc_exe(), "run", "/nonexistent/p.ngc"},
                         Args{pcnc_exe(), "run", source_dir() + "/examples/demo.ngc", "--clock", "sometimes"},
+                        Args{pcnc_exe(), "run", source_dir() + "/examples/demo.ngc", "--offset", "1,2"},
                         Args{rt_exe(), "--clock", "sometimes"}, Args{host_exe(), "--wait-rt", "soon"}}) {
     EXPECT_EQ(run_process(a, 30).exit_code, 2) << show(a);
   }

@@ -62,6 +62,12 @@ int main(int argc, char** argv) {
       exit_code = pcnc::kExitBadInput;
       return;
     }
+    if (!offset.empty() && !pcnc::parse_xyz(offset)) {
+      std::fprintf(stderr, "pcnc run: --offset '%s': expected X,Y,Z in mm, e.g. 12.5,12.5,25; nothing was started\n",
+                   offset.c_str());
+      exit_code = pcnc::kExitBadInput;
+      return;
+    }
     pcnc::LaunchOptions lo;
     const std::string dir = pcnc::executable_dir();
     lo.rt_path = dir + "/../rt/pcnc-rt";
