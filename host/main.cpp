@@ -12,9 +12,12 @@
 #include <cerrno>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <sstream>
 
 #include "config/config.hpp"
+#include "config/exit_status.hpp"
+#include "config/output_path.hpp"
 #include "config/process_start.hpp"
 #include "service/job_runner.hpp"
 #include "gcode/program.hpp"
@@ -35,10 +38,12 @@ bool parse_vec3(const std::string& text, pcnc::Vec3& out) {
   return ss && c1 == ',' && c2 == ',' && ss.peek() == EOF;
 }
 
-void print_diagnostics(const pcnc::CheckResult& check) {
+// Errors and warnings go to stderr (stdout carries the run report alone); --quiet: errors only.
+void print_diagnostics(const pcnc::CheckResult& check, bool quiet) {
   for (const auto& d : check.diagnostics) {
     const bool err = d.severity == pcnc::Diagnostic::Severity::kError;
-    std::fprintf(err ? stderr : stdout, "%s:%d:%d: %s: %s\n", d.file.c_str(), d.line, d.column,
+    if (!err && quiet) continue;
+    std::fprintf(stderr, "%s:%d:%d: %s: %s\n", d.file.c_str(), d.line, d.column,
                  err ? "error" : "warning", d.message.c_str());
   }
 }
@@ -51,7 +56,7 @@ int main(int argc, char** argv) {
   std::string config_path = pcnc::default_config_path();
   std::string run_file, contouring, offset, summary_path, tool_table, log_level = "warn";
   int progress_fd = -1;
-  bool fit = false, serve = false;
+  bool fit = false, serve = false, quiet = false;
   double wait_rt_s = 5.0;
   app.add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
   app.add_option("--run", run_file, "check and run this G-code program, then exit")->check(CLI::ExistingFile);
@@ -71,7 +76,9 @@ int main(int argc, char** argv) {
                  "running (for launchers: pcnc run shows them as a progress bar)");
   app.add_option("--wait-rt", wait_rt_s, "seconds to wait for pcnc-rt's segment")->capture_default_str();
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_flag("-q,--quiet", quiet, "--run: print no G-code warnings (errors still go to stderr)");
+  pcnc::add_exit_status_help(app);
+  if (const int parse_status = pcnc::parse_command_line(app, argc, argv); parse_status >= 0) return parse_status;
 
   pcnc::start_logging("pcnc-host", log_level);  // stdout stays for reports
   if (run_file.empty() == !serve) {
@@ -84,9 +91,16 @@ int main(int argc, char** argv) {
   pcnc::MachineConfig config;
   try {
     config = pcnc::load_config(config_path);
+  } catch (const pcnc::ConfigError& e) {
+    for (const auto& p : e.problems) std::fprintf(stderr, "pcnc-host: %s\n", p.c_str());
+    return pcnc::kExitBadInput;
+  }
+  // the summary is written after the run: a path that cannot take it fails now, not then
+  try {
+    pcnc::check_output_paths({{summary_path, "--summary"}});
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pcnc-host: %s\n", e.what());
-    return 2;
+    return pcnc::kExitBadInput;
   }
 
   if (serve) {
@@ -124,13 +138,19 @@ int main(int argc, char** argv) {
                  m.kind == pcnc::MessageKind::kPrint ? "print" : "message", m.text.c_str());
   };
 
+  std::unique_ptr<pcnc::RtLink> link;
   try {
-    auto link = pcnc::RtLink::attach(config, wait_rt_s);
+    link = pcnc::RtLink::attach(config, wait_rt_s);
+  } catch (const std::exception& e) {  // pcnc-rt is not there (or not ours): nothing can move
+    std::fprintf(stderr, "pcnc-host: %s\n", e.what());
+    return pcnc::kExitProcessDied;
+  }
+  try {
     const pcnc::Status initial = link->status();
     options.start_position = initial.commanded;
 
     pcnc::CheckResult check = pcnc::check_program(run_file, config, options);
-    print_diagnostics(check);
+    print_diagnostics(check, quiet);
     if (!check.ok) {
       std::fprintf(stderr, "pcnc-host: %s has errors; nothing was moved\n", run_file.c_str());
       return 2;

@@ -14,6 +14,8 @@
 #include <cstring>
 
 #include "config/config.hpp"
+#include "config/exit_status.hpp"
+#include "config/output_path.hpp"
 #include "config/process_start.hpp"
 #include "loop/rt_loop.hpp"
 #include "loop/stop_request.hpp"
@@ -40,7 +42,7 @@ int report_shutdown(const pcnc::ShutdownReport& r) {
     return 1;
   }
   if (r.was_moving) {
-    spdlog::info("SIG{}: brought the machine to rest before exiting: {} at {:.1f} mm/s, setpoint at rest after {:.1f} ms, "
+    spdlog::warn("SIG{}: brought the machine to rest before exiting: {} at {:.1f} mm/s, setpoint at rest after {:.1f} ms, "
                  "axes still after {:.1f} ms of machine time ({:.1f} ms wall)",
                  sig ? sig : "?", pcnc::to_string(r.state_at_request), r.speed_at_request, r.motion_rest_s * 1e3,
                  r.settled_s * 1e3, r.wall_s * 1e3);
@@ -88,16 +90,24 @@ int main(int argc, char** argv) {
   app.add_option("--trace", trace_path, "write the per-cycle trace CSV to this file");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   app.add_option("--ready-fd", ready_fd, "write 'ready' to this file descriptor once the segment exists (for launchers)");
-  CLI11_PARSE(app, argc, argv);
+  pcnc::add_exit_status_help(app);
+  if (const int parse_status = pcnc::parse_command_line(app, argc, argv); parse_status >= 0) return parse_status;
 
   pcnc::start_logging("pcnc-rt", log_level);  // stdout stays for reports
 
+  // A bad config or a trace that cannot be written: exit 2 before the segment exists.
   pcnc::MachineConfig config;
   try {
     config = pcnc::load_config(config_path);
+  } catch (const pcnc::ConfigError& e) {
+    for (const auto& p : e.problems) spdlog::error("{}", p);
+    return pcnc::kExitBadInput;
+  }
+  try {
+    pcnc::check_output_paths({{trace_path, "--trace"}});
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
-    return 2;
+    return pcnc::kExitBadInput;
   }
 
   pcnc::on_stop_signals(on_signal);

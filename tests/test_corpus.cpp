@@ -365,13 +365,13 @@ TEST(CheckCommand, OkProgramPrintsTransformExtentsAndBlocks) {
   EXPECT_NE(r.err.find("warning: S20000 ignored"), std::string::npos) << r.err;
 }
 
-TEST(CheckCommand, FailingProgramExitsOneAndNamesTheLine) {
+TEST(CheckCommand, FailingProgramExitsTwoAndNamesTheLine) {
   CheckCommandOptions o;
   o.file = gcode_dir() + "/cam/linuxcnc-tp/Cereal.ngc";
   o.fit = true;
   o.print_blocks = true;
   const CommandRun r = run_check(o);
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 2) << "a refused program: the README's exit status 2";
   EXPECT_NE(r.err.find("Cereal.ngc:17:4: error: Z -10.0000 mm (machine) is below the travel minimum"), std::string::npos)
       << r.err;
   EXPECT_NE(r.out.find("FAILED"), std::string::npos);

@@ -410,7 +410,7 @@ TEST(NurbsTool, PrintsTheRoughInterpolationOfEachCurve) {
 
   o.file = test::shared_dir() + "/gcode/nurbs/g5.2/does-not-exist.ngc";
   std::ostringstream out2, err2;
-  EXPECT_EQ(run_nurbs_rough(o, out2, err2), 1);
+  EXPECT_EQ(run_nurbs_rough(o, out2, err2), 2) << "a program that cannot be read: bad input";
   EXPECT_NE(err2.str().find("cannot read"), std::string::npos);
 }
 

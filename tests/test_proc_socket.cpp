@@ -501,7 +501,7 @@ TEST(ServiceSocket, CtlCommandLine) {
   EXPECT_DOUBLE_EQ(j["result"]["commanded"]["x"].get<double>(), 13.5);
 
   r = ctl({"override", "300"});
-  EXPECT_EQ(r.exit_code, 1) << "the server refuses 300 %";
+  EXPECT_EQ(r.exit_code, 2) << "the server refuses 300 % as a bad parameter: a bad command line";
   EXPECT_NE(r.err.find("out of range"), std::string::npos) << r.err;
 
   r = ctl({"set_offset", "G54", "--x", "13.5"});

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "config/config.hpp"
+#include "config/exit_status.hpp"
 #include "gcode/program.hpp"
 
 namespace pcnc {
@@ -47,9 +48,9 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
   MachineConfig config;
   try {
     config = load_config(o.config_path.empty() ? default_config_path() : o.config_path);
-  } catch (const std::exception& e) {
-    err << "pcnc check: " << e.what() << "\n";
-    return 2;
+  } catch (const ConfigError& e) {
+    for (const auto& p : e.problems) err << "pcnc check: " << p << "\n";
+    return kExitBadInput;
   }
   JobOptions job;
   job.fit = o.fit;
@@ -91,7 +92,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
     for (const Diagnostic& d : r.diagnostics) {
       if (d.severity == Diagnostic::Severity::kError || !o.quiet) err << format_diagnostic(d) << "\n";
     }
-    return r.ok ? 0 : 2;
+    return r.ok ? 0 : kExitBadInput;
   }
   job.on_message = [&](const ProgramMessage& m) {
     if (!o.quiet) err << o.file << ":" << m.line << ": " << (m.kind == MessageKind::kPrint ? "print" : "message") << ": " << m.text << "\n";
@@ -106,7 +107,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
   if (!r.ok) {
     out << o.file << ": FAILED: " << r.lines << " lines, " << errors << " error" << (errors == 1 ? "" : "s")
         << "; nothing would move\n";
-    return 1;
+    return kExitBadInput;
   }
   if (!o.quiet) {
     const Transform& t = r.transform;
@@ -132,7 +133,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
       }
     } catch (const std::exception& e) {
       err << "pcnc check: " << e.what() << "\n";
-      return 1;
+      return kExitBadInput;
     }
   }
   return 0;

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "config/config.hpp"
+#include "config/exit_status.hpp"
 #include "config/runtime_paths.hpp"
 
 namespace pcnc {
@@ -213,7 +214,16 @@ std::string resolve_socket(const CtlOptions& o) {
   return find_control_socket(load_config(cfg));  // the path pcnc-host --serve computes (or a root service's)
 }
 
-// Prints a reply; returns the exit status (0 result, 1 error).
+// The exit status for an error reply (README "Exit status"): the request or the program was
+// refused as given (bad parameters, preflight errors) 2; pcnc-rt not available 3; refused in
+// the machine's state, or anything else, 1.
+int exit_status_of_error(int code) {
+  if (code == -32700 || code == -32600 || code == -32601 || code == -32602 || code == 3) return kExitBadInput;
+  if (code == 2) return kExitProcessDied;
+  return kExitFault;
+}
+
+// Prints a reply; returns the exit status (0 for a result, else exit_status_of_error).
 int report(const CtlOptions& o, const json& reply, const std::function<void(const json&)>& human) {
   if (o.json_output) {
     std::printf("%s\n", reply.dump().c_str());
@@ -229,13 +239,20 @@ int report(const CtlOptions& o, const json& reply, const std::function<void(cons
     std::printf("ok\n");
   }
   std::fflush(stdout);
-  return reply.contains("error") ? 1 : 0;
+  return reply.contains("error") ? exit_status_of_error(reply["error"].value("code", 0)) : kExitOk;
 }
 
-// Runs `body` with a connected client; maps exceptions to exit status 3.
+// Runs `body` with a connected client; a bad config exits 2, no server (or a lost one) 3.
 int with_client(const CtlOptions& o, const std::function<int(CtlClient&)>& body) {
+  std::string socket;
   try {
-    CtlClient client(resolve_socket(o));
+    socket = resolve_socket(o);
+  } catch (const ConfigError& e) {
+    for (const auto& p : e.problems) std::fprintf(stderr, "pcnc ctl: %s\n", p.c_str());
+    return kExitBadInput;
+  }
+  try {
+    CtlClient client(socket);
     return body(client);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pcnc ctl: %s\n", e.what());
@@ -342,13 +359,15 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
       const int rc = report(o, r, [](const json& res) {
         std::printf("started %s (%llu lines, %llu moves)\n", res.value("file", "?").c_str(),
                     static_cast<unsigned long long>(res.value("lines", 0ull)), static_cast<unsigned long long>(res.value("moves", 0ull)));
-        for (const auto& w : res.value("warnings", json::array())) std::printf("  %s\n", w.get<std::string>().c_str());
+        for (const auto& w : res.value("warnings", json::array())) std::fprintf(stderr, "  %s\n", w.get<std::string>().c_str());
       });
       if (rc != 0 || !run_wait) return rc;
+      bool interrupted = false;
       while (ended.is_null()) {
         if (g_ctl_interrupt.load()) {
           c.call("stop", json::object(), o.timeout_s);
           g_ctl_interrupt = false;
+          interrupted = true;
         }
         std::string line;
         if (!c.read_line(line, 0.2)) continue;
@@ -363,7 +382,8 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
                     ended.value("message", std::string()).c_str(), ended.value("program_time_s", 0.0),
                     static_cast<unsigned long long>(ended.value("underruns", 0ull)));
       }
-      return ended.value("end", "") == "completed" ? 0 : 1;
+      if (interrupted) return kExitSignalBase + SIGINT;  // Ctrl-C stopped the program
+      return ended.value("end", "") == "completed" ? kExitOk : kExitFault;
     });
   });
 

@@ -158,6 +158,10 @@ bool ended_on_its_own(int status) {
   return !g_signal && !(WIFEXITED(status) && WEXITSTATUS(status) == 0);
 }
 
+// Exit status 2: the process refused its input (config, paths, command line); starting it
+// again would only be refused again.
+bool refused_its_input(int status) { return WIFEXITED(status) && WEXITSTATUS(status) == 2; }
+
 }  // namespace
 
 int launch_pair(const LaunchOptions& options) {
@@ -218,7 +222,9 @@ int launch_pair(const LaunchOptions& options) {
     }
     if (who == host) {
       g_children[1] = 0;
-      if (options.supervise && ended_on_its_own(status)) {
+      if (options.supervise && ended_on_its_own(status) && refused_its_input(status)) {
+        std::fprintf(stderr, "pcnc: pcnc-host refused its configuration (its message above says why); not restarting it\n");
+      } else if (options.supervise && ended_on_its_own(status)) {
         // The rt has noticed (or will, within process.host_timeout_s) and brings the machine
         // to rest on the path; the new host finds it HOST_LOST and can resume.
         if (host_restarts.take(options)) {

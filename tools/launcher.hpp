@@ -7,7 +7,9 @@
 // `pcnc serve` (supervise): a process that dies on its own is started again and the other is
 // left alone, because each survives the other's loss by itself: the rt brings the machine to
 // rest on the path when the host is lost (HOST_LOST; a new host can resume), and the host
-// refuses motion while the rt is gone and re-attaches to the new one. Power is never cut to
+// refuses motion while the rt is gone and re-attaches to the new one. A host that exits 2
+// (it refused its config or a directory it was given) is not restarted: the service ends
+// with that status. Power is never cut to
 // a moving process. More than `max_restarts` restarts within `restart_window_s` end the
 // service (exit 3): a process that cannot stay up is a fault to look at, not to hide.
 #pragma once

@@ -29,8 +29,8 @@ int run_nurbs_rough(const NurbsToolOptions& o, std::ostream& out, std::ostream& 
   MachineConfig cfg;
   try {
     cfg = load_config(o.config_path.empty() ? default_config_path() : o.config_path);
-  } catch (const std::exception& e) {
-    err << "pcnc nurbs: " << e.what() << "\n";
+  } catch (const ConfigError& e) {
+    for (const auto& p : e.problems) err << "pcnc nurbs: " << p << "\n";
     return 2;
   }
   const double tol = o.tolerance_mm >= 0.0 ? o.tolerance_mm : cfg.gcode.nurbs_chord_tolerance_mm;
@@ -45,11 +45,11 @@ int run_nurbs_rough(const NurbsToolOptions& o, std::ostream& out, std::ostream& 
   const NurbsProgram prog = read_nurbs_program(o.file, rule);
   if (!prog.error.empty()) {
     err << o.file << ": " << prog.error << "\n";
-    return 1;
+    return 2;
   }
   if (prog.curves.empty()) {
     err << o.file << ": no G5.2 ... G5.3 NURBS curve in the program\n";
-    return 1;
+    return 2;
   }
   std::size_t total_rough = 0, total_cam = 0, total_blocks = 0;
   int index = 0;
@@ -64,7 +64,7 @@ int run_nurbs_rough(const NurbsToolOptions& o, std::ostream& out, std::ostream& 
     out << "], length " << fmt("%.4f", length) << " mm\n";
     if (!(feed_mm_s > 0.0)) {
       err << o.file << ":" << pc.line << ": no feed for this curve; give F in the program or --feed\n";
-      return 1;
+      return 2;
     }
     const double step = feed_mm_s * o.period_s;
     const RoughPolyline rough = rough_interpolate(c, step, tol);

@@ -1,5 +1,6 @@
 // pcnc_main.cpp — the `pcnc` command users type: run a program on the two processes,
-// check a program offline, and the other front-end tools, as CLI11 subcommands.
+// check a program offline, check a config, and the other front-end tools, as CLI11
+// subcommands. Every command keeps one exit status table (config/exit_status.hpp).
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
@@ -8,8 +9,11 @@
 #include <filesystem>
 
 #include "check.hpp"
+#include "config_check.hpp"
 #include "ctl.hpp"
 #include "config/config.hpp"
+#include "config/exit_status.hpp"
+#include "config/output_path.hpp"
 #include "launcher.hpp"
 #include "nurbs_tool.hpp"
 #include "progress.hpp"
@@ -26,7 +30,7 @@ int main(int argc, char** argv) {
   // ---- run ----
   auto* run = app.add_subcommand("run", "start pcnc-rt and pcnc-host, run FILE to the end, print a run report");
   std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table;
-  bool fit = false;
+  bool fit = false, quiet = false, verbose = false;
   run->add_option("FILE", file, "G-code program")->required()->check(CLI::ExistingFile);
   run->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
   run->add_option("--clock", clock, "real: 2 kHz in real time; virtual: as fast as possible, same cycles")
@@ -42,7 +46,29 @@ int main(int argc, char** argv) {
                   "also write the run report as a self-contained HTML page (figures, isometric tool path, speed and "
                   "following error over time; built from the trace after both processes have ended)");
   run->add_option("--summary", summary, "also write the run's figures as JSON (check, transform, job, final status)");
+  run->add_flag("-q,--quiet", quiet, "stderr: errors only (no G-code warnings, no progress, no process log)");
+  run->add_flag("-v,--verbose", verbose, "stderr: the processes' informational log too");
   run->callback([&] {
+    // Before anything starts: the config and every file the run will write. A problem with
+    // either exits 2 at once, with nothing moved (and never after a long run).
+    try {
+      (void)pcnc::load_config(config_path);
+      pcnc::check_output_paths({{trace, "--trace"}, {summary, "--summary"}, {report, "--report"}});
+    } catch (const pcnc::ConfigError& e) {
+      for (const auto& p : e.problems) std::fprintf(stderr, "pcnc run: %s\n", p.c_str());
+      exit_code = pcnc::kExitBadInput;
+      return;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pcnc run: %s; nothing was started\n", e.what());
+      exit_code = pcnc::kExitBadInput;
+      return;
+    }
+    if (!offset.empty() && !pcnc::parse_xyz(offset)) {
+      std::fprintf(stderr, "pcnc run: --offset '%s': expected X,Y,Z in mm, e.g. 12.5,12.5,25; nothing was started\n",
+                   offset.c_str());
+      exit_code = pcnc::kExitBadInput;
+      return;
+    }
     pcnc::LaunchOptions lo;
     const std::string dir = pcnc::executable_dir();
     lo.rt_path = dir + "/../rt/pcnc-rt";
@@ -51,6 +77,11 @@ int main(int argc, char** argv) {
     if (access((dir + "/pcnc-rt").c_str(), X_OK) == 0) lo.rt_path = dir + "/pcnc-rt";
     if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
     lo.rt_args = {"--config", config_path, "--clock", clock};
+    lo.host_args = {"--config", config_path, "--run", file};
+    // stderr: warnings and errors by default; --quiet errors only; --verbose the processes' info log
+    const char* level = quiet ? "error" : verbose ? "info" : "warn";
+    for (auto* args : {&lo.rt_args, &lo.host_args}) args->insert(args->end(), {"--log-level", level});
+    if (quiet) lo.host_args.push_back("--quiet");
     // --report: the HTML page needs the trace and the host's summary; when the user did not
     // ask for them, they go to a temporary directory that is removed afterwards.
     std::string scratch, trace_file = trace, summary_file = summary;
@@ -58,7 +89,7 @@ int main(int argc, char** argv) {
       std::string tmpl = (std::getenv("TMPDIR") ? std::string(std::getenv("TMPDIR")) : std::string("/tmp")) + "/pcnc-run-XXXXXX";
       if (mkdtemp(tmpl.data()) == nullptr) {
         std::fprintf(stderr, "pcnc: cannot create a temporary directory for the report's trace: %s\n", tmpl.c_str());
-        exit_code = 2;
+        exit_code = pcnc::kExitFault;
         return;
       }
       scratch = tmpl;
@@ -66,7 +97,6 @@ int main(int argc, char** argv) {
       if (summary_file.empty()) summary_file = scratch + "/summary.json";
     }
     if (!trace_file.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace_file});
-    lo.host_args = {"--config", config_path, "--run", file};
     if (!contouring.empty()) lo.host_args.insert(lo.host_args.end(), {"--contouring", contouring});
     if (!offset.empty()) lo.host_args.insert(lo.host_args.end(), {"--offset", offset});
     if (fit) lo.host_args.push_back("--fit");
@@ -77,7 +107,7 @@ int main(int argc, char** argv) {
     }
     // progress: a bar when our stderr is a terminal, plain lines every few seconds otherwise
     pcnc::ProgressDisplay display(stderr, pcnc::ProgressDisplay::is_terminal(stderr));
-    lo.on_progress_line = [&display](std::string_view line) {
+    if (!quiet) lo.on_progress_line = [&display](std::string_view line) {
       if (line == "done") {
         display.finish();
       } else if (const auto u = pcnc::parse_progress_update(line)) {
@@ -109,6 +139,7 @@ int main(int argc, char** argv) {
 
   // ---- check ----
   pcnc::add_check_subcommand(app, exit_code);
+  pcnc::add_config_subcommand(app, exit_code);
 
   // ---- ctl, serve: the control socket of pcnc-host --serve ----
   pcnc::add_ctl_subcommand(app, exit_code);
@@ -116,6 +147,7 @@ int main(int argc, char** argv) {
   pcnc::add_soak_subcommand(app, exit_code);
   pcnc::add_nurbs_subcommand(app, exit_code);
 
-  CLI11_PARSE(app, argc, argv);
+  pcnc::add_exit_status_help(app);
+  if (const int parse_status = pcnc::parse_command_line(app, argc, argv); parse_status >= 0) return parse_status;
   return exit_code;
 }

@@ -4,9 +4,12 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <string>
 
 #include "config/config.hpp"
+#include "config/exit_status.hpp"
+#include "config/output_path.hpp"
 #include "launcher.hpp"
 
 namespace pcnc {
@@ -21,6 +24,19 @@ void add_serve_subcommand(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   serve->add_option("--trace", trace, "pcnc-rt writes the per-cycle trace (CSV) to this file");
   serve->callback([&exit_code] {
+    // a bad config or trace path: exit 2 before either process starts
+    try {
+      (void)load_config(config_path);
+      check_output_paths({{trace, "--trace"}});
+    } catch (const ConfigError& e) {
+      for (const auto& p : e.problems) std::fprintf(stderr, "pcnc serve: %s\n", p.c_str());
+      exit_code = kExitBadInput;
+      return;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pcnc serve: %s\n", e.what());
+      exit_code = kExitBadInput;
+      return;
+    }
     LaunchOptions lo;
     const std::string dir = executable_dir();
     lo.rt_path = dir + "/../rt/pcnc-rt";

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "config/output_path.hpp"
 #include "ctl.hpp"
 #include "gcode/program.hpp"
 #include "geometry/nurbs.hpp"
@@ -502,6 +503,13 @@ void add_soak_subcommand(CLI::App& app, int& exit_code) {
     if (cmd->count("--seed") == 0) opts->seed = static_cast<std::uint64_t>(Clock::now().time_since_epoch().count()) % 1000000007ULL;
     if (!(opts->mean_gap_s > 0.0) || !(opts->minutes >= 0.0)) {
       std::fprintf(stderr, "pcnc soak: --mean-gap must be > 0 and --minutes >= 0\n");
+      exit_code = 2;
+      return;
+    }
+    try {
+      check_output_paths({{opts->summary, "--summary"}});
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pcnc soak: %s\n", e.what());
       exit_code = 2;
       return;
     }

@@ -1,131 +1,255 @@
-// config.cpp — TOML loading for MachineConfig: strict keys, ranges checked, clear messages.
+// config.cpp — TOML loading for MachineConfig: every machine key required, unknown keys refused
+// with their line:column, every value range-checked with its unit; all problems reported at once.
 #include "config/config.hpp"
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
-#include <map>
+#include <algorithm>
+#include <set>
+#include <vector>
 #include <sstream>
 #include <toml++/toml.h>
 
 namespace pcnc {
+
+ConfigError::ConfigError(std::vector<std::string> all)
+    : std::runtime_error([&] {
+        std::string joined;
+        for (const auto& p : all) joined += (joined.empty() ? "" : "\n") + p;
+        return joined;
+      }()),
+      problems(std::move(all)) {}
+
 namespace {
 
-// A table reader that remembers which keys were consumed, so unknown keys can be reported.
+enum class Need { kRequired, kOptional };
+
+std::string position(const std::string& origin, const toml::source_region& where) {
+  if (where.begin.line == 0) return origin + ": ";
+  return origin + ":" + std::to_string(where.begin.line) + ":" + std::to_string(where.begin.column) + ": ";
+}
+
+std::string show(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+const char* type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    default: return "a date or time";
+  }
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// One TOML table of the config. Each read marks its key as known; a required key that is
+// absent, a value of the wrong type or out of its range is noted as a problem (reading goes
+// on, so that one run of `pcnc config check` lists every problem); finish() notes the keys
+// nobody read (typos) with their line:column, and a section that is missing altogether once.
 class Section {
  public:
-  Section(const toml::table* table, std::string path, std::string origin)
-      : table_(table), path_(std::move(path)), origin_(std::move(origin)) {}
+  Section(const toml::table* table, std::string name, std::string origin, std::vector<std::string>& problems)
+      : table_(table), name_(std::move(name)), origin_(std::move(origin)), problems_(problems) {}
 
-  void number(const char* key, double& out, double lo, double hi) {
-    const toml::node* n = find(key);
-    if (!n) return;
-    std::optional<double> v = n->value<double>();
-    if (!v) fail(key, "expected a number");
+  bool number(const char* key, double& out, double lo, double hi, const char* unit, Need need = Need::kRequired) {
+    const toml::node* n = find(key, unit, need);
+    if (!n) return false;
+    const std::optional<double> v = n->is_number() ? n->value<double>() : std::nullopt;
+    if (!v) return wrong_type(*n, key, std::string("a number") + with_unit(unit));
     if (!(*v >= lo && *v <= hi)) {
-      std::ostringstream os;
-      os << "value " << *v << " out of range [" << lo << ", " << hi << "]";
-      fail(key, os.str());
+      problems_.push_back(position(origin_, n->source()) + label() + " " + key + " = " + show(*v) + with_space(unit) +
+                          ": out of range, must be " + show(lo) + " .. " + show(hi) + with_space(unit));
+      return false;
     }
     out = *v;
+    return true;
   }
-  void integer(const char* key, int& out, long lo, long hi) {
-    const toml::node* n = find(key);
-    if (!n) return;
-    std::optional<int64_t> v = n->value<int64_t>();
-    if (!v || !n->is_integer()) fail(key, "expected an integer");
-    if (*v < lo || *v > hi) fail(key, "value out of range");
-    out = static_cast<int>(*v);
-  }
-  void boolean(const char* key, bool& out) {
-    const toml::node* n = find(key);
-    if (!n) return;
-    if (!n->is_boolean()) fail(key, "expected true or false");
-    out = *n->value<bool>();
-  }
-  void string(const char* key, std::string& out) {
-    const toml::node* n = find(key);
-    if (!n) return;
-    if (!n->is_string()) fail(key, "expected a string");
-    out = *n->value<std::string>();
-  }
-  void vec3(const char* key, Vec3& out) {
-    const toml::node* n = find(key);
-    if (!n) return;
-    const toml::array* a = n->as_array();
-    if (!a || a->size() != 3) fail(key, "expected an array of 3 numbers [x, y, z]");
-    for (size_t i = 0; i < 3; ++i) {
-      std::optional<double> v = (*a)[i].value<double>();
-      if (!v) fail(key, "expected an array of 3 numbers [x, y, z]");
-      out[i] = *v;
+  bool integer(const char* key, int& out, long lo, long hi, const char* what, Need need = Need::kRequired) {
+    const toml::node* n = find(key, what, need);
+    if (!n) return false;
+    if (!n->is_integer()) return wrong_type(*n, key, std::string("an integer") + with_unit(what));
+    const int64_t v = *n->value<int64_t>();
+    if (v < lo || v > hi) {
+      problems_.push_back(position(origin_, n->source()) + label() + " " + key + " = " + std::to_string(v) +
+                          ": out of range, must be " + std::to_string(lo) + " .. " + std::to_string(hi) + with_unit(what));
+      return false;
     }
+    out = static_cast<int>(v);
+    return true;
   }
+  bool boolean(const char* key, bool& out, Need need = Need::kRequired) {
+    const toml::node* n = find(key, "true or false", need);
+    if (!n) return false;
+    if (!n->is_boolean()) return wrong_type(*n, key, "true or false");
+    out = *n->value<bool>();
+    return true;
+  }
+  bool string(const char* key, std::string& out, Need need = Need::kRequired) {
+    const toml::node* n = find(key, "a string", need);
+    if (!n) return false;
+    if (!n->is_string()) return wrong_type(*n, key, "a string");
+    out = *n->value<std::string>();
+    return true;
+  }
+  bool vec3(const char* key, Vec3& out, double lo, double hi, const char* unit, Need need = Need::kRequired) {
+    const toml::node* n = find(key, "[x, y, z] in mm", need);
+    if (!n) return false;
+    const toml::array* a = n->as_array();
+    const std::string expected = std::string("an array of 3 numbers [x, y, z]") + with_unit(unit);
+    if (!a || a->size() != 3) return wrong_type(*n, key, expected);
+    Vec3 v{};
+    for (size_t i = 0; i < 3; ++i) {
+      const std::optional<double> c = (*a)[i].is_number() ? (*a)[i].value<double>() : std::nullopt;
+      if (!c) return wrong_type(*n, key, expected);
+      if (!(*c >= lo && *c <= hi)) {
+        problems_.push_back(position(origin_, (*a)[i].source()) + label() + " " + key + "[" + std::to_string(i) +
+                            "] = " + show(*c) + with_space(unit) + ": out of range, must be " + show(lo) + " .. " +
+                            show(hi) + with_space(unit));
+        return false;
+      }
+      v[i] = *c;
+    }
+    out = v;
+    return true;
+  }
+  // A sub-table (`[axis.x]` in `[axis]`); nullptr when absent (its own Section reports that).
   const toml::table* subtable(const char* key) {
-    const toml::node* n = find(key);
+    used_.insert(key);
+    if (!table_) return nullptr;
+    const toml::node* n = table_->get(key);
     if (!n) return nullptr;
-    if (!n->is_table()) fail(key, "expected a table");
+    if (!n->is_table()) {
+      wrong_type(*n, key, "a table [" + child(key) + "]");
+      return nullptr;
+    }
     return n->as_table();
   }
-  std::string child_path(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+  std::string child(const char* key) const { return name_.empty() ? key : name_ + "." + key; }
   const std::string& origin() const { return origin_; }
 
-  // After reading, any key not consumed is a typo or an unsupported setting.
-  void finish() const {
-    if (!table_) return;
-    for (auto&& [k, v] : *table_) {
-      if (!used_.count(std::string(k.str()))) {
-        throw ConfigError(origin_ + ": unknown key '" + child_path(std::string(k.str()).c_str()) + "'");
-      }
-    }
+  // A problem with a value that was read (a rule between keys, a name's form): at that key's
+  // value, or at the section's header.
+  void problem(const std::string& why, const char* at_key = nullptr) {
+    const toml::node* n = table_ && at_key ? table_->get(at_key) : nullptr;
+    const toml::source_region where = n ? n->source() : table_ ? table_->source() : toml::source_region{};
+    problems_.push_back(position(origin_, where) + label() + ": " + why);
   }
 
-  [[noreturn]] void fail(const char* key, const std::string& why) const {
-    throw ConfigError(origin_ + ": key '" + child_path(key) + "': " + why);
+  void finish() {
+    if (!table_) {
+      if (!missing_.empty()) {
+        std::string keys;
+        for (const auto& [k, unit] : missing_) keys += (keys.empty() ? "" : ", ") + k;
+        problems_.push_back(origin_ + ": missing section " + label() + ": it must set " + std::to_string(missing_.size()) +
+                            " key" + (missing_.size() == 1 ? "" : "s") + ": " + keys);
+      }
+      return;
+    }
+    for (const auto& [k, unit] : missing_) {
+      // at the section's header; a top-level key has none
+      const std::string where = name_.empty() ? origin_ + ": " : position(origin_, table_->source());
+      problems_.push_back(where + label() + ": missing key '" + k + "'" + unit);
+    }
+    for (auto&& [k, v] : *table_) {
+      const std::string key(k.str());
+      if (used_.count(key)) continue;
+      std::string msg = position(origin_, k.source()) + label() + ": unknown " +
+                        (v.is_table() ? "section [" + child(key.c_str()) + "]" : "key '" + key + "'");
+      std::string best;  // the nearest known key, a missing one first
+      std::size_t best_d = std::min<std::size_t>(4, key.size() / 2 + 1);
+      auto consider = [&](const std::string& known) {
+        const std::size_t d = edit_distance(key, known);
+        if (d < best_d) best_d = d, best = known;
+      };
+      for (const auto& [k, unit] : missing_) consider(k);
+      for (const auto& k : used_) consider(k);
+      if (!best.empty()) msg += " (did you mean '" + best + "'?)";
+      problems_.push_back(msg);
+    }
   }
 
  private:
-  const toml::node* find(const char* key) {
-    if (!table_) return nullptr;
-    used_[key] = true;
-    return table_->get(key);
+  static std::string with_unit(const char* unit) { return unit && *unit ? std::string(" (") + unit + ")" : ""; }
+  static std::string with_space(const char* unit) { return unit && *unit ? std::string(" ") + unit : ""; }
+  std::string label() const { return name_.empty() ? "(top level)" : "[" + name_ + "]"; }
+
+  const toml::node* find(const char* key, const char* unit, Need need) {
+    used_.insert(key);
+    const toml::node* n = table_ ? table_->get(key) : nullptr;
+    if (!n && need == Need::kRequired) missing_.emplace_back(key, with_unit(unit));
+    return n;
   }
+  bool wrong_type(const toml::node& n, const char* key, const std::string& expected) {
+    problems_.push_back(position(origin_, n.source()) + label() + " " + key + ": expected " + expected + ", not " +
+                        type_name(n));
+    return false;
+  }
+
   const toml::table* table_;
-  std::string path_;
+  std::string name_;
   std::string origin_;
-  std::map<std::string, bool> used_;
+  std::vector<std::string>& problems_;
+  std::set<std::string> used_;
+  std::vector<std::pair<std::string, std::string>> missing_;  // required keys absent: name, " (unit)"
 };
 
-void read_axis(Section& parent, const char* key, AxisConfig& a) {
-  Section s(parent.subtable(key), parent.child_path(key), parent.origin());
-  s.number("travel_min_mm", a.travel_min_mm, -1e4, 1e4);
-  s.number("travel_max_mm", a.travel_max_mm, -1e4, 1e4);
-  s.number("max_velocity_mm_s", a.max_velocity_mm_s, 1e-3, 1e5);
-  s.number("max_accel_mm_s2", a.max_accel_mm_s2, 1e-3, 1e7);
-  s.number("following_error_limit_mm", a.following_error_limit_mm, 1e-6, 1e3);
-  s.number("home_mm", a.home_mm, -1e4, 1e4);
-  s.number("moving_mass_kg", a.moving_mass_kg, 1e-4, 1e4);
-  s.number("force_constant_n_per_a", a.force_constant_n_per_a, 1e-4, 1e5);
-  s.number("current_limit_a", a.current_limit_a, 1e-4, 1e4);
-  s.number("viscous_friction_n_s_per_m", a.viscous_friction_n_s_per_m, 0.0, 1e6);
-  s.number("coulomb_friction_n", a.coulomb_friction_n, 0.0, 1e5);
-  s.number("gravity_load_n", a.gravity_load_n, -1e5, 1e5);
-  s.number("encoder_resolution_mm", a.encoder_resolution_mm, 0.0, 1.0);
-  s.number("kp_a_per_mm", a.kp_a_per_mm, 0.0, 1e9);
-  s.number("ki_a_per_mm_s", a.ki_a_per_mm_s, 0.0, 1e12);
-  s.number("kd_a_s_per_mm", a.kd_a_s_per_mm, 0.0, 1e6);
-  s.number("derivative_filter_hz", a.derivative_filter_hz, 1.0, 1e6);
-  s.number("velocity_ff_a_s_per_mm", a.velocity_ff_a_s_per_mm, 0.0, 1e6);
-  s.number("accel_ff_a_s2_per_mm", a.accel_ff_a_s2_per_mm, 0.0, 1e6);
-  s.number("friction_ff_a", a.friction_ff_a, 0.0, 1e4);
-  s.number("integrator_limit_a", a.integrator_limit_a, 0.0, 1e4);
-  s.finish();
-  if (!(a.travel_max_mm > a.travel_min_mm)) parent.fail(key, "travel_max_mm must exceed travel_min_mm");
-  if (!(a.home_mm >= a.travel_min_mm && a.home_mm <= a.travel_max_mm)) {
-    parent.fail(key, "home_mm must lie within [travel_min_mm, travel_max_mm]");
+void read_axis(Section& parent, const char* key, AxisConfig& a, std::vector<std::string>& problems) {
+  Section s(parent.subtable(key), parent.child(key), parent.origin(), problems);
+  const bool min_ok = s.number("travel_min_mm", a.travel_min_mm, -1e4, 1e4, "mm");
+  const bool max_ok = s.number("travel_max_mm", a.travel_max_mm, -1e4, 1e4, "mm");
+  const bool home_ok = s.number("home_mm", a.home_mm, -1e4, 1e4, "mm");
+  s.number("max_velocity_mm_s", a.max_velocity_mm_s, 1e-3, 1e5, "mm/s");
+  s.number("max_accel_mm_s2", a.max_accel_mm_s2, 1e-3, 1e7, "mm/s^2");
+  s.number("following_error_limit_mm", a.following_error_limit_mm, 1e-6, 1e3, "mm");
+  s.number("moving_mass_kg", a.moving_mass_kg, 1e-4, 1e4, "kg");
+  s.number("force_constant_n_per_a", a.force_constant_n_per_a, 1e-4, 1e5, "N/A");
+  s.number("current_limit_a", a.current_limit_a, 1e-4, 1e4, "A");
+  s.number("viscous_friction_n_s_per_m", a.viscous_friction_n_s_per_m, 0.0, 1e6, "N s/m");
+  s.number("coulomb_friction_n", a.coulomb_friction_n, 0.0, 1e5, "N");
+  s.number("gravity_load_n", a.gravity_load_n, -1e5, 1e5, "N");
+  s.number("encoder_resolution_mm", a.encoder_resolution_mm, 0.0, 1.0, "mm");
+  s.number("kp_a_per_mm", a.kp_a_per_mm, 0.0, 1e9, "A/mm");
+  s.number("ki_a_per_mm_s", a.ki_a_per_mm_s, 0.0, 1e12, "A/(mm s)");
+  s.number("kd_a_s_per_mm", a.kd_a_s_per_mm, 0.0, 1e6, "A s/mm");
+  s.number("derivative_filter_hz", a.derivative_filter_hz, 1.0, 1e6, "Hz");
+  s.number("velocity_ff_a_s_per_mm", a.velocity_ff_a_s_per_mm, 0.0, 1e6, "A s/mm");
+  s.number("accel_ff_a_s2_per_mm", a.accel_ff_a_s2_per_mm, 0.0, 1e6, "A s^2/mm");
+  s.number("friction_ff_a", a.friction_ff_a, 0.0, 1e4, "A");
+  s.number("integrator_limit_a", a.integrator_limit_a, 0.0, 1e4, "A");
+  if (min_ok && max_ok && !(a.travel_max_mm > a.travel_min_mm)) {
+    s.problem("travel_max_mm (" + show(a.travel_max_mm) + " mm) must exceed travel_min_mm (" + show(a.travel_min_mm) +
+              " mm)",
+              "travel_max_mm");
+  } else if (min_ok && max_ok && home_ok && !(a.home_mm >= a.travel_min_mm && a.home_mm <= a.travel_max_mm)) {
+    s.problem("home_mm (" + show(a.home_mm) + " mm) must lie within the travel, " + show(a.travel_min_mm) + " .. " +
+              show(a.travel_max_mm) + " mm",
+              "home_mm");
   }
+  s.finish();
 }
 
 // A path named in the config: relative ones are relative to the config file's directory
@@ -149,73 +273,100 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
   }
   MachineConfig c;
   c.source_path = origin;
-  Section top(&root, "", origin);
-  top.string("name", c.name);
+  std::vector<std::string> problems;
+  Section top(&root, "", origin, problems);
+  if (top.string("name", c.name) &&
+      (c.name.empty() || c.name == "." || c.name == ".." || c.name.find('/') != std::string::npos)) {
+    top.problem("name '" + c.name + "' must name a directory (the machine's runtime and state directories): not empty, "
+                "'.' or '..', no '/'",
+                "name");
+  }
 
   {
-    Section axes(top.subtable("axis"), "axis", origin);
-    read_axis(axes, "x", c.axes[0]);
-    read_axis(axes, "y", c.axes[1]);
-    read_axis(axes, "z", c.axes[2]);
+    Section axes(top.subtable("axis"), "axis", origin, problems);
+    read_axis(axes, "x", c.axes[0], problems);
+    read_axis(axes, "y", c.axes[1], problems);
+    read_axis(axes, "z", c.axes[2], problems);
     axes.finish();
   }
   {
-    Section m(top.subtable("motion"), "motion", origin);
-    m.number("cycle_hz", c.motion.cycle_hz, 100.0, 100000.0);
-    m.number("contouring_angle_deg", c.motion.contouring_angle_deg, 0.0, 90.0);
+    Section m(top.subtable("motion"), "motion", origin, problems);
+    m.number("cycle_hz", c.motion.cycle_hz, 100.0, 100000.0, "Hz");
+    m.number("contouring_angle_deg", c.motion.contouring_angle_deg, 0.0, 90.0, "deg");
     m.boolean("contouring_default", c.motion.contouring_default);
-    m.number("junction_velocity_step_fraction", c.motion.junction_velocity_step_fraction, 0.0, 100.0);
-    m.number("corner_tolerance_mm", c.motion.corner_tolerance_mm, 0.0, 1.0);
-    m.number("rapid_speed_mm_s", c.motion.rapid_speed_mm_s, 0.0, 1e5);
-    m.number("jog_accel_fraction", c.motion.jog_accel_fraction, 0.01, 1.0);
-    m.number("subsample_steps", c.motion.subsample_steps, 1.0, 1000.0);
-    m.number("block_tolerance_mm", c.motion.block_tolerance_mm, 1e-9, 1.0);
+    m.number("junction_velocity_step_fraction", c.motion.junction_velocity_step_fraction, 0.0, 100.0,
+             "of a_max x period");
+    m.number("corner_tolerance_mm", c.motion.corner_tolerance_mm, 0.0, 1.0, "mm", Need::kOptional);
+    m.number("rapid_speed_mm_s", c.motion.rapid_speed_mm_s, 0.0, 1e5, "mm/s", Need::kOptional);
+    m.number("jog_accel_fraction", c.motion.jog_accel_fraction, 0.01, 1.0, "of max_accel_mm_s2");
+    m.number("subsample_steps", c.motion.subsample_steps, 1.0, 1000.0, "per cycle");
+    m.number("block_tolerance_mm", c.motion.block_tolerance_mm, 1e-9, 1.0, "mm");
     m.finish();
   }
   {
-    Section g(top.subtable("gcode"), "gcode", origin);
-    g.number("arc_radius_tolerance_mm", c.gcode.arc_radius_tolerance_mm, 0.0, 10.0);
-    g.number("arc_radius_tolerance_rel", c.gcode.arc_radius_tolerance_rel, 0.0, 1.0);
+    Section g(top.subtable("gcode"), "gcode", origin, problems);
+    g.number("arc_radius_tolerance_mm", c.gcode.arc_radius_tolerance_mm, 0.0, 10.0, "mm");
+    g.number("arc_radius_tolerance_rel", c.gcode.arc_radius_tolerance_rel, 0.0, 1.0, "of the radius");
     g.boolean("clamp_excess_feed", c.gcode.clamp_excess_feed);
-    g.number("max_feed_mm_min", c.gcode.max_feed_mm_min, 0.0, 1e7);
+    g.number("max_feed_mm_min", c.gcode.max_feed_mm_min, 0.0, 1e7, "mm/min", Need::kOptional);
     static const char* names[6] = {"g54", "g55", "g56", "g57", "g58", "g59"};
-    for (int i = 0; i < 6; ++i) g.vec3(names[i], c.gcode.work_offsets[i]);
-    g.integer("nurbs_knots", c.gcode.nurbs_knots, 0, 1);
-    g.number("nurbs_chord_tolerance_mm", c.gcode.nurbs_chord_tolerance_mm, 1e-7, 1.0);
-    g.number("max_executed_lines", c.gcode.max_executed_lines, 1.0, 1e12);
-    g.string("tool_table", c.gcode.tool_table);
-    g.boolean("pause_on_tool_change", c.gcode.pause_on_tool_change);
+    for (int i = 0; i < 6; ++i) {
+      g.vec3(names[i], c.gcode.work_offsets[i], -1e4, 1e4, "mm", i == 0 ? Need::kRequired : Need::kOptional);
+    }
+    g.integer("nurbs_knots", c.gcode.nurbs_knots, 0, 1, "0 open uniform, 1 chord length", Need::kOptional);
+    g.number("nurbs_chord_tolerance_mm", c.gcode.nurbs_chord_tolerance_mm, 1e-7, 1.0, "mm", Need::kOptional);
+    g.number("max_executed_lines", c.gcode.max_executed_lines, 1.0, 1e12, "lines", Need::kOptional);
+    g.string("tool_table", c.gcode.tool_table, Need::kOptional);
+    g.boolean("pause_on_tool_change", c.gcode.pause_on_tool_change, Need::kOptional);
     g.finish();
     c.gcode.tool_table = resolve_beside(c.gcode.tool_table, origin);
   }
   {
-    Section p(top.subtable("process"), "process", origin);
-    p.string("shm_name", c.process.shm_name);
-    p.string("socket_path", c.process.socket_path);
-    p.integer("socket_mode", c.process.socket_mode, 0, 0777);
-    p.string("socket_group", c.process.socket_group);
-    p.string("state_dir", c.process.state_dir);
-    p.number("host_timeout_s", c.process.host_timeout_s, 0.005, 60.0);
-    p.number("rt_timeout_s", c.process.rt_timeout_s, 0.005, 60.0);
-    p.number("jog_deadman_s", c.process.jog_deadman_s, 0.01, 60.0);
-    p.number("client_idle_timeout_s", c.process.client_idle_timeout_s, 0.0, 86400.0);
-    p.integer("rt_priority", c.process.rt_priority, 1, 99);
-    p.number("rt_spin_us", c.process.rt_spin_us, 0.0, 1e6);
+    Section p(top.subtable("process"), "process", origin, problems);
+    if (p.string("shm_name", c.process.shm_name) &&
+        (c.process.shm_name.empty() || c.process.shm_name[0] != '/' ||
+         c.process.shm_name.find('/', 1) != std::string::npos || c.process.shm_name.size() > 200)) {
+      p.problem("shm_name '" + c.process.shm_name + "' must be '/name' with no further '/' (a POSIX shared-memory name)", "shm_name");
+    }
+    if (p.string("socket_path", c.process.socket_path, Need::kOptional) && !c.process.socket_path.empty() &&
+        c.process.socket_path[0] != '/') {
+      p.problem("socket_path '" + c.process.socket_path + "' must be an absolute path", "socket_path");
+    }
+    p.integer("socket_mode", c.process.socket_mode, 0, 0777, "file mode, e.g. 0o600", Need::kOptional);
+    p.string("socket_group", c.process.socket_group, Need::kOptional);
+    if (p.string("state_dir", c.process.state_dir, Need::kOptional) && !c.process.state_dir.empty() &&
+        c.process.state_dir[0] != '/') {
+      p.problem("state_dir '" + c.process.state_dir + "' must be an absolute path", "state_dir");
+    }
+    p.number("host_timeout_s", c.process.host_timeout_s, 0.005, 60.0, "s");
+    p.number("rt_timeout_s", c.process.rt_timeout_s, 0.005, 60.0, "s");
+    p.number("jog_deadman_s", c.process.jog_deadman_s, 0.01, 60.0, "s");
+    p.number("client_idle_timeout_s", c.process.client_idle_timeout_s, 0.0, 86400.0, "s", Need::kOptional);
+    p.integer("rt_priority", c.process.rt_priority, 1, 99, "SCHED_FIFO priority", Need::kOptional);
+    p.number("rt_spin_us", c.process.rt_spin_us, 0.0, 1e6, "us", Need::kOptional);
     std::string on_trace_failure = c.process.trace_failure_stops ? "stop" : "continue";
-    p.string("on_trace_failure", on_trace_failure);
-    if (on_trace_failure != "stop" && on_trace_failure != "continue") {
-      p.fail("on_trace_failure", "must be \"stop\" or \"continue\"");
+    if (p.string("on_trace_failure", on_trace_failure, Need::kOptional)) {
+      if (on_trace_failure != "stop" && on_trace_failure != "continue") {
+        p.problem("on_trace_failure '" + on_trace_failure + "' must be \"stop\" or \"continue\"", "on_trace_failure");
+      }
+      c.process.trace_failure_stops = on_trace_failure != "continue";
     }
-    c.process.trace_failure_stops = on_trace_failure == "stop";
     p.finish();
-    if (c.process.shm_name.empty() || c.process.shm_name[0] != '/' ||
-        c.process.shm_name.find('/', 1) != std::string::npos || c.process.shm_name.size() > 200) {
-      p.fail("shm_name", "must be '/name' with no further '/' (a POSIX shared-memory name)");
-    }
-    if (!c.process.socket_path.empty() && c.process.socket_path[0] != '/') p.fail("socket_path", "must be an absolute path");
-    if (!c.process.state_dir.empty() && c.process.state_dir[0] != '/') p.fail("state_dir", "must be an absolute path");
   }
   top.finish();
+  if (!problems.empty()) {
+    // in the file's order: the file-wide ones (a missing section or top-level key) first
+    auto line_of = [&](const std::string& p) {
+      const std::size_t at = origin.size() + 1;
+      if (p.compare(0, origin.size(), origin) != 0 || p.size() <= at || !std::isdigit(static_cast<unsigned char>(p[at]))) {
+        return 0L;
+      }
+      return std::strtol(p.c_str() + at, nullptr, 10);
+    };
+    std::stable_sort(problems.begin(), problems.end(),
+                     [&](const std::string& a, const std::string& b) { return line_of(a) < line_of(b); });
+    throw ConfigError(std::move(problems));
+  }
   return c;
 }
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "geometry/vec3.hpp"
 
@@ -118,8 +119,12 @@ struct MachineConfig {
   Vec3 travel_max() const { return {axes[0].travel_max_mm, axes[1].travel_max_mm, axes[2].travel_max_mm}; }
 };
 
-/// Reads a TOML machine configuration. Unknown keys and out-of-range values are errors
-/// (a typo in a gain must not pass silently). Throws ConfigError naming the file, key and why.
+/// Reads a TOML machine configuration. Every section and key that defines the machine is
+/// required (a missing [axis.z] must not fall back to built-in values); unknown keys and
+/// out-of-range values are errors (a typo in a gain must not pass silently). The few optional
+/// keys and their defaults are listed in docs/configuration.md. Throws ConfigError listing
+/// every problem found, each naming the file (with line:column where the text has one), the
+/// section, the key and why, with the key's unit.
 MachineConfig load_config(const std::string& path);
 /// Same, from TOML text (for tests); `origin` names it in messages.
 MachineConfig parse_config(const std::string& toml_text, const std::string& origin);
@@ -128,8 +133,11 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
 /// relative to the executable's directory (build tree or install), else the working directory.
 std::string default_config_path();
 
+/// A config that cannot be used. what() is all problems, one per line; `problems` holds them apart.
 struct ConfigError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit ConfigError(const std::string& what) : std::runtime_error(what), problems{what} {}
+  explicit ConfigError(std::vector<std::string> all);
+  std::vector<std::string> problems;
 };
 
 }  // namespace pcnc

@@ -1,0 +1,138 @@
+// config_check.cpp — `pcnc config check [FILE]`: loads a machine config the way both
+// processes do and prints the machine as it was understood (axes, travel, limits, drive,
+// gains, cycle rate, contouring, timing), or every problem found (exit 2).
+#include "config_check.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "config/config.hpp"
+#include "config/exit_status.hpp"
+
+namespace pcnc {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+std::string pad(const std::string& s, std::size_t width) { return s.size() >= width ? s + " " : s + std::string(width - s.size(), ' '); }
+
+// The machine as understood, one block per subject.
+void print_machine(const MachineConfig& c, std::ostream& out) {
+  const char* axis_names = "XYZ";
+  out << c.source_path << ": OK: machine '" << c.name << "'\n";
+  out << "  cycle        " << num(c.motion.cycle_hz) << " Hz (period " << num(c.cycle_period_s() * 1e6)
+      << " us); plant sub-steps " << num(c.motion.subsample_steps) << "; shared memory " << c.process.shm_name << "\n";
+  out << "  contouring   angle " << num(c.motion.contouring_angle_deg) << " deg, at program start "
+      << (c.motion.contouring_default ? "on (M21)" : "off (M22)") << ", junction velocity step "
+      << num(c.motion.junction_velocity_step_fraction) << " x a_max x period, corner tolerance "
+      << num(c.motion.corner_tolerance_mm) << " mm"
+      << (c.motion.corner_tolerance_mm > 0.0 ? "" : " (off: corners sharper than the angle stop)") << "\n";
+  out << "  speeds       rapids "
+      << (c.motion.rapid_speed_mm_s > 0.0 ? num(c.motion.rapid_speed_mm_s) + " mm/s" : std::string("each axis's max velocity"))
+      << "; max feed "
+      << (c.gcode.max_feed_mm_min > 0.0 ? num(c.gcode.max_feed_mm_min) + " mm/min" : std::string("from the axis limits"))
+      << ", F above it " << (c.gcode.clamp_excess_feed ? "clamped with a warning" : "refused") << "; jogs at "
+      << num(c.motion.jog_accel_fraction) << " of each axis's acceleration\n";
+  out << "  axis  travel mm           home mm   v_max mm/s  a_max mm/s^2  f.err limit mm  encoder mm\n";
+  for (int i = 0; i < kAxes; ++i) {
+    const AxisConfig& a = c.axes[static_cast<std::size_t>(i)];
+    out << "  " << pad(std::string(1, axis_names[i]), 6)
+        << pad(num(a.travel_min_mm) + " .. " + num(a.travel_max_mm) + " (" + num(a.travel_max_mm - a.travel_min_mm) + ")", 20)
+        << pad(num(a.home_mm), 10) << pad(num(a.max_velocity_mm_s), 12) << pad(num(a.max_accel_mm_s2), 14)
+        << pad(num(a.following_error_limit_mm), 16) << num(a.encoder_resolution_mm) << "\n";
+  }
+  out << "  axis  mass kg  Kf N/A  I_max A  F_max N  gravity N  viscous N s/m  Coulomb N  drive a_max mm/s^2\n";
+  for (int i = 0; i < kAxes; ++i) {
+    const AxisConfig& a = c.axes[static_cast<std::size_t>(i)];
+    const double force = a.force_constant_n_per_a * a.current_limit_a;
+    // what the drive can give against gravity, before friction: the planner's a_max must stay below it
+    const double drive_accel = (force - std::abs(a.gravity_load_n)) / a.moving_mass_kg * 1000.0;
+    out << "  " << pad(std::string(1, axis_names[i]), 6) << pad(num(a.moving_mass_kg), 9)
+        << pad(num(a.force_constant_n_per_a), 8) << pad(num(a.current_limit_a), 9) << pad(num(force), 9)
+        << pad(num(a.gravity_load_n), 11) << pad(num(a.viscous_friction_n_s_per_m), 15) << pad(num(a.coulomb_friction_n), 11)
+        << num(drive_accel) << "\n";
+  }
+  out << "  axis  Kp A/mm  Ki A/(mm s)  Kd A s/mm  D filter Hz  Vff A s/mm  Aff A s^2/mm  Fff A  I limit A\n";
+  for (int i = 0; i < kAxes; ++i) {
+    const AxisConfig& a = c.axes[static_cast<std::size_t>(i)];
+    out << "  " << pad(std::string(1, axis_names[i]), 6) << pad(num(a.kp_a_per_mm), 9) << pad(num(a.ki_a_per_mm_s), 13)
+        << pad(num(a.kd_a_s_per_mm), 11) << pad(num(a.derivative_filter_hz), 13) << pad(num(a.velocity_ff_a_s_per_mm), 12)
+        << pad(num(a.accel_ff_a_s2_per_mm), 14) << pad(num(a.friction_ff_a), 7) << num(a.integrator_limit_a) << "\n";
+  }
+  out << "  timing       host lost after " << num(c.process.host_timeout_s) << " s, rt lost after "
+      << num(c.process.rt_timeout_s) << " s, jog dead-man " << num(c.process.jog_deadman_s) << " s, idle client closed after "
+      << (c.process.client_idle_timeout_s > 0.0 ? num(c.process.client_idle_timeout_s) + " s" : std::string("never"))
+      << "; rt SCHED_FIFO priority " << c.process.rt_priority << ", spin " << num(c.process.rt_spin_us) << " us\n";
+  out << "  g-code       arc radius tolerance " << num(c.gcode.arc_radius_tolerance_mm) << " mm + "
+      << num(c.gcode.arc_radius_tolerance_rel) << " x r; NURBS knots "
+      << (c.gcode.nurbs_knots == 0 ? "open uniform" : "chord length") << ", chord tolerance "
+      << num(c.gcode.nurbs_chord_tolerance_mm) << " mm\n";
+  for (int i = 0; i < 6; ++i) {
+    const Vec3& o = c.gcode.work_offsets[static_cast<std::size_t>(i)];
+    out << (i == 0 ? "  offsets      " : "               ") << "G" << 54 + i << " (" << num(o[0]) << ", " << num(o[1])
+        << ", " << num(o[2]) << ") mm\n";
+  }
+  out << "  files        socket " << (c.process.socket_path.empty() ? std::string("(default runtime directory)") : c.process.socket_path)
+      << ", journal " << (c.process.state_dir.empty() ? std::string("(default state directory)") : c.process.state_dir)
+      << "; trace failure: " << (c.process.trace_failure_stops ? "stop" : "continue") << "\n";
+}
+
+// Plausibility notes that do not refuse the config (stderr).
+void print_notes(const MachineConfig& c, std::ostream& err) {
+  const char* axis_names = "XYZ";
+  for (int i = 0; i < kAxes; ++i) {
+    const AxisConfig& a = c.axes[static_cast<std::size_t>(i)];
+    const double drive_accel = (a.force_constant_n_per_a * a.current_limit_a - std::abs(a.gravity_load_n)) / a.moving_mass_kg * 1000.0;
+    if (drive_accel < a.max_accel_mm_s2) {
+      err << c.source_path << ": warning: [axis." << static_cast<char>(axis_names[i] + 32) << "] max_accel_mm_s2 "
+          << num(a.max_accel_mm_s2) << " mm/s^2 is more than the drive can give (" << num(drive_accel)
+          << " mm/s^2 = (force_constant x current_limit - |gravity|) / mass): expect following-error faults\n";
+    }
+  }
+}
+
+}  // namespace
+
+int run_config_check(const std::string& path, bool quiet, std::ostream& out, std::ostream& err) {
+  MachineConfig config;
+  try {
+    config = load_config(path);
+  } catch (const ConfigError& e) {
+    for (const auto& p : e.problems) err << "pcnc config check: " << p << "\n";
+    err << "pcnc config check: " << path << ": " << e.problems.size() << " problem" << (e.problems.size() == 1 ? "" : "s")
+        << "; the config is refused\n";
+    return kExitBadInput;
+  }
+  if (quiet) {
+    out << path << ": OK\n";
+  } else {
+    print_machine(config, out);
+    print_notes(config, err);
+  }
+  return kExitOk;
+}
+
+void add_config_subcommand(CLI::App& app, int& exit_code) {
+  auto* config = app.add_subcommand("config", "machine configuration files");
+  config->require_subcommand(1);
+  auto* check = config->add_subcommand(
+      "check", "load a machine config (TOML) as pcnc-rt and pcnc-host do; print the machine as understood, or every "
+               "problem (exit 2)");
+  auto path = std::make_shared<std::string>();
+  auto quiet = std::make_shared<bool>(false);
+  check->add_option("FILE", *path, "the config; default: $PCNC_CONFIG or configs/desktop-mill.toml");
+  check->add_flag("-q,--quiet", *quiet, "print only the verdict (problems still go to stderr)");
+  check->callback([path, quiet, &exit_code] {
+    exit_code = run_config_check(path->empty() ? default_config_path() : *path, *quiet, std::cout, std::cerr);
+  });
+}
+
+}  // namespace pcnc
