@@ -242,6 +242,7 @@ void ControlFlow::running(const OWord& o, int line, const LineReader::Position& 
 }
 
 void ControlFlow::call(const OWord& o, int line) {
+  const LineReader::Position ret = reader_.tell();  // before find_sub reads ahead
   LineReader::Position body{};
   if (!find_sub(o.label, false, body)) {
     return fail(line, o.column,
@@ -254,7 +255,7 @@ void ControlFlow::call(const OWord& o, int line) {
                     " deep (runaway recursion?); expected a recursion that ends");
   }
   Frame f{Kind::kCall, o.label, line};
-  f.ret = reader_.tell();
+  f.ret = ret;
   f.head = body;
   stack_.push_back(std::move(f));
   go(body, line);
@@ -318,6 +319,7 @@ void ControlFlow::m98(double p, bool has_l, double l, int line, int column) {
   const std::string label = std::to_string(static_cast<long>(p));
   const double count = has_l ? std::floor(l) : 1.0;
   if (!(count >= 1.0)) return fail(line, column, "M98 L must be at least 1; expected the number of times to run it");
+  const LineReader::Position ret = reader_.tell();  // before find_sub reads ahead
   LineReader::Position body{};
   if (!find_sub(label, true, body)) {
     return fail(line, column, "M98 P" + label + ": no subprogram O" + label + " in this file; expected a line O" +
@@ -329,7 +331,7 @@ void ControlFlow::m98(double p, bool has_l, double l, int line, int column) {
     return fail(line, column, "subprogram calls nested too deeply; expected a recursion that ends");
   Frame f{Kind::kFanucCall, label, line};
   f.body = body;
-  f.ret = reader_.tell();
+  f.ret = ret;
   f.count = count;
   stack_.push_back(std::move(f));
   go(body, line);
