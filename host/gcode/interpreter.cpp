@@ -244,7 +244,9 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if (motion_word >= 0) motion_ = motion_word == 800 ? -1 : motion_word;
   if (motion_word >= 0 && !is_cycle(motion_word)) cycle_.end_series();  // G0-G3, G80: the series ends
   bool ok = true;
-  const bool uses_axes = nonmodal == 280 || nonmodal == 300 || nonmodal == 100 || nonmodal == 520 || nonmodal == 920;
+  // Words that take the axis words for themselves: no motion on their line (LinuxCNC).
+  const bool uses_axes = nonmodal == 280 || nonmodal == 300 || nonmodal == 100 || nonmodal == 520 ||
+                         nonmodal == 920 || l.g[kGToolLength] == 431;
   if (uses_axes && motion_word >= 0 && motion_word != 800 && axis_words(l)) {
     return fail(l, l.g_col[kGMotion],
                 g_name(nonmodal) + " and " + g_name(motion_word) +
@@ -256,6 +258,8 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     ok = set_offsets(l);
   } else if (nonmodal == 520 || (nonmodal >= 920 && nonmodal <= 923)) {
     ok = axis_offset(l);
+  } else if (l.g[kGToolLength] == 431) {
+    // G43.1's axis words are the tool length, not a move
   } else if (nonmodal == 530) {
     if (!is_straight(motion_))
       return fail(l, l.g_col[kGNonModal], "G53 needs G0 or G1 in effect; expected G53 G0 or G53 G1");
