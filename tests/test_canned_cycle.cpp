@@ -179,8 +179,9 @@ TEST(CannedCycle, G98BelowRKeepsTheLowInitialLevelForLaterLines) {
   EXPECT_DOUBLE_EQ(modal.initial_level, 0.0);
   CycleInput next = cycle(810, {4, 5, 1.8}, "X8");
   next.first_of_series = false;
-  // still below R: the preliminary move is to where the tool already is (left out)
-  expect_steps(expand_ok(next, modal), {rapid(8, 5, 1.8), feed(8, 5, -0.6), rapid(8, 5, 1.8)});
+  // still below R: the preliminary move is to where the tool already is (kept, as LinuxCNC
+  // emits it)
+  expect_steps(expand_ok(next, modal), {rapid(4, 5, 1.8), rapid(8, 5, 1.8), feed(8, 5, -0.6), rapid(8, 5, 1.8)});
   EXPECT_DOUBLE_EQ(modal.initial_level, 0.0);
 }
 
@@ -200,9 +201,10 @@ TEST(CannedCycle, EndSeriesForgetsTheInitialLevel) {
 TEST(CannedCycle, AbsoluteRepeatsDrillTheSameHoleAgain) {
   CannedCycleModal modal;
   const auto s = expand_ok(cycle(810, {0, 0, 5}, "X1 Y1 Z0 R2 L3"), modal);
-  expect_steps(s, {rapid(1, 1, 5), rapid(1, 1, 2), feed(1, 1, 0), rapid(1, 1, 5),  //
-                   rapid(1, 1, 2), feed(1, 1, 0), rapid(1, 1, 5),                  //
-                   rapid(1, 1, 2), feed(1, 1, 0), rapid(1, 1, 5)});
+  // each later hole starts with the traverse to the clear level (where the tool is)
+  expect_steps(s, {rapid(1, 1, 5), rapid(1, 1, 2), feed(1, 1, 0), rapid(1, 1, 5),                  //
+                   rapid(1, 1, 5), rapid(1, 1, 2), feed(1, 1, 0), rapid(1, 1, 5),                  //
+                   rapid(1, 1, 5), rapid(1, 1, 2), feed(1, 1, 0), rapid(1, 1, 5)});
 }
 
 TEST(CannedCycle, IncrementalRepeatsDocsTwelveHolesFirstLine) {
@@ -239,8 +241,10 @@ TEST(CannedCycle, IncrementalWithoutPlaneWordsStaysOnTheCurrentHole) {
   CycleInput in = cycle(810, {3, 4, 2}, "Z-3 R0 L2");
   in.incremental = true;
   in.retract_r = true;
-  // R = 2 + 0 = 2, bottom -1; the tool is at R already
-  expect_steps(expand_ok(in, modal), {feed(3, 4, -1), rapid(3, 4, 2), feed(3, 4, -1), rapid(3, 4, 2)});
+  // R = 2 + 0 = 2, bottom -1; the tool is at R already: each hole starts with LinuxCNC's
+  // traverse to the clear level, here to where the tool is
+  expect_steps(expand_ok(in, modal), {rapid(3, 4, 2), feed(3, 4, -1), rapid(3, 4, 2),  //
+                                      rapid(3, 4, 2), feed(3, 4, -1), rapid(3, 4, 2)});
 }
 
 // ---- the cycle bodies ----
@@ -271,7 +275,8 @@ TEST(CannedCycle, G83LastPeckShorterThanQ) {
   CannedCycleModal modal;
   CycleInput in = cycle(830, {0, 0, 0}, "Z-5 R0 Q2");
   in.retract_r = true;
-  expect_steps(expand_ok(in, modal), {feed(0, 0, -2), rapid(0, 0, 0), rapid(0, 0, -1.746),  //
+  expect_steps(expand_ok(in, modal), {rapid(0, 0, 0),                                       //
+                                      feed(0, 0, -2), rapid(0, 0, 0), rapid(0, 0, -1.746),  //
                                       feed(0, 0, -4), rapid(0, 0, 0), rapid(0, 0, -3.746),  //
                                       feed(0, 0, -5), rapid(0, 0, 0)});
 }
@@ -284,14 +289,14 @@ TEST(CannedCycle, G83PeckDepthsAccumulateLikeLinuxCnc) {
   int feeds = 0;
   for (const CycleStep& st : s) feeds += st.kind == K::kFeed ? 1 : 0;
   EXPECT_EQ(feeds, 11);
-  ASSERT_EQ(s.size(), 10u * 3u + 2u);
-  EXPECT_EQ(s[27].kind, K::kFeed);
-  EXPECT_NEAR(s[27].target[2], -1.0, 1e-12);
-  EXPECT_GT(s[27].target[2], -1.0);
-  EXPECT_EQ(s[30].kind, K::kFeed);
-  EXPECT_DOUBLE_EQ(s[30].target[2], -1.0);
-  EXPECT_EQ(s[31].kind, K::kRapid);
-  EXPECT_DOUBLE_EQ(s[31].target[2], 0.0);
+  ASSERT_EQ(s.size(), 1u + 10u * 3u + 2u);  // the traverse to where the tool is, then the pecks
+  EXPECT_EQ(s[28].kind, K::kFeed);
+  EXPECT_NEAR(s[28].target[2], -1.0, 1e-12);
+  EXPECT_GT(s[28].target[2], -1.0);
+  EXPECT_EQ(s[31].kind, K::kFeed);
+  EXPECT_DOUBLE_EQ(s[31].target[2], -1.0);
+  EXPECT_EQ(s[32].kind, K::kRapid);
+  EXPECT_DOUBLE_EQ(s[32].target[2], 0.0);
 }
 
 TEST(CannedCycle, G73BreaksChipsWithASmallRetract) {
@@ -308,7 +313,7 @@ TEST(CannedCycle, PeckClearanceIsAnInput) {
   CannedCycleModal modal;
   CycleInput in = cycle(730, {0, 0, 1}, "Z-3 R1 Q2");
   in.peck_clearance = 1.0;  // LinuxCNC master's metric G73_PECK_CLEARANCE default
-  expect_steps(expand_ok(in, modal), {feed(0, 0, -1), rapid(0, 0, 0), feed(0, 0, -3), rapid(0, 0, 1)});
+  expect_steps(expand_ok(in, modal), {rapid(0, 0, 1), feed(0, 0, -1), rapid(0, 0, 0), feed(0, 0, -3), rapid(0, 0, 1)});
 }
 
 TEST(CannedCycle, G85FeedsOutToRThenRapidsToTheClearLevel) {
@@ -318,7 +323,8 @@ TEST(CannedCycle, G85FeedsOutToRThenRapidsToTheClearLevel) {
   CannedCycleModal m99;
   CycleInput in = cycle(850, {0, 0, 10}, "X1 Y2 Z-3 R2");
   in.retract_r = true;
-  expect_steps(expand_ok(in, m99), {rapid(1, 2, 10), rapid(1, 2, 2), feed(1, 2, -3), feed(1, 2, 2)});
+  // LinuxCNC's G85 always ends with a traverse to the clear level, here R where the tool is
+  expect_steps(expand_ok(in, m99), {rapid(1, 2, 10), rapid(1, 2, 2), feed(1, 2, -3), feed(1, 2, 2), rapid(1, 2, 2)});
 }
 
 TEST(CannedCycle, G89DwellsAndFeedsOutStraightToTheClearLevel) {
@@ -332,7 +338,7 @@ TEST(CannedCycle, RAtTheBottomIsAllowed) {
   CycleInput in = cycle(810, {0, 0, 5}, "X1 Z0 R0");
   in.retract_r = true;
   Vec3 end{};
-  expect_steps(expand_ok(in, modal, &end), {rapid(1, 0, 5), rapid(1, 0, 0)});
+  expect_steps(expand_ok(in, modal, &end), {rapid(1, 0, 5), rapid(1, 0, 0), feed(1, 0, 0), rapid(1, 0, 0)});
   expect_point(end, 1, 0, 0);
 }
 

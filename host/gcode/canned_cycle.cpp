@@ -43,7 +43,9 @@ struct Cycle {
   long repeats = 1;
 };
 
-// Appends steps and follows the tool; a move to where the tool already is is left out.
+// Appends steps and follows the tool. A move to where the tool already is stays in, as
+// LinuxCNC emits it (pcnc check --print-moves compares with LinuxCNC's moves; the preflight
+// drops null moves before blocks are made).
 class StepWriter {
  public:
   StepWriter(std::vector<CycleStep>& out, const Vec3& from) : out_(out), at_(from) {}
@@ -54,7 +56,6 @@ class StepWriter {
 
  private:
   void move(CycleStepKind kind, const Vec3& p) {
-    if (p == at_) return;
     out_.push_back(CycleStep{kind, p, 0.0});
     at_ = p;
   }
