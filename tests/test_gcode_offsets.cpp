@@ -122,6 +122,21 @@ TEST(GcodeTools, LengthOffsetsFromTheTable) {
   EXPECT_TRUE(list_program("G43 H9\nM2\n", wide_config(), o).has_error("not in the tool table"));
 }
 
+TEST(GcodeTools, M6PausesOnlyWhenTheConfigSaysSo) {
+  MachineConfig c = wide_config();
+  const RunResult no = run_program("T1 M6\nG0 X1\nM2\n", c);
+  ASSERT_TRUE(no.check.ok);
+  int pauses = 0;
+  for (const Block& b : no.blocks) pauses += b.kind == BlockKind::kPause ? 1 : 0;
+  EXPECT_EQ(pauses, 0);
+  c.gcode.pause_on_tool_change = true;
+  const RunResult yes = run_program("T1 M6\nG0 X1\nM2\n", c);
+  ASSERT_TRUE(yes.check.ok);
+  ASSERT_GE(yes.blocks.size(), 2u);
+  EXPECT_EQ(yes.blocks[0].kind, BlockKind::kPause);
+  EXPECT_EQ(yes.blocks[0].line, 1u);
+}
+
 TEST(GcodeTools, WithoutATableToolsAreAcceptedWithAWarning) {
   const Listing l = list_program("T3 M6\nG43 H3\nG0 Z1\nM2\n");
   ASSERT_TRUE(l.result.ok) << l.first_error();

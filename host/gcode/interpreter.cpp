@@ -216,6 +216,9 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     out.count = first;
     return false;
   }
+  if (l.m[kMToolChange] == 6 && config_.gcode.pause_on_tool_change) {
+    out.push(base_move(MoveKind::kPause, l, l.m_col[kMToolChange]));  // the operator changes the tool; resume goes on
+  }
   if (l.g[kGCoordSystem] >= 0) {
     const int c = l.g[kGCoordSystem];
     select_system(c <= 590 ? (c - 540) / 10 : 6 + (c - 591));

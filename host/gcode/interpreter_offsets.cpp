@@ -247,7 +247,7 @@ bool Interpreter::tool_words(const ParsedLine& l) {
   const int m = l.m[kMToolChange];
   if (m == 6) {
     if (selected_tool_ >= 0) tool_ = selected_tool_;
-    warn(l, l.m_col[kMToolChange], "M6", [&] {
+    if (!config_.gcode.pause_on_tool_change) warn(l, l.m_col[kMToolChange], "M6", [&] {
       return std::string("M6: tool change to T" + std::to_string(tool_) +
                          " without a pause (no tool changer; set gcode.pause_on_tool_change to pause)");
     });
