@@ -144,6 +144,15 @@ TEST(GcodeTools, WithoutATableToolsAreAcceptedWithAWarning) {
   EXPECT_NEAR(l.moves[0].end[2], 1.0, 1e-12) << "length 0";
 }
 
+TEST(GcodeArcs, G90_1MakesTheCenterAbsolute) {
+  // With G54 at X10, G90.1 I/J name the center in program coordinates.
+  const Listing l = list_program("G10 L2 P1 X10\nG0 X0 Y0\nG90.1 G2 X4 Y0 I2 J0 F60\nG91.1 G2 X8 Y0 I2 J0\nM2\n");
+  ASSERT_TRUE(l.result.ok) << l.first_error();
+  ASSERT_EQ(l.moves.size(), 3u);
+  expect_xyz(l.moves[1].center, 12, 0, 0, "center = (2,0) program = (12,0) machine");
+  expect_xyz(l.moves[2].center, 16, 0, 0, "G91.1: relative to the start (14 + 2)");
+}
+
 TEST(GcodeCycles, DrillingThroughTheInterpreter) {
   // G81 in G55 with G99 and two holes; then G80 and a straight move.
   const Listing l = list_program(

@@ -237,6 +237,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     });
   }
   if (l.g[kGDistance] >= 0) incremental_ = l.g[kGDistance] == 910;
+  if (l.g[kGArcDistance] >= 0) arc_absolute_ = l.g[kGArcDistance] == 901;
   if (l.g[kGCannedReturn] >= 0) retract_r_ = l.g[kGCannedReturn] == 990;
   if (l.g[kGSpindleMode] == 970)
     warn(l, l.g_col[kGSpindleMode], "G97", [&] { return std::string("G97 ignored: the machine has no spindle"); });

@@ -149,6 +149,7 @@ class Interpreter : public SystemParameters {
   int selected_tool_ = -1;  // T, -1 = none
   bool tool_offset_on_ = false;
   bool retract_r_ = false;  // G99 (else G98)
+  bool arc_absolute_ = false;  // G90.1 (else G91.1)
   CannedCycleModal cycle_{};
   int last_line_ = 0;
 

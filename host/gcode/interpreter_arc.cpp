@@ -60,8 +60,13 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   double cu = 0.0, cv = 0.0, r = 0.0;
   bool full = false;
   if (has_ijk) {
-    cu = su + (l.has(l0) ? l.get(l0) * u : 0.0);
-    cv = sv + (l.has(l1) ? l.get(l1) * u : 0.0);
+    if (arc_absolute_) {  // G90.1: the center in program coordinates (a missing word: 0)
+      cu = (l.has(l0) ? l.get(l0) * u : 0.0) + origin_[a0];
+      cv = (l.has(l1) ? l.get(l1) * u : 0.0) + origin_[a1];
+    } else {
+      cu = su + (l.has(l0) ? l.get(l0) * u : 0.0);
+      cv = sv + (l.has(l1) ? l.get(l1) * u : 0.0);
+    }
     const double r1 = std::hypot(su - cu, sv - cv);
     const double r2 = std::hypot(eu - cu, ev - cv);
     if (r1 < 1e-9) return fail_here(column, "arc center equals its start point; expected a nonzero radius");

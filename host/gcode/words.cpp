@@ -46,8 +46,7 @@ constexpr CodeInfo kGCodes[] = {
     {171, 191, 10, kGPlane, "the UV/WU/VW planes (G17.1/G18.1/G19.1) are not supported; expected G17, G18 or G19"},
     // distance modes, feed mode, units
     {900, 910, 10, kGDistance, nullptr},
-    {901, 901, 1, kGArcDistance,
-     "absolute arc centers (G90.1) are not supported; expected G91.1 (I/J/K relative to the arc start)"},
+    {901, 901, 1, kGArcDistance, nullptr},  // G90.1: I/J/K absolute
     {911, 911, 1, kGArcDistance, nullptr},
     {930, 930, 1, kGFeedMode, "inverse time feed (G93) is not supported; expected G94 (F in units per minute)"},
     {940, 940, 1, kGFeedMode, nullptr},
