@@ -6,7 +6,10 @@
 
 #include <string>
 
+#include <fstream>
+
 #include "gcode_listing.hpp"
+#include "subprocess.hpp"
 
 namespace pcnc::test {
 namespace {
@@ -252,6 +255,35 @@ TEST(GcodeFlow, AMillionIterationsInBoundedMemory) {
   EXPECT_EQ(moves, 1000000u);
   EXPECT_DOUBLE_EQ(last_x, 9.0);
   EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 16 * 1024) << "kB of peak memory grown over 10^6 iterations";
+}
+
+TEST(GcodeFlow, LoopsAndCallsAcrossTheReadBufferOfAFile) {
+  // A loop body and a subroutine far larger than the reader's 64 KiB buffer: the positions
+  // are file offsets, re-read with a seek; inside the buffer no read happens.
+  const std::string dir = make_temp_dir("gcode-flow");
+  const std::string path = dir + "/big.ngc";
+  std::ofstream f(path);
+  f << "#1=0\nO1 while [#1 LT 3]\n";
+  for (int i = 0; i < 3000; ++i) f << "(padding line " << i << " to push the loop's end past the read buffer)\n";
+  f << "G0 X#1\n#1=[#1+1]\nO1 endwhile\no<far> call [7]\nM2\n";
+  for (int i = 0; i < 3000; ++i) f << "(more padding " << i << " before the subroutine's definition)\n";
+  f << "o<far> sub\nG0 Y#1\no<far> endsub\n";
+  f.close();
+  JobOptions o;
+  o.start_position = Vec3{};
+  o.offset = Vec3{};
+  std::vector<Move> moves;
+  const MoveListing r = list_moves(
+      path, wide_config(), o,
+      [&](const Move& m) {
+        if (m.kind == MoveKind::kRapid) moves.push_back(m);
+      },
+      nullptr);
+  ASSERT_TRUE(r.ok);
+  ASSERT_EQ(moves.size(), 4u);
+  EXPECT_DOUBLE_EQ(moves[2].end[0], 2.0);
+  EXPECT_DOUBLE_EQ(moves[3].end[1], 7.0);
+  EXPECT_EQ(moves[3].line, 6009);  // 2 + 3000 + 5 + 3000 + 2
 }
 
 // ---- messages and comments ----

@@ -62,7 +62,13 @@ bool LineReader::seek(const Position& pos) {
     text_ = full_text_.substr(static_cast<std::size_t>(pos.offset));
     return true;
   }
+  // A loop's head is usually still in the buffer: no system call then.
+  if (pos.offset >= buf_offset_ && pos.offset <= buf_offset_ + end_) {
+    begin_ = static_cast<std::size_t>(pos.offset - buf_offset_);
+    return true;
+  }
   if (::lseek(fd_, static_cast<off_t>(pos.offset), SEEK_SET) < 0) return false;
+  buf_offset_ = pos.offset;
   begin_ = end_ = 0;
   eof_ = false;
   return true;
@@ -76,6 +82,7 @@ bool LineReader::fill() {
   if (eof_) return false;
   if (begin_ > 0) {  // move the partial line to the front
     std::memmove(buf_.data(), buf_.data() + begin_, end_ - begin_);
+    buf_offset_ += begin_;
     end_ -= begin_;
     begin_ = 0;
   }

@@ -55,6 +55,7 @@ class LineReader {
   bool fill();  // reads more into the buffer; false at end of file
   int fd_ = -1;
   std::vector<char> buf_;
+  std::uint64_t buf_offset_ = 0;  // file offset of buf_[0]
   std::size_t begin_ = 0;  // start of unread data in buf_
   std::size_t end_ = 0;    // end of valid data in buf_
   bool eof_ = false;
