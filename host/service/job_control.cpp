@@ -144,6 +144,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   const WorkOffsets& g5x = ws.g5x;
   JobOptions opts;
   opts.work = ws;  // G92 and the G28/G30 positions too, as the service's state file holds them
+
   if (!cfg.gcode.tool_table.empty()) {
     if (const std::string why = load_job_state(cfg, cfg.gcode.tool_table, opts); !why.empty()) {
       end_job(nullptr);
@@ -207,6 +208,12 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
                   {"offset", rpc::vec3_to_json(check.transform.offset)},
                   {"scale", check.transform.scale},
                   {"warnings", diagnostics_json(check, Diagnostic::Severity::kWarning)}};
+  // (MSG,...)/(DEBUG,...)/(PRINT,...): in the log and to subscribers as the stream (not the
+  // check) reaches them, close to when the machine does.
+  opts.on_message = [this, file = rp.file](const ProgramMessage& m) {
+    spdlog::info("{}:{}: {}", file, m.line, m.text);
+    notices_.event(json{{"event", "message"}, {"file", file}, {"line", m.line}, {"text", m.text}});
+  };
   follow_job(client, id, l, cfg, started, rp.file,
              [&](JobRunner& runner) { return runner.run(rp.file, opts, check, interrupt_, progress_fn()); });
 }
