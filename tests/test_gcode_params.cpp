@@ -172,6 +172,7 @@ TEST(GcodeSubs, FanucM98CallsASubprogramLTimes) {
   EXPECT_DOUBLE_EQ(x_of(l, 0), 2.0);
   EXPECT_DOUBLE_EQ(x_of(l, 2), 6.0);
   EXPECT_DOUBLE_EQ(x_of(l, 3), 0.0);
+  EXPECT_FALSE(l.has_warning("after the program end")) << "subprograms after M30 are not stray text";
   EXPECT_TRUE(list_program("M98 P7\nM30\n").has_error("no subprogram O7"));
 }
 

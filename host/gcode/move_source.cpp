@@ -44,8 +44,9 @@ void MoveSource::check_trailing() {
     const int line_no = static_cast<int>(reader_.line_number());
     // Subroutine definitions after the end are where LinuxCNC programs keep them.
     lex_line(text, line_no, lexed_, scratch, nullptr, true);
+    if (lexed_.program_number) return;  // Fanuc subprograms (O1000 ... M99) follow the end
     if (lexed_.oword.kind == OKind::kSub) in_sub = true;
-    if (in_sub || lexed_.program_number) {
+    if (in_sub) {
       if (lexed_.oword.kind == OKind::kEndsub) in_sub = false;
       continue;
     }
