@@ -136,7 +136,9 @@ TEST(GcodeSubs, DefinedAfterTheProgramEndAndCalledBeforeIt) {
   EXPECT_DOUBLE_EQ(x_of(l, 0), 4.0);
   EXPECT_DOUBLE_EQ(y_of(l, 1), 7.0);
   EXPECT_EQ(l.moves[0].line, 5) << "moves name the line inside the subroutine";
-  EXPECT_FALSE(l.has_warning("after the program end")) << "subroutines after M2 are not stray text";
+  EXPECT_FALSE(run_program("o100 call [4]\nM2\no100 sub\nG0 X#1\no100 endsub\n", wide_config())
+                   .has_warning("after the program end"))
+      << "subroutines after M2 are not stray text";
 }
 
 TEST(GcodeSubs, RecursionWorksAndItsDepthIsBounded) {
@@ -172,7 +174,10 @@ TEST(GcodeSubs, FanucM98CallsASubprogramLTimes) {
   EXPECT_DOUBLE_EQ(x_of(l, 0), 2.0);
   EXPECT_DOUBLE_EQ(x_of(l, 2), 6.0);
   EXPECT_DOUBLE_EQ(x_of(l, 3), 0.0);
-  EXPECT_FALSE(l.has_warning("after the program end")) << "subprograms after M30 are not stray text";
+  const RunResult checked = run_program("G91\nM98 P1000 L3\nG90 G0 X0\nM30\nO1000\nG0 X2\nM99\n", wide_config());
+  ASSERT_TRUE(checked.check.ok);
+  EXPECT_FALSE(checked.has_warning("after the program end")) << "subprograms after M30 are not stray text";
+  EXPECT_TRUE(run_program("G0 X1\nM30\nG0 X2\n", wide_config()).has_warning("after the program end"));
   EXPECT_TRUE(list_program("M98 P7\nM30\n").has_error("no subprogram O7"));
 }
 
