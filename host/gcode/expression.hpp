@@ -49,11 +49,12 @@ class ExpressionReader {
   bool parameter_ref(int& number, std::string& name, const char* hash, int depth = 0);
   /// The value of a parameter reference (after its '#').
   bool parameter_value(double& v, const char* hash, int depth = 0);
+  /// A plain number at the cursor, possibly with spaces inside ("1 .5"), as RS274 allows.
+  bool number(double& v);
 
  private:
   bool bracket_rest(double& v, int depth);  // after '[': expression then ']'
   bool function_call(double& v, int depth, bool& is_function);
-  bool number(double& v);
   bool read_operator(int& op, const char*& at);
   bool apply(double& left, int op, double right, const char* at);
 

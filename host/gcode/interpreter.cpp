@@ -89,6 +89,8 @@ bool Interpreter::check_words(const ParsedLine& l) {
 
   std::uint32_t allowed = bit('N') | bit('F') | bit('S') | bit('T');
   if (nonmodal == 280 || nonmodal == 300 || is_straight(motion) || is_arc(motion)) allowed |= kAxisBits;
+  // The common line (a move in the mode in effect) needs no more: the rest only widens `allowed`.
+  if ((l.present & ~allowed) == 0) return true;
   if (nonmodal == 100) allowed |= kAxisBits | bit('L') | bit('P') | bit('R');
   if (nonmodal == 520 || nonmodal == 920) allowed |= kAxisBits;
   if (l.g[kGToolLength] == 431) allowed |= kAxisBits;

@@ -232,6 +232,7 @@ bool Interpreter::axis_offset(const ParsedLine& l) {
 }
 
 bool Interpreter::tool_words(const ParsedLine& l) {
+  if (!l.has('T') && l.m[kMToolChange] < 0 && l.g[kGToolLength] < 0) return true;  // most lines
   if (l.has('T')) {
     const double tv = l.get('T');
     const int t = static_cast<int>(std::lround(tv));

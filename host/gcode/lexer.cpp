@@ -191,22 +191,29 @@ class LineLexer {
 
   bool word_value(double& v, char letter, const char* at) {
     c_.skip_spaces();
-    const std::string L(1, letter);
-    if (c_.at_end()) return c_.fail(at, L + " word without a value; expected a number after " + L);
-    if (is_alpha(*c_.p) && !is_function_name(c_.p, c_.end)) {
-      return c_.fail(c_.p, L + " word without a value; expected a number after " + L + ", found " + describe(*c_.p));
-    }
+    const auto no_value = [&](const char* where, const std::string& found) {
+      const std::string L(1, letter);
+      return c_.fail(where, L + " word without a value; expected a number after " + L + found);
+    };
+    if (c_.at_end()) return no_value(at, "");
     const char* s = c_.p;
-    if ((*s == '-' || *s == '+')) {
-      const char* q = s + 1;
-      while (q < c_.end && (*q == ' ' || *q == '\t')) ++q;
-      if (q == c_.end || (!is_digit(*q) && *q != '.' && *q != '#' && *q != '[' && !is_alpha(*q)))
-        return c_.fail(s, L + " word without a value; expected a number after " + L);
+    const char c0 = *s;
+    const char c1 = s + 1 < c_.end ? s[1] : '\0';
+    // The common case, a plain number ("X12.5", "Y-.25"): straight to the number reader.
+    if (is_digit(c0) || (c0 == '.' && is_digit(c1)) || ((c0 == '-' || c0 == '+') && (is_digit(c1) || c1 == '.'))) {
+      if (!expr_.number(v)) return false;
+    } else {
+      if (is_alpha(c0) && !is_function_name(s, c_.end)) return no_value(s, ", found " + describe(c0));
+      if (c0 == '-' || c0 == '+') {
+        const char* q = s + 1;
+        while (q < c_.end && (*q == ' ' || *q == '\t')) ++q;
+        if (q == c_.end || (!is_digit(*q) && *q != '.' && *q != '#' && *q != '[' && !is_alpha(*q))) return no_value(s, "");
+      }
+      if (c0 == '.') return no_value(s, "");
+      if (!expr_.real_value(v)) return false;
     }
-    if (*s == '.' && (s + 1 == c_.end || !is_digit(s[1])))
-      return c_.fail(s, L + " word without a value; expected a number after " + L);
-    if (!expr_.real_value(v)) return false;
-    if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude) {
+    if (!(std::fabs(v) <= kMaxMagnitude)) {
+      const std::string L(1, letter);
       return c_.fail(at, L + " value out of range; expected a magnitude below 1e9");
     }
     return true;
