@@ -121,7 +121,7 @@ TEST(Corpus, LinuxCncBadRejectedWithOurReason) {
       {"ccomp-gouging.ngc", "cutter radius compensation"},
       {"exists-1.ngc", "EXISTS"},
       {"exists-2.ngc", "EXISTS"},
-      {"exists-3.ngc", "EXISTS"},
+      {"exists-3.ngc", "99999 out of range"},
       {"exists-4.ngc", "EXISTS"},
       {"exists-5.ngc", "not closed"},
       {"exists-6.ngc", "EXISTS"},

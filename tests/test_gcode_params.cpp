@@ -325,6 +325,13 @@ TEST(GcodeMessages, NestedCommentsAreAcceptedWithAWarningNamingTheColumn) {
   EXPECT_TRUE(found);
 }
 
+TEST(GcodeListing, StopsAtTheFirstError) {
+  const Listing l = list_program("G0 X1\nG0 X#<undefined>\nG0 X3\nM2\n");
+  EXPECT_FALSE(l.result.ok);
+  ASSERT_EQ(l.moves.size(), 1u) << "as LinuxCNC's interpreter, nothing after the first error";
+  EXPECT_DOUBLE_EQ(l.moves[0].end[0], 1.0);
+}
+
 TEST(GcodeListing, PrintMovesFormat) {
   const Listing l = list_program("G0 X1 Y2 Z3\nG1 X-0.0000001 F60\nG4 P1\nM0\nM2\n");
   ASSERT_TRUE(l.result.ok) << l.first_error();

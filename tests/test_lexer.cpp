@@ -104,7 +104,7 @@ INSTANTIATE_TEST_SUITE_P(
                       ErrorCase{"G1 *", "unexpected '*'", 4}, ErrorCase{"G1 \x01", "byte 0x01", 4},
                       ErrorCase{"X[1", "expected ']'", 4}, ErrorCase{"X[1/0]", "division by zero", 4},
                       ErrorCase{"X[SQRT[-1]]", "SQRT of a negative", 3}, ErrorCase{"X[1 FOO 1]", "operator 'FOO'", 5},
-                      ErrorCase{"X[FOO[1]]", "unknown function", 3}, ErrorCase{"X[EXISTS[#1]]", "EXISTS", 10},
+                      ErrorCase{"X[FOO[1]]", "unknown function", 3}, ErrorCase{"X[EXISTS[#foo]]", "EXISTS", 10},
                       ErrorCase{"X[ATAN[1]]", "ATAN needs two arguments", 10}, ErrorCase{"O1 frob", "keyword", 4},
                       ErrorCase{"G1 O1", "O word after other words", 4}, ErrorCase{"[1]", "without a word letter", 1},
                       ErrorCase{"G1 % ", "unexpected '%'", 4}, ErrorCase{"G1 X1 Y", "without a value", 7},

@@ -318,7 +318,8 @@ void ControlFlow::m98(double p, bool has_l, double l, int line, int column) {
   if (!(p >= 0.0) || p != std::floor(p)) return fail(line, column, "M98 needs P with a program number; expected M98 P1000");
   const std::string label = std::to_string(static_cast<long>(p));
   const double count = has_l ? std::floor(l) : 1.0;
-  if (!(count >= 1.0)) return fail(line, column, "M98 L must be at least 1; expected the number of times to run it");
+  if (!(count >= 0.0)) return fail(line, column, "M98 L must not be negative; expected the number of times to run it");
+  if (count == 0.0) return;  // L0: not run at all (LinuxCNC)
   const LineReader::Position ret = reader_.tell();  // before find_sub reads ahead
   LineReader::Position body{};
   if (!find_sub(label, true, body)) {

@@ -323,7 +323,7 @@ bool ExpressionReader::parameter_ref(int& number, std::string& name, const char*
     return true;
   }
   double idx = 0.0;
-  if (*c_.p == '[' || *c_.p == '#') {
+  if (*c_.p == '[' || *c_.p == '#' || ((*c_.p >= 'a' && *c_.p <= 'z') || (*c_.p >= 'A' && *c_.p <= 'Z'))) {
     if (!real_value(idx, depth + 1)) return false;
   } else {
     const char* s = c_.p;
@@ -373,15 +373,24 @@ bool ExpressionReader::function_call(double& v, int depth, bool& is_function) {
     if (c_.at_end() || *c_.p != '#') return c_.fail(c_.p, "EXISTS needs a named parameter; expected EXISTS[#<name>]");
     const char* hash = c_.p++;
     c_.skip_spaces();
-    if (c_.at_end() || *c_.p != '<') return c_.fail(hash, "EXISTS needs a named parameter; expected EXISTS[#<name>]");
-    int number = 0;
-    std::string name;
-    if (!parameter_ref(number, name, hash, depth)) return false;
-    if (number > 0) return c_.fail(hash, "EXISTS needs a named parameter; expected EXISTS[#<name>]");
+    const char nc = c_.at_end() ? '\0' : *c_.p;
+    if (nc != '<' && nc != '#' && nc != '[' && !(nc >= '0' && nc <= '9'))
+      return c_.fail(hash, "EXISTS needs a parameter; expected EXISTS[#<name>] or EXISTS[#123]");
+    bool exists = false;
+    if (nc >= '0' && nc <= '9') {  // a number: whether such a parameter can exist (LinuxCNC)
+      double n = 0.0;
+      c_.p += parse_decimal(c_.p, c_.end, n);
+      exists = n == std::floor(n) && n >= 1.0 && n <= ParameterStore::kMaxReadable;
+    } else {
+      int number = 0;
+      std::string name;
+      if (!parameter_ref(number, name, hash, depth)) return false;
+      exists = number > 0 || params_.exists(name);
+    }
     c_.skip_spaces();
-    if (c_.at_end() || *c_.p != ']') return c_.fail(c_.p, "EXISTS[] not closed; expected ']'");
+    if (c_.at_end() || *c_.p != ']') return c_.fail(c_.p < c_.end ? c_.p : hash, "EXISTS[] not closed; expected ']'");
     ++c_.p;
-    v = params_.exists(name) ? 1.0 : 0.0;
+    v = exists ? 1.0 : 0.0;
     return true;
   }
   double a = 0.0;

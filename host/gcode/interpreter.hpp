@@ -70,6 +70,8 @@ class Interpreter : public SystemParameters {
   /// produces no moves. Returns false on error.
   bool execute(const ParsedLine& line, MoveList& out);
 
+  /// The source line about to run (#<_line> reads it, also in the line's own messages).
+  void set_line(int line) { last_line_ = line; }
   /// True once M2/M30 has been executed.
   bool ended() const { return ended_; }
   /// The input ended (end of file or closing '%') at `line`: reports a NURBS group left open.

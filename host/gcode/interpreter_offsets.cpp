@@ -63,7 +63,10 @@ bool Interpreter::write_parameter(int number, double value, std::string& why) {
 bool Interpreter::numbered(int number, double& value) const {
   const double u = inches_ ? kInch : 1.0;
   const ToolEntry* t = have_tools_ ? tools_.find(tool_) : nullptr;
-  if (number == 5400) {
+  if (number >= 5021 && number <= 5029) {  // the machine position, program units (LinuxCNC)
+    const int i = number - 5021;
+    value = i < 3 ? (frame_.scale * q_[static_cast<std::size_t>(i)] + frame_.offset[static_cast<std::size_t>(i)]) / u : 0.0;
+  } else if (number == 5400) {
     value = tool_;
   } else if (number >= 5401 && number <= 5409) {
     const int i = number - 5401;

@@ -261,6 +261,19 @@ class LineLexer {
       o.label = ParameterStore::normalize(std::string_view(s, static_cast<std::size_t>(c_.p - s)));
       ++c_.p;
       if (o.label.empty()) return c_.fail(open, "empty O-word name; expected o<name>");
+    } else if (!c_.at_end() && (*c_.p == '#' || *c_.p == '[')) {
+      // A computed label (o#<sub> call): a number, as LinuxCNC evaluates it.
+      if (no_values_) {
+        o.label = "#?";  // not evaluated while skipping: matches nothing
+        while (!c_.at_end() && *c_.p != ' ' && *c_.p != '\t') ++c_.p;
+      } else {
+        const char* lab = c_.p;
+        double v = 0.0;
+        if (!expr_.real_value(v)) return false;
+        if (v != std::floor(v) || v < 0.0 || v > 99999999.0)
+          return c_.fail(lab, "computed O-word label is not a whole number >= 0; expected e.g. o#1 with #1 = 100");
+        o.label = std::to_string(static_cast<long>(v));
+      }
     } else {
       double v = 0.0;
       const std::size_t n = parse_decimal(c_.p, c_.end, v);

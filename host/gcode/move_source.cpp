@@ -146,6 +146,7 @@ void MoveSource::run_line(int line_no, const LineReader::Position& start) {
   if (lexed_.empty()) return;
   seen_content_ = true;
   if (!parse_line(lexed_, line_no, parsed_, sink_)) return;
+  interp_.set_line(line_no);
   if (!apply_assignments(line_no)) return;
   message(line_no);
   interp_.execute(parsed_, pending_);

@@ -194,7 +194,10 @@ MoveListing list_input(const Input& in, const std::string& name, const MachineCo
     Pipeline pipeline(in.open(), config, make_frame(config, options, t), sink, false);
     pipeline.set_message_handler(on_message);
     Move m;
-    while (pipeline.front_end_move(m)) {
+    // Up to the first error, as LinuxCNC's interpreter stops there (pcnc check without
+    // --print-moves goes on for every diagnostic).
+    while (!sink.has_errors() && pipeline.front_end_move(m)) {
+      if (sink.has_errors()) break;
       ++result.moves;
       if (on_move) on_move(m);
     }
