@@ -292,6 +292,33 @@ TEST(GcodeFlow, LoopsAndCallsAcrossTheReadBufferOfAFile) {
   EXPECT_EQ(moves[3].line, 6009);  // 2 + 3000 + 5 + 3000 + 2
 }
 
+TEST(GcodeSubs, ASubroutineFileBesideTheProgram) {
+  // LinuxCNC: o<name> call, not defined in the program, runs name.ngc beside it.
+  const std::string dir = make_temp_dir("gcode-subfile");
+  std::ofstream(dir + "/main.ngc") << "#<_calls>=0\no<peck> call [2]\no<peck> call [3]\nG0 Z9\nM2\n";
+  std::ofstream(dir + "/peck.ngc") << "(a subroutine file)\no<peck> sub\nG0 X#1\n#<_calls>=[#<_calls>+1]\no<peck> endsub\n";
+  std::ofstream(dir + "/lost.ngc") << "o<nothere> call\nM2\n";
+  JobOptions o;
+  o.start_position = Vec3{};
+  o.offset = Vec3{};
+  std::vector<Move> moves;
+  const MoveListing r = list_moves(
+      dir + "/main.ngc", wide_config(), o,
+      [&](const Move& m) {
+        if (m.kind == MoveKind::kRapid) moves.push_back(m);
+      },
+      nullptr);
+  ASSERT_TRUE(r.ok) << (r.diagnostics.empty() ? "" : format_diagnostic(r.diagnostics[0]));
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_DOUBLE_EQ(moves[0].end[0], 2.0);
+  EXPECT_EQ(moves[0].line, 3) << "the line in peck.ngc";
+  EXPECT_DOUBLE_EQ(moves[1].end[0], 3.0);
+  EXPECT_DOUBLE_EQ(moves[2].end[2], 9.0);
+  EXPECT_EQ(moves[2].line, 4) << "back in main.ngc";
+  const MoveListing lost = list_moves(dir + "/lost.ngc", wide_config(), o, nullptr, nullptr);
+  EXPECT_FALSE(lost.ok);
+}
+
 // ---- messages and comments ----
 
 TEST(GcodeMessages, MsgIsRawDebugIsSubstitutedInProgramOrder) {

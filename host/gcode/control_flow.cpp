@@ -2,6 +2,7 @@
 #include "gcode/control_flow.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace pcnc {
 namespace {
@@ -43,8 +44,19 @@ void ControlFlow::fail(int line, int column, std::string message) {
   skip_ = Skip::kNone;
 }
 
+LineReader::Position ControlFlow::tell() const {
+  LineReader::Position p = reader_->tell();
+  p.file = file_;
+  return p;
+}
+
 void ControlFlow::go(const LineReader::Position& pos, int line) {
-  if (!reader_.seek(pos)) fail(line, 0, "cannot read the program file again (it changed or cannot be read); expected an unchanged file");
+  if (pos.file != file_) {
+    file_ = pos.file;
+    reader_ = file_ == 0 ? &main_ : files_[file_ - 1].get();
+    sink_.set_file(reader_->path());
+  }
+  if (!reader_->seek(pos)) fail(line, 0, "cannot read the program file again (it changed or cannot be read); expected an unchanged file");
 }
 
 void ControlFlow::start_skip(Skip s, const std::string& label, int line) {
@@ -142,7 +154,7 @@ void ControlFlow::running(const OWord& o, int line, const LineReader::Position& 
                       name_of(label) + " sub inside subroutine " + name_of(f.label) +
                           ": subroutine definitions cannot be nested; expected it outside every sub ... endsub");
       }
-      subs_[ident(label, false)] = reader_.tell();
+      subs_[ident(label, false)] = tell();
       start_skip(Skip::kSubDefinition, label, line);
       return;
     case OKind::kEndsub:
@@ -192,13 +204,13 @@ void ControlFlow::running(const OWord& o, int line, const LineReader::Position& 
       return;
     case OKind::kDo: {
       Frame f{Kind::kDo, label, line};
-      f.body = reader_.tell();
+      f.body = tell();
       stack_.push_back(std::move(f));
       return;
     }
     case OKind::kRepeat: {
       Frame f{Kind::kRepeat, label, line};
-      f.body = reader_.tell();
+      f.body = tell();
       f.count = std::floor(o.value);
       stack_.push_back(std::move(f));
       if (!(o.value >= 1.0)) start_skip(Skip::kLoopEnd, label, line);
@@ -242,7 +254,7 @@ void ControlFlow::running(const OWord& o, int line, const LineReader::Position& 
 }
 
 void ControlFlow::call(const OWord& o, int line) {
-  const LineReader::Position ret = reader_.tell();  // before find_sub reads ahead
+  const LineReader::Position ret = tell();  // before find_sub reads ahead
   LineReader::Position body{};
   if (!find_sub(o.label, false, body)) {
     return fail(line, o.column,
@@ -272,45 +284,78 @@ void ControlFlow::leave_call(bool has_value, double value, int line, int column)
   go(f.ret, line);
 }
 
+// Reads `r` (file index `file`) from where it is up to `stop_offset` in skip mode, recording
+// every definition on the way; true with `body` once the one wanted (`key`) is seen.
+bool ControlFlow::scan(LineReader& r, std::uint32_t file, std::uint64_t stop_offset, const std::string& key, bool fanuc,
+                       LineReader::Position& body) {
+  LexedLine lexed;
+  DiagnosticSink quiet;
+  std::string_view text;
+  bool too_long = false;
+  auto& table = fanuc ? programs_ : subs_;
+  while (r.tell().offset < stop_offset && r.next(text, too_long)) {
+    lex_line(text, static_cast<int>(r.line_number()), lexed, quiet, nullptr, true);
+    LineReader::Position here = r.tell();
+    here.file = file;
+    if (lexed.program_number) {
+      programs_.emplace("P" + lexed.oword.label, here);
+    } else if (lexed.oword.kind == OKind::kSub) {
+      subs_.emplace(lexed.oword.label, here);
+    }
+    const auto found = table.find(key);
+    if (found != table.end()) {
+      body = found->second;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ControlFlow::find_sub(const std::string& label, bool fanuc, LineReader::Position& body) {
   const std::string key = ident(label, fanuc);
-  auto it = (fanuc ? programs_ : subs_).find(key);
-  if (it != (fanuc ? programs_ : subs_).end()) {
+  auto& table = fanuc ? programs_ : subs_;
+  const auto it = table.find(key);
+  if (it != table.end()) {
     body = it->second;
     return true;
   }
-  // Read ahead (then from the start) for its definition, recording every one on the way.
-  const LineReader::Position back = reader_.tell();
-  LexedLine lexed;
-  DiagnosticSink quiet;
-  const auto scan = [&](std::uint64_t stop_offset) {
-    std::string_view text;
-    bool too_long = false;
-    while (reader_.tell().offset < stop_offset && reader_.next(text, too_long)) {
-      lex_line(text, static_cast<int>(reader_.line_number()), lexed, quiet, nullptr, true);
-      if (lexed.program_number) {
-        programs_.emplace("P" + lexed.oword.label, reader_.tell());
-      } else if (lexed.oword.kind == OKind::kSub) {
-        subs_.emplace(lexed.oword.label, reader_.tell());
-      }
-      auto found = (fanuc ? programs_ : subs_).find(key);
-      if (found != (fanuc ? programs_ : subs_).end()) {
-        body = found->second;
-        return true;
-      }
-    }
+  // Read ahead in the file being read (then from its start), recording every definition on
+  // the way; the position is restored (the caller then goes to the body).
+  const LineReader::Position back = tell();
+  bool found = scan(*reader_, file_, ~std::uint64_t{0}, key, fanuc, body);
+  if (!found && reader_->seek(LineReader::Position{})) found = scan(*reader_, file_, back.offset, key, fanuc, body);
+  reader_->seek(back);
+  if (found) return true;
+  return !fanuc && find_sub_file(label, body);
+}
+
+// LinuxCNC's subroutine files: o<name> call, not defined in the program, runs <name>.ngc
+// beside it (the file holds "o<name> sub ... o<name> endsub").
+bool ControlFlow::find_sub_file(const std::string& label, LineReader::Position& body) {
+  if (main_.path().empty() || label.empty() || (label[0] >= '0' && label[0] <= '9')) return false;
+  for (char c : label) {
+    if (c == '/' || c == '.' || c == '\\') return false;  // a name, never a path
+  }
+  if (files_.size() >= kMaxSubFiles) return false;
+  const std::string& main_path = main_.path();
+  const std::size_t slash = main_path.rfind('/');
+  const std::string path = (slash == std::string::npos ? std::string() : main_path.substr(0, slash + 1)) + label + ".ngc";
+  std::unique_ptr<LineReader> r;
+  try {
+    r = std::make_unique<LineReader>(path);
+  } catch (const std::exception&) {
     return false;
-  };
-  if (scan(~std::uint64_t{0})) return true;
-  if (reader_.seek(LineReader::Position{}) && scan(back.offset)) return true;
-  reader_.seek(back);
-  return false;
+  }
+  const auto file = static_cast<std::uint32_t>(files_.size() + 1);
+  const bool found = scan(*r, file, ~std::uint64_t{0}, label, false, body);
+  files_.push_back(std::move(r));
+  return found;
 }
 
 void ControlFlow::on_program_number(const std::string& label, int line) {
   (void)line;
   if (failed_ || skipping()) return;
-  programs_.emplace("P" + label, reader_.tell());
+  programs_.emplace("P" + label, tell());
 }
 
 void ControlFlow::m98(double p, bool has_l, double l, int line, int column) {
@@ -320,7 +365,7 @@ void ControlFlow::m98(double p, bool has_l, double l, int line, int column) {
   const double count = has_l ? std::floor(l) : 1.0;
   if (!(count >= 0.0)) return fail(line, column, "M98 L must not be negative; expected the number of times to run it");
   if (count == 0.0) return;  // L0: not run at all (LinuxCNC)
-  const LineReader::Position ret = reader_.tell();  // before find_sub reads ahead
+  const LineReader::Position ret = tell();  // before find_sub reads ahead
   LineReader::Position body{};
   if (!find_sub(label, true, body)) {
     return fail(line, column, "M98 P" + label + ": no subprogram O" + label + " in this file; expected a line O" +

@@ -12,10 +12,14 @@
 //
 // Lines the flow passes over (a false branch, a subroutine's definition, the rest of a loop
 // after `break`) are lexed with `skipping` set: only their O-word is looked at.
+// A named subroutine the program does not define is looked for, as LinuxCNC does, in a file of
+// its name beside the program (o<drill> call -> drill.ngc, name in lower case), which holds its
+// `sub ... endsub`; the lines read then are that file's (moves and messages name its lines).
 // A control-flow error ends the program (nothing after it is run): the flow is lost.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -30,7 +34,14 @@ namespace pcnc {
 class ControlFlow {
  public:
   ControlFlow(LineReader& reader, ParameterStore& params, DiagnosticSink& sink)
-      : reader_(reader), params_(params), sink_(sink) {}
+      : main_(reader), reader_(&reader), params_(params), sink_(sink) {}
+
+  /// The file lines are read from now (the program, or a subroutine file while in it).
+  LineReader& reader() { return *reader_; }
+  /// Where the next line starts, in the file being read.
+  LineReader::Position tell() const;
+  /// True while the program's own file is being read.
+  bool in_main_file() const { return file_ == 0; }
 
   /// True while lines are passed over (read with `skipping`).
   bool skipping() const { return skip_ != Skip::kNone; }
@@ -79,7 +90,15 @@ class ControlFlow {
   bool find_sub(const std::string& label, bool fanuc, LineReader::Position& body);
   static std::string ident(const std::string& label, bool fanuc);
 
-  LineReader& reader_;
+  bool scan(LineReader& r, std::uint32_t file, std::uint64_t stop_offset, const std::string& key, bool fanuc,
+            LineReader::Position& body);
+  bool find_sub_file(const std::string& label, LineReader::Position& body);
+
+  static constexpr std::size_t kMaxSubFiles = 64;
+  LineReader& main_;
+  LineReader* reader_;  // the file being read
+  std::uint32_t file_ = 0;
+  std::vector<std::unique_ptr<LineReader>> files_;  // subroutine files, index + 1
   ParameterStore& params_;
   DiagnosticSink& sink_;
   std::vector<Frame> stack_;

@@ -48,6 +48,8 @@ class DiagnosticSink {
   std::vector<Diagnostic> take();
 
   const std::string& file() const { return file_; }
+  /// The file later diagnostics name (the control flow switches it inside a subroutine file).
+  void set_file(std::string file) { file_ = std::move(file); }
 
  private:
   struct Kept {

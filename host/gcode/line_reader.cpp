@@ -41,7 +41,7 @@ int open_program_file(const std::string& path, std::string* why) {
   return fd;
 }
 
-LineReader::LineReader(const std::string& path) {
+LineReader::LineReader(const std::string& path) : path_(path) {
   std::string why;
   fd_ = open_program_file(path, &why);
   if (fd_ < 0) throw std::runtime_error(why);

@@ -41,6 +41,7 @@ class LineReader {
   struct Position {
     std::uint64_t offset = 0;  // bytes from the start of the input
     std::uint64_t line = 0;    // the number of the line before it
+    std::uint32_t file = 0;    // which file (the control flow's: 0 = the program, then subroutine files)
   };
   Position tell() const { return {consumed_, line_no_}; }
   /// Goes back (or forward) to a position tell() gave. False when the input cannot be read
@@ -48,6 +49,7 @@ class LineReader {
   bool seek(const Position& pos);
 
   std::uint64_t line_number() const { return line_no_; }  // of the line last returned
+  const std::string& path() const { return path_; }        // empty for text in memory
   std::uint64_t bytes_read() const { return consumed_; }
   std::uint64_t total_bytes() const { return total_; }
 
@@ -62,6 +64,7 @@ class LineReader {
   bool skipping_ = false;  // discarding the rest of an over-long line
   std::string_view text_;
   std::string_view full_text_;
+  std::string path_;
   bool from_text_ = false;
   std::uint64_t line_no_ = 0;
   std::uint64_t consumed_ = 0;

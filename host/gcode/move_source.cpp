@@ -35,7 +35,7 @@ bool MoveSource::next(Move& m) {
 }
 
 void MoveSource::check_trailing() {
-  if (!ended_by_m2_) return;
+  if (!ended_by_m2_ || !flow_.in_main_file()) return;
   std::string_view text;
   bool too_long = false;
   DiagnosticSink scratch;
@@ -69,13 +69,14 @@ void MoveSource::end_program(int line_no, bool warn_no_end) {
 void MoveSource::read_line() {
   std::string_view text;
   bool too_long = false;
-  const LineReader::Position start = reader_.tell();
-  if (percent_closed_ || flow_.failed() || !reader_.next(text, too_long)) {
+  LineReader& reader = flow_.reader();  // the program, or a subroutine file while in it
+  const LineReader::Position start = flow_.tell();
+  if (percent_closed_ || flow_.failed() || !reader.next(text, too_long)) {
     // End of input (or closing '%', or a lost control flow) without M2/M30.
     end_program(last_line_, !flow_.failed());
     return;
   }
-  const int line_no = static_cast<int>(std::min<std::uint64_t>(reader_.line_number(), 0x7fffffff));
+  const int line_no = static_cast<int>(std::min<std::uint64_t>(reader.line_number(), 0x7fffffff));
   last_line_ = line_no;
   if (++executed_ > max_executed_) {
     const int loop = flow_.innermost_loop_line();
