@@ -16,16 +16,10 @@ struct Listing {
   std::vector<std::string> lines;   // the --print-moves text, "MSG ..." lines included
   std::vector<std::string> messages;
   bool has_error(const std::string& fragment) const {
-    for (const Diagnostic& d : result.diagnostics) {
-      if (d.severity == Diagnostic::Severity::kError && d.message.find(fragment) != std::string::npos) return true;
-    }
-    return false;
+    return has_diagnostic(result.diagnostics, Diagnostic::Severity::kError, fragment);
   }
   bool has_warning(const std::string& fragment) const {
-    for (const Diagnostic& d : result.diagnostics) {
-      if (d.severity == Diagnostic::Severity::kWarning && d.message.find(fragment) != std::string::npos) return true;
-    }
-    return false;
+    return has_diagnostic(result.diagnostics, Diagnostic::Severity::kWarning, fragment);
   }
   std::string first_error() const {
     for (const Diagnostic& d : result.diagnostics) {

@@ -26,20 +26,23 @@ inline MachineConfig wide_config() {
   return c;
 }
 
+/// True when one of `diags` has this severity and holds `fragment` in its message.
+inline bool has_diagnostic(const std::vector<Diagnostic>& diags, Diagnostic::Severity severity,
+                           const std::string& fragment) {
+  for (const Diagnostic& d : diags) {
+    if (d.severity == severity && d.message.find(fragment) != std::string::npos) return true;
+  }
+  return false;
+}
+
 struct RunResult {
   CheckResult check;
   std::vector<Block> blocks;
   bool has_error(const std::string& fragment) const {
-    for (const Diagnostic& d : check.diagnostics) {
-      if (d.severity == Diagnostic::Severity::kError && d.message.find(fragment) != std::string::npos) return true;
-    }
-    return false;
+    return has_diagnostic(check.diagnostics, Diagnostic::Severity::kError, fragment);
   }
   bool has_warning(const std::string& fragment) const {
-    for (const Diagnostic& d : check.diagnostics) {
-      if (d.severity == Diagnostic::Severity::kWarning && d.message.find(fragment) != std::string::npos) return true;
-    }
-    return false;
+    return has_diagnostic(check.diagnostics, Diagnostic::Severity::kWarning, fragment);
   }
   const Diagnostic* first_error() const {
     for (const Diagnostic& d : check.diagnostics) {
