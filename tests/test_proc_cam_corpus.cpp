@@ -21,7 +21,7 @@
 #include "config/config.hpp"
 #include "motion/path.hpp"
 #include "gcode/program.hpp"
-#include "report/report_html.hpp"
+#include "report/run_outputs.hpp"
 #include "report/run_summary.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
@@ -174,7 +174,7 @@ TEST_P(CamCorpus, ReplaysToTheEndWithinBounds) {
   // the report: written, with pictures, stating the summary's figures
   ASSERT_TRUE(fs::exists(html_path));
   const std::string html = read_file(html_path);
-  EXPECT_NE(html.find("<polyline class=\"feed\""), std::string::npos) << "the tool path is drawn";
+  EXPECT_NE(html.find("<path class=\"feed\""), std::string::npos) << "the tool path is drawn";
   // rapids from the lines the run's check recorded (the report runs no front end of its own)
   EXPECT_EQ(s.rapid_lines.size(), check.rapid_lines.size());
   if (!s.rapid_lines.empty()) {

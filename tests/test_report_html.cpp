@@ -325,7 +325,7 @@ TEST(ReportHtml, PicturesArePresentAndSelfContained) {
   EXPECT_NE(all[1].find("class=\"topview\""), std::string::npos);
   EXPECT_NE(all[2].find("class=\"speed-plot\""), std::string::npos);
   EXPECT_NE(all[3].find("class=\"ferr-plot\""), std::string::npos);
-  for (const std::string& svg : all) EXPECT_NE(svg.find("<polyline"), std::string::npos) << svg.substr(0, 80);
+  for (const std::string& svg : all) EXPECT_TRUE(svg.find("<polyline") != std::string::npos || svg.find("<path") != std::string::npos) << svg.substr(0, 80);
   // tool path: rapids and feeds, the red dot at the final position
   EXPECT_NE(all[0].find("class=\"rapid\""), std::string::npos);
   EXPECT_NE(all[0].find("class=\"feed\""), std::string::npos);

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gcode/time_cause.hpp"
 #include "ipc/block.hpp"
 #include "config/config.hpp"
 #include "config/work_state.hpp"
@@ -68,6 +69,9 @@ struct CheckResult {
   double feed_length_time_s = 0.0;  // sum of length/F over feed moves
   std::uint64_t blocks = 0;         // blocks made and accepted by the rt's check (what a run sends)
   std::vector<LineRange> rapid_lines;  // source lines holding a rapid block, ascending runs (ok only)
+  // What caps each block's speed and how its junctions are passed, per run of lines (ok
+  // only): the run report attributes the trace's time to these causes (gcode/time_cause.hpp).
+  std::vector<LinePlan> plan;
 };
 
 /// Pass 1: reads the whole file through the whole pipeline: parses, interprets, checks soft
