@@ -108,7 +108,8 @@ TimeCause cruise_cause(const Block& b, const MachineConfig& cfg) {
         const double v = cfg.axes[static_cast<std::size_t>(i)].max_velocity_mm_s / ui;
         if (v < v_axes) v_axes = v, axis = i;
       }
-      if (axis < 0 || below(b.speed, v_axes)) return feed_or_clamp(b.speed, cfg);
+      // F at the machine's maximum (clamped there) names the clamp even where an axis allows no more
+      if (axis < 0 || below(b.speed, v_axes) || !below(b.speed, max_feed_mm_s(cfg))) return feed_or_clamp(b.speed, cfg);
       return axis_cause(TimeCause::kAxisVelocityX, axis);
     }
     case BlockKind::kArc: {
