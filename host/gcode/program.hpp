@@ -78,7 +78,8 @@ struct CheckResult {
 /// limits (after offset/scale), feeds, everything, makes every block and validates it with the
 /// rt's block check (seq 1, 2, 3, ..., each starting where the last ended, the first at the
 /// job's start position). A refused block is an error at its source line. The blocks are not
-/// kept: memory does not grow with file length (rapid_lines aside, one entry per run of rapids).
+/// kept: memory does not grow with file length (rapid_lines aside, one entry per run of rapids,
+/// and the plan: one entry per block at most, runs of lines with one plan merged).
 /// A file that cannot be read gives ok = false with one error diagnostic.
 /// Why `path` cannot be a program although it opens: a directory, FIFO, device or socket (only
 /// regular files are read). Empty for a regular file, and for one that cannot be opened at
