@@ -521,7 +521,7 @@ std::string render_report_html(const ReportPage& page) {
   const TimePlot speed = speed_plot(d);
   o << "<section class=\"card\"><h2>Path speed over time</h2>\n" << render_time_plot(speed);
   o << "<p class=\"note\">Feed moves on their own scale, minimum to maximum within each of " << speed.t.size()
-    << " time slices (one per pixel column); slices with a rapid are shaded, its speed is off this scale. The dashed line "
+    << " time slices (at most one per pixel column); slices with a rapid are shaded, its speed is off this scale. The dashed line "
        "is the planned speed: the programmed F, or the limit that caps it. Under the time axis the program line running "
        "then"
     << (d.classified ? ", and a band coloured by the cause most of the slice's time went to (table below)" : "")
