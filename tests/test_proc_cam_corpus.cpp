@@ -21,7 +21,7 @@
 #include "config/config.hpp"
 #include "motion/path.hpp"
 #include "gcode/program.hpp"
-#include "report/report_html.hpp"
+#include "report/run_outputs.hpp"
 #include "report/run_summary.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
@@ -138,6 +138,12 @@ TEST_P(CamCorpus, ReplaysToTheEndWithinBounds) {
   EXPECT_EQ(st.underruns, 0u) << "virtual clock: the rt waits for the host, never runs dry";
   EXPECT_EQ(s.blocks_sent, st.blocks_done);
   EXPECT_GT(st.program_time_s, 0.0);
+  // one definition per figure: every line read, the time all attributed
+  EXPECT_EQ(s.lines, s.lines_read) << "run to its end: every line the check read";
+  double attributed = 0.0;
+  for (const auto& [cause, sec] : s.time_by_cause) attributed += sec;
+  EXPECT_NEAR(attributed, st.program_time_s, 1e-9) << "time_by_cause adds up to the program time";
+  EXPECT_LE(st.timing.compute_p99_us, st.timing.compute_max_us);
   EXPECT_GE(st.program_time_s, s.feed_length_time_s * 0.999) << "no faster than the feed allows";
   EXPECT_GT(s.transform.scale, 0.0);
   EXPECT_LE(s.transform.scale, 1.0) << "--fit never scales up";
@@ -174,7 +180,8 @@ TEST_P(CamCorpus, ReplaysToTheEndWithinBounds) {
   // the report: written, with pictures, stating the summary's figures
   ASSERT_TRUE(fs::exists(html_path));
   const std::string html = read_file(html_path);
-  EXPECT_NE(html.find("<polyline class=\"feed\""), std::string::npos) << "the tool path is drawn";
+  EXPECT_LT(html.size(), 2u * 1024 * 1024) << "decimated to the pixels: any corpus program's report under 2 MB";
+  EXPECT_NE(html.find("<path class=\"feed\""), std::string::npos) << "the tool path is drawn";
   // rapids from the lines the run's check recorded (the report runs no front end of its own)
   EXPECT_EQ(s.rapid_lines.size(), check.rapid_lines.size());
   if (!s.rapid_lines.empty()) {

@@ -519,6 +519,37 @@ TEST(ServiceSocket, CtlCommandLine) {
   EXPECT_NE(none.err.find("cannot connect"), std::string::npos) << none.err;
 }
 
+// `pcnc ctl run --offset X,Y,Z` places the program for this run and prints the placement it
+// applied; a malformed value is refused before anything is sent.
+TEST(ServiceSocket, CtlRunOffsetAndPlacement) {
+  ServicePair p("sock-ctl-offset");
+  ASSERT_TRUE(p.start("virtual")) << p.host_log();
+  const std::vector<std::string> base = {pcnc_exe(), "ctl", "--config", p.config()};
+  auto ctl = [&](std::vector<std::string> args) {
+    std::vector<std::string> argv = base;
+    argv.insert(argv.end(), args.begin(), args.end());
+    return run_process(argv, 120);
+  };
+  ProcessResult r = ctl({"run", source_dir() + "/examples/demo.ngc", "--offset", "13,12,24", "--wait"});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("placement  machine = 1.000000 * program + (13.0000, 12.0000, 24.0000) mm"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("completed"), std::string::npos) << r.out;
+  // the demo ends at program X0 Y0: the machine stands at the offset given
+  r = ctl({"status", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_NEAR(j["result"]["commanded"]["x"].get<double>(), 13.0, 1e-9) << r.out;
+  EXPECT_NEAR(j["result"]["commanded"]["y"].get<double>(), 12.0, 1e-9) << r.out;
+
+  r = ctl({"run", source_dir() + "/examples/demo.ngc", "--fit", "--wait"});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("placement  machine = "), std::string::npos) << "--fit prints the scale it applied: " << r.out;
+
+  r = ctl({"run", source_dir() + "/examples/demo.ngc", "--offset", "13,12"});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("expected X,Y,Z"), std::string::npos) << r.err;
+}
+
 // ---------------------------------------------------------------- permissions
 
 mode_t socket_mode(const std::string& path) {

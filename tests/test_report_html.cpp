@@ -16,6 +16,7 @@
 #include "report/report_html.hpp"
 #include "report/run_report.hpp"
 #include "report/run_summary.hpp"
+#include "report/time_causes.hpp"
 #include "subprocess.hpp"
 #include "report/trace_reader.hpp"
 #include "loop/trace_writer.hpp"
@@ -325,7 +326,7 @@ TEST(ReportHtml, PicturesArePresentAndSelfContained) {
   EXPECT_NE(all[1].find("class=\"topview\""), std::string::npos);
   EXPECT_NE(all[2].find("class=\"speed-plot\""), std::string::npos);
   EXPECT_NE(all[3].find("class=\"ferr-plot\""), std::string::npos);
-  for (const std::string& svg : all) EXPECT_NE(svg.find("<polyline"), std::string::npos) << svg.substr(0, 80);
+  for (const std::string& svg : all) EXPECT_TRUE(svg.find("<polyline") != std::string::npos || svg.find("<path") != std::string::npos) << svg.substr(0, 80);
   // tool path: rapids and feeds, the red dot at the final position
   EXPECT_NE(all[0].find("class=\"rapid\""), std::string::npos);
   EXPECT_NE(all[0].find("class=\"feed\""), std::string::npos);
@@ -467,6 +468,79 @@ TEST(RunSummary, RapidLinesRoundTripAndOlderSummariesHaveNone) {
   RunReport r;
   r.check.rapid_lines = {{3, 4}};
   EXPECT_EQ(make_run_summary(r, MachineConfig{}, "c.toml", false).rapid_lines.size(), 1u);
+}
+
+}  // namespace
+}  // namespace pcnc
+
+namespace pcnc {
+namespace {
+
+// A rapid at 100 mm/s, then four feed sides at 10 mm/s that each start and end at rest: the
+// speed plot keeps the feed's own scale, marks the rapid, draws the planned speed, the cause
+// band and the line axis; the time table adds up to the machine time.
+TEST(ReportHtml, SpeedPlotAndWhereTheTimeWent) {
+  std::vector<LinePlan> plan;
+  LinePlan r;
+  r.first = r.last = 1;
+  r.cruise = TimeCause::kRapid;
+  r.speed = 100.0;
+  plan.push_back(r);
+  for (std::uint32_t l = 2; l <= 5; ++l) {
+    LinePlan f;
+    f.first = f.last = l;
+    f.speed = 10.0;
+    f.before = f.after = JunctionKind::kAngleStop;
+    f.angle_before_deg = f.angle_after_deg = 90.0;
+    plan.push_back(f);
+  }
+  const CauseClassifier k(plan);
+  DigestOptions o;
+  o.max_buckets = 400;
+  o.is_rapid_line = [](std::uint32_t line) { return line == 1; };
+  o.cause_of = [&k](const TraceSample& row, double prev) { return k.classify(row, prev); };
+  TraceDigester d(o);
+  double t = 0.0;
+  for (int i = 0; i < 200; ++i) d.add(row(t += 0.0005, 1, MachineState::kRunning, {}, {}, i < 100 ? i : 200 - i));
+  for (std::uint32_t side = 0; side < 4; ++side) {
+    for (int i = 0; i < 400; ++i) {
+      const double v = std::min({10.0, 0.5 * i, 0.5 * (399 - i)});  // up, cruise, down to rest
+      d.add(row(t += 0.0005, 2 + side, MachineState::kRunning, {}, {}, v));
+    }
+  }
+  ReportPage page;
+  page.summary = sample_summary();
+  page.summary.plan = plan;
+  page.trace = d.finish();
+  page.has_trace = true;
+  const double program_time = page.summary.final_status.program_time_s;
+  page.summary.time_by_cause = time_by_cause(page.trace.cause_rows, program_time);
+  page.slowest = slowest_stretches(page.trace, k, program_time / static_cast<double>(page.trace.program_rows), 12);
+  const std::string html = render_report_html(page);
+
+  const auto all = svgs(html);
+  ASSERT_EQ(all.size(), 4u);
+  const std::string& speed = all[2];
+  EXPECT_NE(speed.find("class=\"marked\""), std::string::npos) << "the rapid's slices are shaded";
+  EXPECT_NE(speed.find("class=\"reference\""), std::string::npos) << "the planned speed";
+  EXPECT_NE(speed.find("class=\"cause-band\""), std::string::npos);
+  EXPECT_NE(speed.find("class=\"line-tick\""), std::string::npos);
+  EXPECT_NE(speed.find(">10</text>"), std::string::npos) << "the feed's scale tops at 10 mm/s";
+  EXPECT_EQ(speed.find(">100</text>"), std::string::npos) << "the rapid's 100 mm/s does not squash it";
+
+  double sum = 0.0;
+  for (const auto& [key, sec] : page.summary.time_by_cause) sum += std::stod(span(html, "cause-" + key));
+  EXPECT_NEAR(sum, program_time, 0.0005 * static_cast<double>(page.summary.time_by_cause.size()));
+  EXPECT_GT(page.trace.cause_rows[static_cast<std::size_t>(TimeCause::kJunctionStop)], 4u * 30u);
+  ASSERT_EQ(page.slowest.size(), 5u) << "every line lost time";
+  EXPECT_EQ(page.slowest[0].line, 1u) << "the rapid never cruises: it starts and ends the program at rest";
+  EXPECT_EQ(page.slowest[0].cause, TimeCause::kStartEndStop);
+  for (std::size_t i = 1; i < 5; ++i) {
+    EXPECT_EQ(page.slowest[i].cause, TimeCause::kJunctionStop) << page.slowest[i].line;
+    EXPECT_NEAR(page.slowest[i].angle_deg, 90.0, 1e-9);
+    EXPECT_LE(page.slowest[i].lost_s, page.slowest[i - 1].lost_s) << "most lost first";
+  }
+  EXPECT_NE(html.find("turn 90.0°"), std::string::npos);
 }
 
 }  // namespace

@@ -234,6 +234,18 @@ TEST(RpcParams, RunSetOffsetSubscribe) {
   EXPECT_FALSE(rpc::check_run_params(json{{"file", ""}}).ok());
   EXPECT_FALSE(rpc::check_run_params(json{{"file", "/a"}, {"work_offset", "G60"}}).ok());
   EXPECT_FALSE(rpc::check_run_params(json{{"file", "/a"}, {"contouring", "on"}}).ok());
+  // offset: `pcnc ctl run --offset X,Y,Z`, G54 for this run
+  auto off = rpc::check_run_params(json{{"file", "/a"}, {"offset", {{"x", 1.5}, {"y", -2}, {"z", 25}}}});
+  ASSERT_TRUE(off.ok()) << off.error.message;
+  ASSERT_TRUE(off.value->offset.has_value());
+  EXPECT_EQ((*off.value->offset)[0], 1.5);
+  EXPECT_EQ((*off.value->offset)[1], -2.0);
+  EXPECT_EQ((*off.value->offset)[2], 25.0);
+  EXPECT_FALSE(r.value->offset.has_value()) << "no offset given: the work offset's G54";
+  EXPECT_FALSE(rpc::check_run_params(json{{"file", "/a"}, {"offset", "1,2,3"}}).ok());
+  EXPECT_FALSE(rpc::check_run_params(json{{"file", "/a"}, {"offset", {{"x", 1}, {"y", 2}}}}).ok()) << "all three axes";
+  EXPECT_FALSE(rpc::check_run_params(json{{"file", "/a"}, {"offset", {{"x", 1}, {"y", 2}, {"z", 2e5}}}}).ok());
+  EXPECT_FALSE(rpc::check_run_params(json{{"file", "/a"}, {"offset", {{"x", 1}, {"y", 2}, {"z", 3}, {"w", 4}}}}).ok());
 
   auto o = rpc::check_set_offset_params(json{{"offset", "G55"}, {"x", 5}, {"z", -2.5}});
   ASSERT_TRUE(o.ok()) << o.error.message;

@@ -21,6 +21,7 @@
 #include "config/config.hpp"
 #include "config/exit_status.hpp"
 #include "config/runtime_paths.hpp"
+#include "check.hpp"  // parse_xyz, as `pcnc run --offset`
 
 namespace pcnc {
 
@@ -336,18 +337,28 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
 
   // run
   auto* run = ctl->add_subcommand("run", "check FILE and run it (refused unless IDLE, or when preflight finds errors)");
-  static std::string run_file, work_offset, contouring;
+  static std::string run_file, work_offset, contouring, run_offset;
   static bool fit = false, run_wait = false;
   run->add_option("FILE", run_file, "G-code program")->required();
   run->add_option("--work-offset", work_offset, "default coordinate system G54..G59");
   run->add_option("--contouring", contouring, "contouring at program start: on|off")->check(CLI::IsMember({"on", "off"}));
   run->add_flag("--fit", fit, "scale the program down so it fits the travel");
+  run->add_option("--offset", run_offset, "program zero in machine coordinates X,Y,Z mm for this run (replaces G54)");
   run->add_flag("--wait", run_wait, "wait for the program's end and print how it ended");
   run->callback([&exit_code] {
     json params = {{"file", std::filesystem::absolute(run_file).lexically_normal().string()}};
     if (!work_offset.empty()) params["work_offset"] = work_offset;
     if (!contouring.empty()) params["contouring"] = contouring == "on";
     if (fit) params["fit"] = true;
+    if (!run_offset.empty()) {
+      const auto v = pcnc::parse_xyz(run_offset);
+      if (!v) {
+        std::fprintf(stderr, "pcnc ctl run: --offset '%s': expected X,Y,Z in mm, e.g. 12.5,12.5,25\n", run_offset.c_str());
+        exit_code = pcnc::kExitBadInput;
+        return;
+      }
+      params["offset"] = json{{"x", (*v)[0]}, {"y", (*v)[1]}, {"z", (*v)[2]}};
+    }
     install_interrupt();
     exit_code = with_client(o, [&](CtlClient& c) {
       json ended;
@@ -359,6 +370,9 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
       const int rc = report(o, r, [](const json& res) {
         std::printf("started %s (%llu lines, %llu moves)\n", res.value("file", "?").c_str(),
                     static_cast<unsigned long long>(res.value("lines", 0ull)), static_cast<unsigned long long>(res.value("moves", 0ull)));
+        const json off = res.value("offset", json::object());
+        std::printf("placement  machine = %.6f * program + (%.4f, %.4f, %.4f) mm\n", res.value("scale", 1.0), off.value("x", 0.0),
+                    off.value("y", 0.0), off.value("z", 0.0));
         for (const auto& w : res.value("warnings", json::array())) std::fprintf(stderr, "  %s\n", w.get<std::string>().c_str());
       });
       if (rc != 0 || !run_wait) return rc;

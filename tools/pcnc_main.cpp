@@ -17,7 +17,7 @@
 #include "launcher.hpp"
 #include "nurbs_tool.hpp"
 #include "progress.hpp"
-#include "report/report_html.hpp"
+#include "report/run_outputs.hpp"
 #include "serve.hpp"
 #include "soak.hpp"
 
@@ -82,10 +82,11 @@ int main(int argc, char** argv) {
     const char* level = quiet ? "error" : verbose ? "info" : "warn";
     for (auto* args : {&lo.rt_args, &lo.host_args}) args->insert(args->end(), {"--log-level", level});
     if (quiet) lo.host_args.push_back("--quiet");
-    // --report: the HTML page needs the trace and the host's summary; when the user did not
-    // ask for them, they go to a temporary directory that is removed afterwards.
+    // --report: the HTML page needs the trace and the host's summary; --summary's time_by_cause
+    // needs the trace too. What the user did not ask for goes to a temporary directory that is
+    // removed afterwards.
     std::string scratch, trace_file = trace, summary_file = summary;
-    if (!report.empty() && (trace.empty() || summary.empty())) {
+    if ((!report.empty() && (trace.empty() || summary.empty())) || (!summary.empty() && trace.empty())) {
       std::string tmpl = (std::getenv("TMPDIR") ? std::string(std::getenv("TMPDIR")) : std::string("/tmp")) + "/pcnc-run-XXXXXX";
       if (mkdtemp(tmpl.data()) == nullptr) {
         std::fprintf(stderr, "pcnc: cannot create a temporary directory for the report's trace: %s\n", tmpl.c_str());
@@ -116,17 +117,18 @@ int main(int argc, char** argv) {
     };
     exit_code = pcnc::launch_pair(lo);
     display.finish();
-    // both processes have ended: the trace is complete and flushed
-    if (!report.empty()) {
+    // both processes have ended: the trace is complete and flushed; the summary gets the time
+    // by cause from it, the report is drawn from both
+    if (!report.empty() || !summary.empty()) {
       std::error_code ec;
       if (!std::filesystem::exists(summary_file, ec)) {
-        std::fprintf(stderr, "pcnc: no HTML report: the program did not run (see above)\n");
+        if (!report.empty()) std::fprintf(stderr, "pcnc: no HTML report: the program did not run (see above)\n");
       } else {
         try {
-          pcnc::build_report_file(summary_file, trace_file, report);
-          std::printf("  html report       %s\n", report.c_str());
+          pcnc::finish_run_outputs(summary_file, trace_file, report, !summary.empty());
+          if (!report.empty()) std::printf("  html report       %s\n", report.c_str());
         } catch (const std::exception& e) {
-          std::fprintf(stderr, "pcnc: the HTML report was not written: %s\n", e.what());
+          std::fprintf(stderr, "pcnc: %s: %s\n", report.empty() ? "the summary's time_by_cause was not written" : "the HTML report was not written", e.what());
           if (exit_code == 0) exit_code = 1;
         }
       }

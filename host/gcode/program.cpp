@@ -121,11 +121,14 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     Pipeline pipeline(in.open(), config, frame, sink);
     if (options.on_message) pipeline.set_message_handler(options.on_message);
     Block b;
+    PlanRecorder plan(config);
     while (pipeline.next(b)) {
       ++result.blocks;
       if (b.kind == BlockKind::kRapid) note_rapid(result.rapid_lines, b.line);
+      plan.add(b);
       if (on_block) (*on_block)(b);
     }
+    result.plan = plan.finish();
     if (pipeline.failed()) pipeline.drain();  // the rest of the program's diagnostics
     const Preflight& pre = pipeline.preflight();
     result.transform = t;
@@ -144,7 +147,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
   }
   result.ok = !sink.has_errors();
   result.diagnostics = sink.take();
-  if (!result.ok) result.rapid_lines.clear();
+  if (!result.ok) result.rapid_lines.clear(), result.plan.clear();
   tidy(result.rapid_lines);
   return result;
 }

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gcode/time_cause.hpp"
 #include "ipc/block.hpp"
 #include "config/config.hpp"
 #include "config/work_state.hpp"
@@ -68,13 +69,17 @@ struct CheckResult {
   double feed_length_time_s = 0.0;  // sum of length/F over feed moves
   std::uint64_t blocks = 0;         // blocks made and accepted by the rt's check (what a run sends)
   std::vector<LineRange> rapid_lines;  // source lines holding a rapid block, ascending runs (ok only)
+  // What caps each block's speed and how its junctions are passed, per run of lines (ok
+  // only): the run report attributes the trace's time to these causes (gcode/time_cause.hpp).
+  std::vector<LinePlan> plan;
 };
 
 /// Pass 1: reads the whole file through the whole pipeline: parses, interprets, checks soft
 /// limits (after offset/scale), feeds, everything, makes every block and validates it with the
 /// rt's block check (seq 1, 2, 3, ..., each starting where the last ended, the first at the
 /// job's start position). A refused block is an error at its source line. The blocks are not
-/// kept: memory does not grow with file length (rapid_lines aside, one entry per run of rapids).
+/// kept: memory does not grow with file length (rapid_lines aside, one entry per run of rapids,
+/// and the plan: one entry per block at most, runs of lines with one plan merged).
 /// A file that cannot be read gives ok = false with one error diagnostic.
 /// Why `path` cannot be a program although it opens: a directory, FIFO, device or socket (only
 /// regular files are read). Empty for a regular file, and for one that cannot be opened at

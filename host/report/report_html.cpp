@@ -1,6 +1,8 @@
 // report_html.cpp — rendering the HTML run report: figures table, isometric tool path and
 // time plots as inline SVG (see report_html.hpp).
 #include "report/report_html.hpp"
+#include "report/report_plots.hpp"
+#include "report/svg_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -24,21 +26,8 @@ std::string fixed(double v, int decimals) {
 }
 
 namespace {
+using namespace svg;
 
-std::string escape(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 // A number in a span with a stable id: what scripts and the tests read.
 std::string num(const std::string& id, const std::string& text) {
@@ -77,22 +66,6 @@ std::string colour_at(double f) {
   return buf;
 }
 
-const char* kAxisColour[3] = {"#d1495b", "#2a9d58", "#2f6fd0"};
-
-// ---- axis ticks ----
-
-double nice_step(double range, int target) {
-  if (!(range > 0.0)) return 1.0;
-  const double raw = range / std::max(target, 1);
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  const double r = raw / mag;
-  return (r < 1.5 ? 1.0 : r < 3.5 ? 2.0 : r < 7.5 ? 5.0 : 10.0) * mag;
-}
-
-int decimals_for(double step) { return std::max(0, static_cast<int>(std::ceil(-std::log10(step) - 1e-9))); }
-
-std::string f1(double v) { return fixed(v, 1); }
-
 // ---- isometric projection: X to the lower right, Y to the upper right, Z up ----
 
 struct P2 {
@@ -118,6 +91,7 @@ std::string pt(const P2& p) { return f1(p.x) + "," + f1(p.y); }
 // ---- the tool path ----
 
 namespace {
+using namespace svg;
 
 // The part's box: the program's extents and the final tool position (machine coordinates).
 // The approach from the home position may leave it; the views clip there.
@@ -142,33 +116,45 @@ double feed_speed_max(const std::vector<ToolPathPoint>& path) {
   return v > 0.0 ? v : 1.0;
 }
 
-// Polylines of the path through `project`: runs of segments with the same kind and colour.
+// The path through `project` as one <path> per class (rapid, or one of the feed-speed colour
+// bins), decimated to what the pixels show: a point closer than `min_px` on screen to the last
+// one drawn, in the same class, is left out (the next point far enough, or the class's end,
+// still lands exactly). Returns the markup; `*feeds` counts the feed points drawn.
 template <typename Project>
-std::string path_polylines(const std::vector<ToolPathPoint>& path, double vmax, Project project, double width,
-                           std::size_t* feeds = nullptr) {
-  constexpr int kBins = 32;
+std::string path_strokes(const std::vector<ToolPathPoint>& path, double vmax, Project project, double width,
+                         std::size_t* feeds = nullptr, double min_px = 0.75) {
+  constexpr int kBins = 24;
   auto bin_of = [&](const ToolPathPoint& q) { return std::clamp(static_cast<int>(q.speed / vmax * kBins), 0, kBins - 1); };
-  std::ostringstream o;
+  struct Stroke {
+    std::string d;
+    P2 pen{-1e300, -1e300};  // where its last piece ended
+  };
+  std::vector<Stroke> strokes(kBins + 1);  // [kBins]: rapids
   std::size_t n_feed = 0;
-  std::size_t i = 1;
-  while (i < path.size()) {
-    const bool rapid = path[i].rapid;
-    const int bin = rapid ? -1 : bin_of(path[i]);
-    std::string pts = pt(project(path[i - 1].p));
-    std::size_t j = i;
-    while (j < path.size() && path[j].rapid == rapid && (rapid || bin_of(path[j]) == bin)) {
-      pts += " " + pt(project(path[j].p));
-      ++j;
-    }
-    if (rapid) {
-      o << "<polyline class=\"rapid\" stroke=\"#aab3c5\" stroke-opacity=\"0.55\" stroke-width=\"" << fixed(width * 0.6, 2)
-        << "\" stroke-dasharray=\"4 3\" points=\"" << pts << "\"/>\n";
-    } else {
-      ++n_feed;
-      o << "<polyline class=\"feed\" stroke=\"" << colour_at((bin + 0.5) / kBins) << "\" stroke-width=\"" << fixed(width, 2)
-        << "\" points=\"" << pts << "\"/>\n";
-    }
-    i = j;
+  P2 last = path.empty() ? P2{} : project(path[0].p);  // the last point drawn (screen)
+  int run = -2;                                         // the class of the piece being drawn
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const int cls = path[i].rapid ? kBins : bin_of(path[i]);
+    const P2 q = project(path[i].p);
+    const bool next_same = i + 1 < path.size() && (path[i + 1].rapid ? kBins : bin_of(path[i + 1])) == cls;
+    if (cls == run && next_same && std::hypot(q.x - last.x, q.y - last.y) < min_px) continue;
+    Stroke& st = strokes[static_cast<std::size_t>(cls)];
+    if (cls != run || st.pen.x != last.x || st.pen.y != last.y) st.d += (st.d.empty() ? "M" : " M") + pt(last);
+    st.d += " " + pt(q);
+    st.pen = q;
+    last = q;
+    run = cls;
+    if (cls != kBins) ++n_feed;
+  }
+  std::ostringstream o;
+  if (!strokes[kBins].d.empty()) {
+    o << "<path class=\"rapid\" stroke=\"#aab3c5\" stroke-opacity=\"0.55\" stroke-width=\"" << fixed(width * 0.6, 2)
+      << "\" stroke-dasharray=\"4 3\" d=\"" << strokes[kBins].d << "\"/>\n";
+  }
+  for (int b = 0; b < kBins; ++b) {
+    if (strokes[static_cast<std::size_t>(b)].d.empty()) continue;
+    o << "<path class=\"feed\" stroke=\"" << colour_at((b + 0.5) / kBins) << "\" stroke-width=\"" << fixed(width, 2) << "\" d=\""
+      << strokes[static_cast<std::size_t>(b)].d << "\"/>\n";
   }
   if (feeds) *feeds = n_feed;
   return o.str();
@@ -239,7 +225,7 @@ std::string render_toolpath_svg(const ReportPage& page) {
   const double vmax = feed_speed_max(path);
   std::size_t feeds = 0;
   o << "<g clip-path=\"url(#iso-clip)\" fill=\"none\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n"
-    << path_polylines(path, vmax, project, 1.5, &feeds) << "</g>\n";
+    << path_strokes(path, vmax, project, 1.5, &feeds) << "</g>\n";
   o << end_markers(project(s.last_point), project(s.final_status.actual), "final-tool");
 
   // legend: colour bar for the feed speed, the rapid dash, the dots
@@ -267,7 +253,7 @@ std::string render_toolpath_svg(const ReportPage& page) {
     o << "<text x=\"" << W / 2 << "\" y=\"" << H / 2 << "\" fill=\"#c9d0de\" font-size=\"15\" text-anchor=\"middle\">no trace: "
       << escape(page.trace_note.empty() ? "the tool path is not available" : page.trace_note) << "</text>\n";
   }
-  o << "<!-- " << feeds << " feed polylines, " << path.size() << " points -->\n";
+  o << "<!-- " << feeds << " feed points drawn of " << path.size() << " -->\n";
   o << "</svg>\n";
   return o.str();
 }
@@ -309,96 +295,14 @@ std::string render_top_view_svg(const ReportPage& page) {
   o << "<text x=\"" << W - R << "\" y=\"" << f1(H - 4) << "\" text-anchor=\"end\">X, mm</text>"
     << "<text x=\"12\" y=\"" << T + 8 << "\">Y, mm</text>\n</g>\n";
   o << "<g clip-path=\"url(#top-clip)\" fill=\"none\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n"
-    << path_polylines(path, feed_speed_max(path), project, 1.3) << "</g>\n";
+    << path_strokes(path, feed_speed_max(path), project, 1.3) << "</g>\n";
   o << end_markers(project(s.last_point), project(s.final_status.actual), "");
   o << "</svg>\n";
   return o.str();
 }
 
 namespace {
-
-// ---- time plots ----
-
-struct Series {
-  std::string name, colour;
-  std::vector<double> lo, hi;  // per bucket
-};
-
-std::string render_time_plot(const std::string& css_class, const std::string& label, const std::string& unit,
-                             const std::vector<double>& t, const std::vector<Series>& series, bool symmetric) {
-  constexpr double W = 1000, H = 250, L = 64, R = 16, T = 14, B = 36;
-  std::ostringstream o;
-  o << "<svg class=\"" << css_class << "\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << W << " " << H
-    << "\" role=\"img\" aria-label=\"" << escape(label) << "\">\n";
-  o << "<rect width=\"" << W << "\" height=\"" << H << "\" fill=\"#ffffff\"/>\n";
-  const double t_end = t.empty() ? 1.0 : std::max(t.back(), 1e-6);
-  double ymin = 0.0, ymax = 0.0;
-  for (const Series& s : series) {
-    for (double v : s.lo) ymin = std::min(ymin, v);
-    for (double v : s.hi) ymax = std::max(ymax, v);
-  }
-  if (symmetric) {
-    const double m = std::max(std::fabs(ymin), std::fabs(ymax));
-    ymin = -m;
-    ymax = m;
-  }
-  if (ymax - ymin <= 0.0) ymax = ymin + 1.0;
-  const double ystep = nice_step(ymax - ymin, 5);
-  ymin = std::floor(ymin / ystep + 1e-9) * ystep;
-  ymax = std::ceil(ymax / ystep - 1e-9) * ystep;
-  const double pw = W - L - R, ph = H - T - B;
-  auto X = [&](double tv) { return L + tv / t_end * pw; };
-  auto Y = [&](double v) { return T + (ymax - v) / (ymax - ymin) * ph; };
-
-  // grid and ticks
-  o << "<g font-size=\"11\" fill=\"#5b6475\">\n";
-  const int yd = decimals_for(ystep);
-  for (double v = ymin; v <= ymax + ystep * 0.5; v += ystep) {
-    o << "<line x1=\"" << L << "\" x2=\"" << W - R << "\" y1=\"" << f1(Y(v)) << "\" y2=\"" << f1(Y(v)) << "\" stroke=\""
-      << (std::fabs(v) < ystep * 1e-6 ? "#9aa2b1" : "#e6e9ef") << "\"/>";
-    o << "<text x=\"" << L - 6 << "\" y=\"" << f1(Y(v) + 4) << "\" text-anchor=\"end\">" << fixed(v, yd) << "</text>\n";
-  }
-  const double tstep = nice_step(t_end, 10);
-  const int td = decimals_for(tstep);
-  for (double tv = 0.0; tv <= t_end + tstep * 1e-6; tv += tstep) {
-    o << "<line x1=\"" << f1(X(tv)) << "\" x2=\"" << f1(X(tv)) << "\" y1=\"" << T << "\" y2=\"" << H - B << "\" stroke=\"#eef0f4\"/>";
-    o << "<text x=\"" << f1(X(tv)) << "\" y=\"" << H - B + 16 << "\" text-anchor=\"middle\">" << fixed(tv, td) << "</text>\n";
-  }
-  o << "<text x=\"" << W - R << "\" y=\"" << H - 4 << "\" text-anchor=\"end\">program time, s</text>\n";
-  o << "<text x=\"14\" y=\"" << T + ph / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 14 " << T + ph / 2 << ")\">"
-    << escape(unit) << "</text>\n";
-  o << "</g>\n";
-
-  // envelopes: a filled band from min to max and its two edges
-  for (const Series& s : series) {
-    if (t.empty()) break;
-    std::string upper, lower, band;
-    for (std::size_t i = 0; i < t.size(); ++i) upper += (i ? " " : "") + f1(X(t[i])) + "," + f1(Y(s.hi[i]));
-    for (std::size_t i = 0; i < t.size(); ++i) lower += (i ? " " : "") + f1(X(t[i])) + "," + f1(Y(s.lo[i]));
-    band = upper;
-    for (std::size_t i = t.size(); i-- > 0;) band += " " + f1(X(t[i])) + "," + f1(Y(s.lo[i]));
-    o << "<g class=\"series\" data-name=\"" << escape(s.name) << "\">";
-    o << "<polygon points=\"" << band << "\" fill=\"" << s.colour << "\" fill-opacity=\"0.22\" stroke=\"none\"/>";
-    o << "<polyline points=\"" << upper << "\" fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.1\"/>";
-    o << "<polyline points=\"" << lower << "\" fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.1\"/>";
-    o << "</g>\n";
-  }
-  // legend
-  if (series.size() > 1) {
-    double lx = L + 12;
-    for (const Series& s : series) {
-      o << "<rect x=\"" << lx << "\" y=\"" << T + 6 << "\" width=\"14\" height=\"10\" fill=\"" << s.colour << "\"/><text x=\""
-        << lx + 19 << "\" y=\"" << T + 15 << "\" font-size=\"12\" fill=\"#333\">" << escape(s.name) << "</text>";
-      lx += 70;
-    }
-    o << "\n";
-  }
-  if (t.empty()) {
-    o << "<text x=\"" << W / 2 << "\" y=\"" << H / 2 << "\" font-size=\"14\" fill=\"#777\" text-anchor=\"middle\">no trace</text>\n";
-  }
-  o << "</svg>\n";
-  return o.str();
-}
+using namespace svg;
 
 struct Row {
   std::string label, value, note;
@@ -447,6 +351,46 @@ std::string axes3(const std::string& id, const Vec3& v_mm, double factor, int de
 std::string xyz(const std::string& id, const Vec3& v) {
   return "X " + num(id + "-x", fixed(v[0], 4)) + " &nbsp;Y " + num(id + "-y", fixed(v[1], 4)) + " &nbsp;Z " +
          num(id + "-z", fixed(v[2], 4)) + " mm";
+}
+
+// "Where the time went": seconds per cause (adding up to the machine time) and the lines
+// that lost the most time against cruising at their programmed speed.
+std::string render_time_causes(const ReportPage& page) {
+  const RunSummary& s = page.summary;
+  std::ostringstream o;
+  o << "<section class=\"card\" id=\"time-causes\"><h2>Where the time went</h2>\n";
+  if (s.time_by_cause.empty()) {
+    o << "<p class=\"note\">No attribution: " << (page.has_trace ? "the summary holds no plan" : "no trace") << ".</p></section>\n";
+    return o.str();
+  }
+  std::vector<std::pair<std::string, double>> rows(s.time_by_cause.begin(), s.time_by_cause.end());
+  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  const double total = std::max(s.final_status.program_time_s, 1e-12);
+  o << "<table class=\"causes\">\n<tr><th>cause</th><th>time, s</th><th>share</th></tr>\n";
+  for (const auto& [key, sec] : rows) {
+    TimeCause c = TimeCause::kOther;
+    parse_time_cause(key, c);
+    o << "<tr><th><span style=\"display:inline-block;width:11px;height:11px;margin-right:6px;background:" << time_cause_colour(c)
+      << "\"></span>" << escape(time_cause_label(c)) << "</th><td>" << num("cause-" + key, fixed(sec, 3)) << "</td><td>"
+      << fixed(100.0 * sec / total, 1) << " %</td></tr>\n";
+  }
+  o << "</table>\n";
+  if (!page.slowest.empty()) {
+    o << "<h2 style=\"margin-top:14px\">Slowest stretches</h2>\n<table class=\"slowest\">\n"
+      << "<tr><th>line</th><th>time, s</th><th>not at F or rapid, s</th><th>mostly</th></tr>\n";
+    for (const SlowStretch& x : page.slowest) {
+      o << "<tr><th>" << x.line << "</th><td>" << fixed(x.time_s, 3) << "</td><td>" << fixed(x.lost_s, 3) << "</td><td>"
+        << escape(time_cause_label(x.cause)) << " (" << fixed(x.cause_s, 3) << " s)";
+      if (x.angle_deg >= 0.0) o << ", turn " << fixed(x.angle_deg, 1) << "°";
+      o << "</td></tr>\n";
+    }
+    o << "</table>\n";
+  }
+  o << "<p class=\"note\">Each trace row (one cycle) goes to one cause, from the plan the check recorded for its "
+       "line: cruising at the block's limit (F, F clamped to the machine maximum, an axis's velocity, an arc's "
+       "centripetal limit, a curve's schedule, rapid), speeding up or slowing down (to a junction stop, a corner, a start "
+       "or end, or between speeds at an axis's acceleration), steady below the limit (override), dwell, pause.</p></section>\n";
+  return o.str();
 }
 
 }  // namespace
@@ -572,26 +516,18 @@ std::string render_report_html(const ReportPage& page) {
   o << "</table>\n</section>\n</div>\n";
 
   // time plots
-  std::vector<double> t;
-  Series speed{"speed", "#3b5bdb", {}, {}};
-  Series fe[3] = {{"X", kAxisColour[0], {}, {}}, {"Y", kAxisColour[1], {}, {}}, {"Z", kAxisColour[2], {}, {}}};
-  if (page.has_trace) {
-    for (const TraceBucket& b : page.trace.buckets) {
-      t.push_back((b.t0 + b.t1) / 2);
-      speed.lo.push_back(b.speed_min);
-      speed.hi.push_back(b.speed_max);
-      for (std::size_t i = 0; i < 3; ++i) {
-        fe[i].lo.push_back(b.ferr_min[i] * 1000.0);
-        fe[i].hi.push_back(b.ferr_max[i] * 1000.0);
-      }
-    }
-  }
-  o << "<section class=\"card\"><h2>Path speed over time</h2>\n"
-    << render_time_plot("speed-plot", "path speed over time", "commanded path speed, mm/s", t, {speed}, false);
-  o << "<p class=\"note\">Band: minimum to maximum within each of " << t.size()
-    << " time slices; the line dips where the path stops or slows at a junction.</p></section>\n";
-  o << "<section class=\"card\"><h2>Following error over time</h2>\n"
-    << render_time_plot("ferr-plot", "following error over time", "following error, µm", t, {fe[0], fe[1], fe[2]}, true);
+  const TraceDigest no_trace;
+  const TraceDigest& d = page.has_trace ? page.trace : no_trace;
+  const TimePlot speed = speed_plot(d);
+  o << "<section class=\"card\"><h2>Path speed over time</h2>\n" << render_time_plot(speed);
+  o << "<p class=\"note\">Feed moves on their own scale, minimum to maximum within each of " << speed.t.size()
+    << " time slices (at most one per pixel column); slices with a rapid are shaded, its speed is off this scale. The dashed line "
+       "is the planned speed: the programmed F, or the limit that caps it. Under the time axis the program line running "
+       "then"
+    << (d.classified ? ", and a band coloured by the cause most of the slice's time went to (table below)" : "")
+    << ".</p></section>\n";
+  o << render_time_causes(page);
+  o << "<section class=\"card\"><h2>Following error over time</h2>\n" << render_time_plot(ferr_plot(d));
   o << "<p class=\"note\">Setpoint minus encoder per axis, minimum to maximum within each time slice.</p></section>\n";
 
   o << "<footer>Written by pcnc after both processes ended, from the host's run summary";
@@ -600,33 +536,6 @@ std::string render_report_html(const ReportPage& page) {
   o << ". Self-contained: no scripts, nothing loaded from the network.</footer>\n";
   o << "</main>\n</body>\n</html>\n";
   return o.str();
-}
-
-void build_report_file(const std::string& summary_path, const std::string& trace_path, const std::string& html_path) {
-  ReportPage page;
-  page.summary = read_run_summary(summary_path);
-  if (!trace_path.empty()) {
-    // which source lines hold rapids: recorded from the blocks the run's check made (the
-    // blocks that were sent), so the report runs no front end of its own
-    const std::vector<LineRange>& rapid = page.summary.rapid_lines;
-    DigestOptions d;
-    const Vec3 size = page.summary.max_point - page.summary.min_point;
-    d.path_tolerance_mm = std::max(1e-4, std::max({size[0], size[1], size[2]}) / 2000.0);
-    d.is_rapid_line = [&rapid](std::uint32_t line) {
-      const auto it = std::upper_bound(rapid.begin(), rapid.end(), line,
-                                       [](std::uint32_t l, const LineRange& r) { return l < r.first; });
-      return it != rapid.begin() && line <= std::prev(it)->last;
-    };
-    page.trace = digest_trace(trace_path, d);
-    page.has_trace = true;
-  } else {
-    page.trace_note = "the run was made without a trace";
-  }
-  const std::string html = render_report_html(page);
-  std::ofstream f(html_path);
-  if (!f) throw std::runtime_error("cannot write the report '" + html_path + "'");
-  f << html;
-  if (!f.flush()) throw std::runtime_error("cannot write the report '" + html_path + "'");
 }
 
 }  // namespace pcnc

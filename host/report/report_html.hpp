@@ -16,6 +16,7 @@
 
 #include "config/config.hpp"
 #include "report/run_summary.hpp"
+#include "report/time_causes.hpp"
 #include "report/trace_reader.hpp"
 
 namespace pcnc {
@@ -25,6 +26,7 @@ struct ReportPage {
   bool has_trace = false;
   TraceDigest trace;        // valid when has_trace
   std::string trace_note;   // e.g. why there is no trace
+  std::vector<SlowStretch> slowest;  // the lines that lost most time, with their cause
 };
 
 /// The whole page.
@@ -35,10 +37,6 @@ std::string render_toolpath_svg(const ReportPage& page);
 /// The tool path seen from above (X right, Y up, equal scales).
 std::string render_top_view_svg(const ReportPage& page);
 
-/// Reads summary and trace, classifies the trace's lines (rapid or not) by the summary's
-/// rapid_lines, renders and writes `html_path`.
-/// `trace_path` may be empty (no pictures). Throws std::runtime_error naming what failed.
-void build_report_file(const std::string& summary_path, const std::string& trace_path, const std::string& html_path);
 
 /// Formatting shared with the tests: fixed decimals, "-0.000" printed as "0.000".
 std::string fixed(double v, int decimals);

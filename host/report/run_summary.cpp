@@ -2,6 +2,7 @@
 #include "report/run_summary.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
@@ -114,6 +115,31 @@ std::vector<LineRange> rapid_lines_from(const json& a) {
   return runs;
 }
 
+// One plan entry as one compact string, "first,last,cruise,accel,speed,before,after,angle_before,angle_after"
+// (causes by key, junctions by number, speed mm/s, angles degrees): a CAM program has one per block.
+std::string plan_entry(const LinePlan& p) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%u,%u,%s,%s,%.9g,%d,%d,%.4g,%.4g", p.first, p.last, time_cause_key(p.cruise),
+                time_cause_key(p.accel), p.speed, static_cast<int>(p.before), static_cast<int>(p.after), p.angle_before_deg,
+                p.angle_after_deg);
+  return buf;
+}
+
+LinePlan plan_entry_from(const std::string& text) {
+  LinePlan p;
+  char cruise[40] = {0}, accel[40] = {0};
+  int before = 0, after = 0;
+  if (std::sscanf(text.c_str(), "%u,%u,%39[^,],%39[^,],%lf,%d,%d,%lf,%lf", &p.first, &p.last, cruise, accel, &p.speed, &before,
+                  &after, &p.angle_before_deg, &p.angle_after_deg) != 9 ||
+      !parse_time_cause(cruise, p.cruise) || !parse_time_cause(accel, p.accel) || before < 0 || before > 4 || after < 0 ||
+      after > 4) {
+    throw std::runtime_error("malformed plan entry '" + text + "'");
+  }
+  p.before = static_cast<JunctionKind>(before);
+  p.after = static_cast<JunctionKind>(after);
+  return p;
+}
+
 }  // namespace
 
 RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, const std::string& config_path,
@@ -140,6 +166,7 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.last_point = r.check.last_point;
   s.feed_length_time_s = r.check.feed_length_time_s;
   s.rapid_lines = r.check.rapid_lines;
+  s.plan = r.check.plan;
   s.end = to_string(r.job.end);
   s.message = r.job.message;
   s.blocks_sent = r.job.blocks_sent;
@@ -154,7 +181,9 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
 }
 
 nlohmann::json to_json(const RunSummary& s) {
-  return json{{"format", s.format},
+  json plan = json::array();
+  for (const LinePlan& p : s.plan) plan.push_back(plan_entry(p));
+  json j = json{{"format", s.format},
               {"program", s.program},
               {"machine", s.machine},
               {"config_path", s.config_path},
@@ -175,7 +204,8 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"max_point", s.max_point},
                 {"last_point", s.last_point},
                 {"feed_length_time_s", s.feed_length_time_s},
-                {"rapid_lines", rapid_lines_json(s.rapid_lines)}}},
+                {"rapid_lines", rapid_lines_json(s.rapid_lines)},
+                {"plan", std::move(plan)}}},
               {"job",
                {{"end", s.end},
                 {"message", s.message},
@@ -187,6 +217,8 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"refill_p99_us", s.refill_p99_us},
                 {"refill_max_us", s.refill_max_us}}},
               {"status", status_json(s.final_status)}};
+  if (!s.time_by_cause.empty()) j["time_by_cause"] = s.time_by_cause;
+  return j;
 }
 
 RunSummary run_summary_from_json(const nlohmann::json& j) {
@@ -214,6 +246,9 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.last_point = c.at("last_point").get<Vec3>();
   s.feed_length_time_s = c.at("feed_length_time_s").get<double>();
   if (c.contains("rapid_lines")) s.rapid_lines = rapid_lines_from(c.at("rapid_lines"));  // absent in older summaries
+  if (c.contains("plan")) {
+    for (const json& e : c.at("plan")) s.plan.push_back(plan_entry_from(e.get<std::string>()));
+  }
   const json& b = j.at("job");
   s.end = b.at("end").get<std::string>();
   s.message = b.at("message").get<std::string>();
@@ -225,6 +260,7 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.refill_p99_us = b.at("refill_p99_us").get<double>();
   s.refill_max_us = b.at("refill_max_us").get<double>();
   s.final_status = status_from(j.at("status"));
+  if (j.contains("time_by_cause")) s.time_by_cause = j.at("time_by_cause").get<std::map<std::string, double>>();
   return s;
 }
 

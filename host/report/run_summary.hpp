@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,9 @@ struct RunSummary {
   // source lines that hold a rapid block, from the blocks check made (what the run sent):
   // the report draws those parts of the path as rapids
   std::vector<LineRange> rapid_lines;
+  // what caps each block's speed and how its junctions pass (gcode/time_cause.hpp): the
+  // launcher attributes the trace's time to these causes
+  std::vector<LinePlan> plan;
 
   // the job
   std::string end;            // to_string(JobEnd)
@@ -50,6 +54,11 @@ struct RunSummary {
   double refill_p50_us = 0.0, refill_p99_us = 0.0, refill_max_us = 0.0;
 
   Status final_status{};      // the rt's status at the end
+
+  // Where the machine time went: cause key (time_cause_key) -> seconds, adding up to
+  // final_status.program_time_s. Filled after the run from the trace and `plan`
+  // (report/time_causes.hpp); empty when there was no trace.
+  std::map<std::string, double> time_by_cause;
 };
 
 RunSummary make_run_summary(const RunReport& report, const MachineConfig& config, const std::string& config_path,

@@ -14,6 +14,28 @@ constexpr std::size_t kMaxIdleTail = 20000;  // 10 s at 2 kHz: longer idle close
 
 bool busy(MachineState s) { return s != MachineState::kIdle && s != MachineState::kStarting; }
 
+// x's rows into m (x follows m in time).
+void merge_bucket(TraceBucket& m, const TraceBucket& x) {
+  m.t1 = x.t1;
+  m.speed_min = std::min(m.speed_min, x.speed_min);
+  m.speed_max = std::max(m.speed_max, x.speed_max);
+  for (std::size_t i = 0; i < 3; ++i) {
+    m.ferr_min[i] = std::min(m.ferr_min[i], x.ferr_min[i]);
+    m.ferr_max[i] = std::max(m.ferr_max[i], x.ferr_max[i]);
+  }
+  if (x.feed_rows) {
+    m.feed_speed_min = m.feed_rows ? std::min(m.feed_speed_min, x.feed_speed_min) : x.feed_speed_min;
+    m.feed_speed_max = m.feed_rows ? std::max(m.feed_speed_max, x.feed_speed_max) : x.feed_speed_max;
+  }
+  m.planned_max = std::max(m.planned_max, x.planned_max);
+  m.feed_rows += x.feed_rows;
+  m.rapid_rows += x.rapid_rows;
+  m.line_min = std::min(m.line_min, x.line_min);
+  m.line_max = std::max(m.line_max, x.line_max);
+  for (std::size_t c = 0; c < m.cause_rows.size(); ++c) m.cause_rows[c] += x.cause_rows[c];
+  m.rows += x.rows;
+}
+
 }  // namespace
 
 TraceReader::TraceReader(const std::string& path) : path_(path) {
@@ -97,26 +119,48 @@ void TraceDigester::add_to_buckets(const TraceSample& row, double t) {
     d_.saw_fault = true;
   }
 
+  const bool rapid = o_.is_rapid_line && o_.is_rapid_line(row.line);
+  RowCause rc;
+  if (o_.cause_of) {
+    rc = o_.cause_of(row, prev_speed_);
+    const auto c = static_cast<std::size_t>(rc.cause);
+    ++d_.cause_rows[c];
+    LineTime& lt = d_.line_time[row.line];
+    ++lt.rows;
+    ++lt.cause_rows[c];
+  }
+  prev_speed_ = row.speed;
+
   auto& b = d_.buckets;
   const auto index = static_cast<std::size_t>(std::max(0.0, t) / bucket_width_);
-  if (!b.empty() && static_cast<std::size_t>(std::max(0.0, b.back().t0) / bucket_width_) == index) {
-    TraceBucket& k = b.back();
-    k.t1 = t;
-    k.speed_min = std::min(k.speed_min, row.speed);
-    k.speed_max = std::max(k.speed_max, row.speed);
-    for (std::size_t i = 0; i < 3; ++i) {
-      k.ferr_min[i] = std::min(k.ferr_min[i], row.following_error[i]);
-      k.ferr_max[i] = std::max(k.ferr_max[i], row.following_error[i]);
-    }
-    ++k.rows;
-    return;
+  if (b.empty() || static_cast<std::size_t>(std::max(0.0, b.back().t0) / bucket_width_) != index) {
+    TraceBucket k;
+    k.t0 = k.t1 = t;
+    k.speed_min = k.speed_max = row.speed;
+    k.ferr_min = k.ferr_max = row.following_error;
+    k.line_min = k.line_max = row.line;
+    b.push_back(k);
   }
-  TraceBucket k;
-  k.t0 = k.t1 = t;
-  k.speed_min = k.speed_max = row.speed;
-  k.ferr_min = k.ferr_max = row.following_error;
-  k.rows = 1;
-  b.push_back(k);
+  TraceBucket& k = b.back();
+  k.t1 = t;
+  k.speed_min = std::min(k.speed_min, row.speed);
+  k.speed_max = std::max(k.speed_max, row.speed);
+  for (std::size_t i = 0; i < 3; ++i) {
+    k.ferr_min[i] = std::min(k.ferr_min[i], row.following_error[i]);
+    k.ferr_max[i] = std::max(k.ferr_max[i], row.following_error[i]);
+  }
+  k.line_min = std::min(k.line_min, row.line);
+  k.line_max = std::max(k.line_max, row.line);
+  if (rapid) {
+    ++k.rapid_rows;
+  } else {
+    k.feed_speed_min = k.feed_rows ? std::min(k.feed_speed_min, row.speed) : row.speed;
+    k.feed_speed_max = k.feed_rows ? std::max(k.feed_speed_max, row.speed) : row.speed;
+    k.planned_max = std::max(k.planned_max, rc.planned_speed);
+    ++k.feed_rows;
+  }
+  if (o_.cause_of) ++k.cause_rows[static_cast<std::size_t>(rc.cause)];
+  ++k.rows;
   if (b.size() > o_.max_buckets) {
     // merge neighbours (in pairs of the doubled width) and go on with twice the width
     bucket_width_ *= 2.0;
@@ -125,15 +169,7 @@ void TraceDigester::add_to_buckets(const TraceSample& row, double t) {
     for (const TraceBucket& x : b) {
       const auto ix = static_cast<std::size_t>(std::max(0.0, x.t0) / bucket_width_);
       if (!merged.empty() && static_cast<std::size_t>(std::max(0.0, merged.back().t0) / bucket_width_) == ix) {
-        TraceBucket& m = merged.back();
-        m.t1 = x.t1;
-        m.speed_min = std::min(m.speed_min, x.speed_min);
-        m.speed_max = std::max(m.speed_max, x.speed_max);
-        for (std::size_t i = 0; i < 3; ++i) {
-          m.ferr_min[i] = std::min(m.ferr_min[i], x.ferr_min[i]);
-          m.ferr_max[i] = std::max(m.ferr_max[i], x.ferr_max[i]);
-        }
-        m.rows += x.rows;
+        merge_bucket(merged.back(), x);
       } else {
         merged.push_back(x);
       }
@@ -170,6 +206,7 @@ TraceDigest TraceDigester::finish() {
     d_.path.push_back(ToolPathPoint{d_.last.actual, d_.last.speed, o_.is_rapid_line && o_.is_rapid_line(d_.last.line)});
   }
   d_.path_tolerance_mm = path_tol_;
+  d_.classified = static_cast<bool>(o_.cause_of);
   return std::move(d_);
 }
 

@@ -16,6 +16,10 @@
 #include <string_view>
 #include <vector>
 
+#include <array>
+#include <unordered_map>
+
+#include "gcode/time_cause.hpp"
 #include "ipc/trace_format.hpp"
 #include "geometry/vec3.hpp"
 
@@ -45,6 +49,24 @@ struct TraceBucket {
   double speed_min = 0.0, speed_max = 0.0;
   Vec3 ferr_min{}, ferr_max{};
   std::uint32_t rows = 0;
+  // feed (not rapid) rows only: their speed range and the planned speed limit (the F, or what
+  // caps it); rapid_rows counts the rest
+  double feed_speed_min = 0.0, feed_speed_max = 0.0, planned_max = 0.0;
+  std::uint32_t feed_rows = 0, rapid_rows = 0;
+  std::uint32_t line_min = 0, line_max = 0;  // source lines of its rows
+  std::array<std::uint32_t, kTimeCauseCount> cause_rows{};  // rows per cause (when classified)
+};
+
+/// What a row's time is attributed to, and the planned speed limit there (0: none).
+struct RowCause {
+  TimeCause cause = TimeCause::kOther;
+  double planned_speed = 0.0;
+};
+
+/// Rows of one source line, per cause: the "slowest stretches" table.
+struct LineTime {
+  std::uint64_t rows = 0;
+  std::array<std::uint32_t, kTimeCauseCount> cause_rows{};
 };
 
 /// A kept point of the tool path (actual, measured position, machine coordinates).
@@ -60,6 +82,9 @@ struct DigestOptions {
   std::size_t max_path_points = 200000; // beyond this the tolerance doubles and the path thins
   /// Is the block on this source line a rapid? (From the program; empty: never.)
   std::function<bool(std::uint32_t line)> is_rapid_line;
+  /// The cause of each row of the program's window, given the previous row's speed (from the
+  /// plan, report/time_causes.hpp); empty: no attribution.
+  std::function<RowCause(const TraceSample& row, double prev_speed)> cause_of;
 };
 
 /// What the report needs from a trace. Times are program time: 0 at the first RUNNING row.
@@ -74,6 +99,9 @@ struct TraceDigest {
   double path_tolerance_mm = 0.0;   // the tolerance finally used
   TraceSample last{};                  // the last row of the window
   bool saw_fault = false;           // FAULT, ESTOP or HOST_LOST appeared
+  bool classified = false;          // cause_of was given: the counts below are filled
+  std::array<std::uint64_t, kTimeCauseCount> cause_rows{};  // program rows per cause
+  std::unordered_map<std::uint32_t, LineTime> line_time;     // per source line
 };
 
 /// Reads the whole trace once and digests it.
@@ -100,6 +128,7 @@ class TraceDigester {
   // IDLE rows after the last busy row: part of the program only if a busy row follows.
   std::vector<TraceSample> idle_tail_;
   bool ended_ = false;  // a long idle stretch closed the window
+  double prev_speed_ = 0.0;
 };
 
 }  // namespace pcnc

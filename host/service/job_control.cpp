@@ -156,6 +156,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   opts.work_offset_index = rp.work_offset;
   opts.fit = rp.fit;
   opts.contouring = rp.contouring;
+  opts.offset = rp.offset;  // replaces G54 for this run, as `pcnc run --offset`
   opts.start_position = start;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -182,6 +183,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   jj.file = rp.file;
   jj.work_offset = rp.work_offset;
   jj.work_offsets = g5x;
+  if (rp.offset) jj.work_offsets[0] = *rp.offset;  // a resume starts from the G54 the run had
   jj.fit = rp.fit;
   jj.contouring = rp.contouring ? (*rp.contouring ? 1 : 0) : -1;
   jj.start_position = start;

@@ -281,6 +281,22 @@ Checked<RunParams> check_run_params(const json& params) {
   }
   p.contouring = r.boolean("contouring");
   p.fit = r.boolean("fit").value_or(false);
+  // offset {"x","y","z"} (mm, each within ±1e4): what `pcnc run --offset` gives, G54 for this run
+  if (const json* v = r.find("offset"); v && r.ok()) {
+    if (!v->is_object()) {
+      r.fail(std::string("parameter 'offset' of run must be an object {\"x\":..,\"y\":..,\"z\":..} in mm, got ") + type_name(*v));
+    } else {
+      ParamReader o("run's offset", *v);
+      Vec3 off{};
+      const char* names[3] = {"x", "y", "z"};
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (auto d = o.number(names[k], -1e4, 1e4, true, "mm")) off[k] = *d;
+      }
+      o.finish();
+      if (!o.ok()) r.fail(o.error().message);
+      p.offset = off;
+    }
+  }
   return done(r, p);
 }
 

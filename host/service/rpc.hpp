@@ -73,6 +73,7 @@ struct RunParams {
   int work_offset = 0;                // 0..5 = G54..G59: the default coordinate system
   std::optional<bool> contouring;     // default: the config's
   bool fit = false;
+  std::optional<Vec3> offset;         // program zero in machine coordinates, mm: replaces G54 for this run
 };
 
 struct OverrideParams {

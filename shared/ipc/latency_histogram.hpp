@@ -28,14 +28,18 @@ class LatencyHistogram {
   double min() const { return count_ ? min_ : 0.0; }
   double max() const { return max_; }
   double mean() const { return count_ ? sum_ / static_cast<double>(count_) : 0.0; }
-  /// The q-quantile (0..1), to the bin's upper edge.
+  /// The q-quantile (0..1), to the bin's upper edge but never outside [min, max]: the bin's
+  /// edge may lie above the largest value it holds, and a p99 above the max is no figure.
   double quantile(double q) const {
     if (count_ == 0) return 0.0;
     const auto target = static_cast<std::uint64_t>(q * static_cast<double>(count_ - 1)) + 1;
     std::uint64_t seen = 0;
     for (std::size_t i = 0; i < kBins; ++i) {
       seen += bins_[i];
-      if (seen >= target) return static_cast<double>(i + 1) * kBinUs;
+      if (seen >= target) {
+        const double edge = static_cast<double>(i + 1) * kBinUs;
+        return edge > max_ ? max_ : edge < min_ ? min_ : edge;
+      }
     }
     return max_;
   }

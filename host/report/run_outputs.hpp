@@ -1,0 +1,26 @@
+// run_outputs.hpp — what `pcnc run` does with a run's files once both processes have ended:
+// reads the host's summary and the rt's trace in one pass, attributes the program time to its
+// causes (report/time_causes.hpp) into the summary's `time_by_cause`, and writes the HTML
+// report (report/report_html.hpp).
+#pragma once
+
+#include <string>
+
+#include "report/report_html.hpp"
+
+namespace pcnc {
+
+/// The page's data from a summary and a trace (empty `trace_path`: no pictures, no causes).
+/// Fills page.summary.time_by_cause when the trace is there. Throws std::runtime_error.
+ReportPage load_report_page(const std::string& summary_path, const std::string& trace_path);
+
+/// load_report_page, then: writes `html_path` when it is not empty, and the summary back to
+/// `summary_path` with its time_by_cause when `rewrite_summary`. Throws std::runtime_error
+/// naming what failed.
+void finish_run_outputs(const std::string& summary_path, const std::string& trace_path, const std::string& html_path,
+                        bool rewrite_summary);
+
+/// The report alone (finish_run_outputs without touching the summary).
+void build_report_file(const std::string& summary_path, const std::string& trace_path, const std::string& html_path);
+
+}  // namespace pcnc

@@ -1,0 +1,217 @@
+// test_time_causes.cpp — where the time goes: the plan check records per line (cruise cause,
+// acceleration cause, junction kinds and angles), each trace row's cause, seconds per cause
+// adding up to the program time, the summary's plan round trip, and the latency quantiles'
+// order (p50 <= p99 <= max).
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "gcode_test_util.hpp"
+#include "ipc/latency_histogram.hpp"
+#include "report/run_summary.hpp"
+#include "report/time_causes.hpp"
+#include "report/trace_reader.hpp"
+
+namespace pcnc::test {
+namespace {
+
+std::vector<LinePlan> plan_of(const std::string& text, const MachineConfig& c) {
+  JobOptions o;
+  o.start_position = Vec3{0, 0, 0};
+  const CheckResult r = check_program_text(text, "t.ngc", c, o);
+  EXPECT_TRUE(r.ok);
+  for (const auto& d : r.diagnostics) {
+    if (d.severity == Diagnostic::Severity::kError) ADD_FAILURE() << d.message;
+  }
+  return r.plan;
+}
+
+const LinePlan* entry(const std::vector<LinePlan>& plan, std::uint32_t line) {
+  for (const LinePlan& p : plan) {
+    if (p.first <= line && line <= p.last) return &p;
+  }
+  return nullptr;
+}
+
+TEST(TimeCausePlan, CruiseCausesFromThePreprocessorsRules) {
+  const MachineConfig c = wide_config();  // X, Y 100 mm/s 2000 mm/s², Z 50 mm/s 1000 mm/s²
+  ASSERT_EQ(c.axes[2].max_velocity_mm_s, 50.0);
+  const auto plan = plan_of(
+      "G21 G90 M21\n"      // 1
+      "G1 X10 F600\n"      // 2 feed-limited, 10 mm/s
+      "G1 Z10 F6000\n"     // 3 Z alone at 100 mm/s: Z's 50 mm/s caps it
+      "G1 X20 F9000\n"     // 4 F above the machine maximum (100 mm/s): clamped
+      "G0 X0\n"            // 5 rapid
+      "G1 X1 F6000\n"      // 6
+      "G2 X3 I1 J0\n"      // 7 r = 1 mm at 100 mm/s: the centripetal limit sqrt(0.5*2000*1) = 31.6 mm/s
+      "M30\n",
+      c);
+  ASSERT_NE(entry(plan, 2), nullptr);
+  EXPECT_EQ(entry(plan, 2)->cruise, TimeCause::kFeed);
+  EXPECT_NEAR(entry(plan, 2)->speed, 10.0, 1e-9);
+  EXPECT_EQ(entry(plan, 2)->accel, TimeCause::kAccelX);
+  EXPECT_EQ(entry(plan, 3)->cruise, TimeCause::kAxisVelocityZ);
+  EXPECT_EQ(entry(plan, 3)->accel, TimeCause::kAccelZ);
+  EXPECT_EQ(entry(plan, 4)->cruise, TimeCause::kFeedClamp);
+  EXPECT_EQ(entry(plan, 5)->cruise, TimeCause::kRapid);
+  EXPECT_EQ(entry(plan, 7)->cruise, TimeCause::kArcCentripetal);
+  EXPECT_EQ(entry(plan, 7)->accel, TimeCause::kAccelArcCurve);
+  // junctions: the program starts and ends at rest; X then Z turns by 90° (over the angle)
+  EXPECT_EQ(entry(plan, 2)->before, JunctionKind::kStartEnd);
+  EXPECT_EQ(entry(plan, 2)->after, JunctionKind::kAngleStop);
+  EXPECT_NEAR(entry(plan, 2)->angle_after_deg, 90.0, 1e-6);
+  EXPECT_EQ(entry(plan, 3)->before, JunctionKind::kAngleStop);
+  EXPECT_EQ(entry(plan, 7)->after, JunctionKind::kStartEnd);
+}
+
+TEST(TimeCausePlan, JunctionKindsAndMergedRuns) {
+  const MachineConfig c = wide_config();
+  auto plan = plan_of("G21 G90 M21\nG1 X1 F600\nG1 X2\nG1 X3\nG1 X4 Y0.05\nM22\nG1 X5 Y0.05\nM30\n", c);
+  // lines 2-4 are collinear with one plan: one entry
+  const LinePlan* a = entry(plan, 2);
+  ASSERT_NE(a, nullptr);
+  EXPECT_EQ(a, entry(plan, 4));
+  EXPECT_EQ(a->first, 2u);
+  EXPECT_EQ(a->last, 4u);
+  // line 5 turns by ~2.9°: under the 10° angle with M21, a corner passed
+  EXPECT_EQ(a->after, JunctionKind::kCorner);
+  EXPECT_NEAR(a->angle_after_deg, 2.862, 0.01);
+  // the junction after line 5 belongs to a block with M21 ... line 7 runs under M22: its start junction
+  // is judged by line 5's block (M21), its end is the program's end
+  EXPECT_EQ(entry(plan, 7)->after, JunctionKind::kStartEnd);
+  // under M22 every junction stops, even a straight one
+  plan = plan_of("G21 G90 M22\nG1 X1 F600\nG1 X2\nM30\n", c);
+  EXPECT_EQ(entry(plan, 2)->after, JunctionKind::kContouringOff);
+  EXPECT_EQ(entry(plan, 3)->before, JunctionKind::kContouringOff);
+}
+
+TraceSample row(std::uint32_t line, double speed, MachineState s = MachineState::kRunning) {
+  TraceSample r;
+  r.line = line;
+  r.speed = speed;
+  r.state = s;
+  return r;
+}
+
+TEST(TimeCauseClassifier, EachRowOneCause) {
+  LinePlan p;
+  p.first = 5;
+  p.last = 6;
+  p.cruise = TimeCause::kFeed;
+  p.accel = TimeCause::kAccelY;
+  p.speed = 10.0;
+  p.before = JunctionKind::kAngleStop;
+  p.after = JunctionKind::kCorner;
+  LinePlan q = p;
+  q.first = q.last = 7;
+  q.before = JunctionKind::kCorner;
+  q.after = JunctionKind::kStraight;
+  LinePlan dw;
+  dw.first = dw.last = 8;
+  dw.cruise = TimeCause::kDwell;
+  const CauseClassifier k({p, q, dw});
+  EXPECT_EQ(k.classify(row(5, 10.0), 10.0).cause, TimeCause::kFeed);
+  EXPECT_NEAR(k.classify(row(5, 10.0), 10.0).planned_speed, 10.0, 1e-12);
+  EXPECT_EQ(k.classify(row(6, 9.9), 9.0).cause, TimeCause::kFeed) << "within 2 % of the limit: cruising";
+  EXPECT_EQ(k.classify(row(5, 5.0), 4.0).cause, TimeCause::kJunctionStop) << "speeding up from the stop before";
+  EXPECT_EQ(k.classify(row(6, 5.0), 6.0).cause, TimeCause::kJunctionCorner) << "slowing for the corner after";
+  EXPECT_EQ(k.classify(row(7, 5.0), 6.0).cause, TimeCause::kAccelY) << "slowing with a straight junction ahead";
+  EXPECT_EQ(k.classify(row(7, 5.0), 5.0).cause, TimeCause::kOverride) << "steady below the limit";
+  EXPECT_EQ(k.classify(row(7, 12.0), 12.0).cause, TimeCause::kOverride) << "above the limit";
+  EXPECT_EQ(k.classify(row(8, 0.0), 0.0).cause, TimeCause::kDwell);
+  EXPECT_EQ(k.classify(row(5, 0.0, MachineState::kPaused), 0.0).cause, TimeCause::kPaused);
+  EXPECT_EQ(k.classify(row(99, 3.0), 2.0).cause, TimeCause::kOther) << "a line with no plan";
+}
+
+TEST(TimeCauseSeconds, AddUpToTheProgramTime) {
+  std::array<std::uint64_t, kTimeCauseCount> rows{};
+  rows[static_cast<std::size_t>(TimeCause::kFeed)] = 7001;
+  rows[static_cast<std::size_t>(TimeCause::kJunctionStop)] = 333;
+  rows[static_cast<std::size_t>(TimeCause::kRapid)] = 17;
+  const double program_time = 3.6755;
+  const auto m = time_by_cause(rows, program_time);
+  ASSERT_EQ(m.size(), 3u) << "causes with no row are left out";
+  double sum = 0.0;
+  for (const auto& [k, v] : m) sum += v;
+  EXPECT_NEAR(sum, program_time, 1e-12);
+  EXPECT_NEAR(m.at("junction_stop"), program_time * 333.0 / 7351.0, 1e-12);
+  EXPECT_TRUE(time_by_cause({}, 1.0).empty());
+}
+
+TEST(TimeCauseSeconds, DigestCountsEveryProgramRowOnce) {
+  LinePlan p;
+  p.first = 1;
+  p.last = 1;
+  p.speed = 10.0;
+  const CauseClassifier k({p});
+  DigestOptions o;
+  o.max_buckets = 8;
+  o.cause_of = [&k](const TraceSample& r, double prev) { return k.classify(r, prev); };
+  TraceDigester dig(o);
+  for (int i = 0; i < 1000; ++i) {
+    TraceSample r = row(1, std::min(10.0, i * 0.1));
+    r.t = i * 0.0005;
+    dig.add(r);
+  }
+  const TraceDigest d = dig.finish();
+  ASSERT_TRUE(d.classified);
+  EXPECT_EQ(std::accumulate(d.cause_rows.begin(), d.cause_rows.end(), std::uint64_t{0}), d.program_rows);
+  std::uint64_t in_buckets = 0;
+  for (const TraceBucket& b : d.buckets) {
+    EXPECT_EQ(std::accumulate(b.cause_rows.begin(), b.cause_rows.end(), 0u), b.rows);
+    in_buckets += b.rows;
+  }
+  EXPECT_EQ(in_buckets, d.program_rows);
+  EXPECT_GT(d.cause_rows[static_cast<std::size_t>(TimeCause::kFeed)], 800u);
+  EXPECT_GT(d.cause_rows[static_cast<std::size_t>(TimeCause::kStartEndStop)], 90u) << "speeding up from the start";
+}
+
+TEST(TimeCauseSummary, PlanAndTimesRoundTrip) {
+  RunSummary s;
+  s.program = "p.ngc";
+  LinePlan p;
+  p.first = 3;
+  p.last = 9;
+  p.cruise = TimeCause::kAxisVelocityZ;
+  p.accel = TimeCause::kAccelZ;
+  p.speed = 12.345678901;
+  p.before = JunctionKind::kContouringOff;
+  p.after = JunctionKind::kCorner;
+  p.angle_before_deg = 90.0;
+  p.angle_after_deg = 4.5;
+  s.plan = {p};
+  s.time_by_cause = {{"feed", 1.5}, {"junction_stop", 0.25}};
+  const RunSummary b = run_summary_from_json(to_json(s));
+  ASSERT_EQ(b.plan.size(), 1u);
+  EXPECT_EQ(b.plan[0].first, 3u);
+  EXPECT_EQ(b.plan[0].last, 9u);
+  EXPECT_EQ(b.plan[0].cruise, TimeCause::kAxisVelocityZ);
+  EXPECT_EQ(b.plan[0].accel, TimeCause::kAccelZ);
+  EXPECT_NEAR(b.plan[0].speed, p.speed, 1e-8);
+  EXPECT_EQ(b.plan[0].before, JunctionKind::kContouringOff);
+  EXPECT_EQ(b.plan[0].after, JunctionKind::kCorner);
+  EXPECT_NEAR(b.plan[0].angle_after_deg, 4.5, 1e-9);
+  EXPECT_EQ(b.time_by_cause, s.time_by_cause);
+  for (int c = 0; c < kTimeCauseCount; ++c) {
+    TimeCause back{};
+    ASSERT_TRUE(parse_time_cause(time_cause_key(static_cast<TimeCause>(c)), back));
+    EXPECT_EQ(static_cast<int>(back), c);
+  }
+}
+
+// A bin's upper edge may lie above the largest value in it: the quantile must not.
+TEST(LatencyQuantiles, NeverAboveTheMaxNorBelowTheMin) {
+  LatencyHistogram h;
+  h.add(0.3);
+  EXPECT_LE(h.quantile(0.99), h.max());
+  EXPECT_GE(h.quantile(0.5), h.min());
+  for (double v : {1.1, 2.7, 2.8, 15.01, 0.4, 900.3}) h.add(v);
+  const double p50 = h.quantile(0.5), p99 = h.quantile(0.99);
+  EXPECT_LE(h.min(), p50);
+  EXPECT_LE(p50, p99);
+  EXPECT_LE(p99, h.max());
+  EXPECT_EQ(h.quantile(1.0), h.max());
+}
+
+}  // namespace
+}  // namespace pcnc::test
