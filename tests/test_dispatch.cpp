@@ -62,6 +62,9 @@ TEST(Dispatch, ChecksComeInOrderRequestNoParamsRtThenParams) {
   EXPECT_EQ(r["error"]["message"], "pcnc-rt is not available (waiting): no pcnc-rt attached yet");
   // a method that needs the rt: the rt is checked before its own parameters
   EXPECT_EQ(code(p.call(R"({"id":4,"method":"override","params":{"percent":"fast"}})")), rpc::kRtUnavailable);
+  // mdi and touch_off read the machine's position: they need the rt
+  EXPECT_EQ(code(p.call(R"({"id":5,"method":"mdi","params":{"text":"G0 X1"}})")), rpc::kRtUnavailable);
+  EXPECT_EQ(code(p.call(R"({"id":6,"method":"touch_off","params":{"axis":"Z","value":0}})")), rpc::kRtUnavailable);
 }
 
 TEST(Dispatch, MethodsThatNeedNoRtAreAnsweredWithoutOne) {

@@ -13,6 +13,7 @@
 
 #include "gcode/line_reader.hpp"
 #include "gcode/pipeline.hpp"
+#include "gcode/planned_time.hpp"
 
 namespace pcnc {
 
@@ -123,6 +124,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     Block b;
     while (pipeline.next(b)) {
       ++result.blocks;
+      result.planned_time_s += planned_time_s(b);
       if (b.kind == BlockKind::kRapid) note_rapid(result.rapid_lines, b.line);
       if (on_block) (*on_block)(b);
     }

@@ -14,6 +14,19 @@ std::optional<std::string> WorkStore::set_g5x(int index, const std::optional<dou
   for (int i = 0; i < kAxes; ++i) {
     if (xyz[i]) o[static_cast<std::size_t>(i)] = *xyz[i];
   }
+  return replace(next);
+}
+
+std::optional<std::string> WorkStore::touch_off(int axis, double value, const Vec3& machine, double tool_length) {
+  if (axis < 0 || axis >= kAxes) return "no axis " + std::to_string(axis);
+  WorkState next = state_;
+  const auto a = static_cast<std::size_t>(axis);
+  const double g92 = next.g92_applied ? next.g92[a] : 0.0;
+  next.g5x[static_cast<std::size_t>(next.active)][a] = machine[a] - g92 - (axis == 2 ? tool_length : 0.0) - value;
+  return replace(next);
+}
+
+std::optional<std::string> WorkStore::replace(const WorkState& next) {
   if (!path_.empty()) {
     try {
       save_work_state(path_, next);
@@ -23,6 +36,12 @@ std::optional<std::string> WorkStore::set_g5x(int index, const std::optional<dou
   }
   state_ = next;
   return std::nullopt;
+}
+
+Vec3 work_position(const WorkState& w, const Vec3& machine) {
+  Vec3 p = machine - w.g5x[static_cast<std::size_t>(w.active)];
+  if (w.g92_applied) p = p - w.g92;
+  return p;
 }
 
 std::array<Vec3, 6> first_six(const WorkOffsets& g5x) {
