@@ -22,7 +22,7 @@ struct Parts {
   WorkStore work{"", default_work_state(config)};  // in memory only
   RtMonitor rt{config, 0.005, 0.1, {}};
   Subscriptions subs{[](ClientId, std::string_view) {}};
-  JobControl jobs{"/nonexistent/pcnc-test-dispatch.job", JobNotices{[](ClientId, json, Outcome) {}, [](json) {}}};
+  JobControl jobs{"/nonexistent/pcnc-test-dispatch.job", JobNotices{[](ClientId, json, Outcome) {}, [](json) {}, {}}};
   JogControl jogs{config, rt, [](ClientId, const json&, const Outcome&) {}, [](const json&) {}};
   ServiceParts parts{config, work, rt, jobs, jogs, subs};
   Dispatcher dispatcher{method_table(parts), rt};
