@@ -77,7 +77,9 @@ std::vector<std::string> format_watch(const json& s) {
   const json g92 = ws.value("G92", json::object());
   std::string g92_text = ws.value("G92_applied", false) ? fmt("G92 X %.4f Y %.4f Z %.4f", axis(g92, "x"), axis(g92, "y"), axis(g92, "z"))
                                                         : std::string("G92 off");
-  out.push_back(fmt("%-10s %s %s  %s  tool: the program's", "offset", active.c_str(), pos3(offsets.value(active, json())).c_str(),
+  // The tool (T, G43) lives inside the running program's interpreter; the service does not
+  // report it yet, so the view says so rather than guess.
+  out.push_back(fmt("%-10s %s %s  %s  tool -", "offset", active.c_str(), pos3(offsets.value(active, json())).c_str(),
                     g92_text.c_str()));
   out.push_back(fmt("%-10s %.2f mm/s  override %.0f %%  ring %d/4  underruns %llu", "speed", s.value("path_speed", 0.0),
                     s.value("feed_override_percent", 100.0), s.value("ring_fill", 0),
