@@ -164,6 +164,11 @@ void print_status(const json& s) {
   if (s.contains("commanded")) {
     std::printf("commanded  %s mm\n", xyz(s["commanded"]).c_str());
     std::printf("actual     %s mm\n", xyz(s["actual"]).c_str());
+    if (s.contains("work_position")) {  // work = machine - the active offset - G92 (when applied)
+      const std::string active = s.value("work_state", json::object()).value("active", "G54");
+      std::printf("work       %s mm (%s = %s)\n", xyz(s["work_position"]["commanded"]).c_str(), active.c_str(),
+                  xyz(s.value("work_offsets", json::object()).value(active, json())).c_str());
+    }
     std::printf("ferr       %s mm\n", xyz(s["following_error"]).c_str());
     std::printf("line %u  block %llu  speed %.2f mm/s  override %.0f %%  ring %d/4  underruns %llu  clock %s\n",
                 s.value("line", 0u), static_cast<unsigned long long>(s.value("block_seq", 0ull)), s.value("path_speed", 0.0),
