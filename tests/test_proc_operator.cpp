@@ -7,6 +7,10 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
 #include "config/config.hpp"
 #include "config/work_state.hpp"
 #include "service/rpc.hpp"
@@ -164,6 +168,31 @@ TEST(ServiceOperator, CtlMdiAndTouchOff) {
 
   r = ctl({"touch-off", "W", "0"});
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+}
+
+// Piped (stdout is a file here), --watch prints plain lines, one per status push, with the
+// work coordinates and the active offset; no terminal control sequences. Ctrl-C ends it with 0.
+TEST(ServiceOperator, StatusWatchPipedPrintsPlainLines) {
+  ServicePair p("op-watch");
+  ASSERT_TRUE(p.start("virtual")) << p.host_log();
+  ASSERT_TRUE(p.call("touch_off", {{"axis", "X"}, {"value", 3.0}}).contains("result"));
+  BackgroundProcess w =
+      start_process({pcnc_exe(), "ctl", "--config", p.config(), "status", "--watch", "--rate", "20"}, p.dir() + "/watch");
+  Reaped reap{w};
+  auto lines_seen = [&] {
+    const std::string out = w.out();
+    return std::count(out.begin(), out.end(), '\n');
+  };
+  for (int i = 0; i < 1000 && lines_seen() < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_GE(lines_seen(), 3) << w.out() << w.err();
+  ::kill(w.pid, SIGINT);
+  EXPECT_EQ(wait_for(w, 10), 0) << w.err();
+  const std::string out = w.out();
+  EXPECT_EQ(out.find('\x1b'), std::string::npos) << "no escape sequences when piped: " << out;
+  const std::string first = out.substr(0, out.find('\n'));
+  EXPECT_EQ(first.rfind("IDLE", 0), 0u) << first;
+  EXPECT_NE(first.find("X   12.5000"), std::string::npos) << "machine X: " << first;
+  EXPECT_NE(first.find("work G54 X    3.0000"), std::string::npos) << "work X after the touch-off: " << first;
 }
 
 }  // namespace
