@@ -51,5 +51,27 @@ TEST(WorkStore, AFailedSaveChangesNothing) {
   EXPECT_EQ(w.state(), before);
 }
 
+TEST(WorkStore, WhatAJobChangedIsMergedIntoWhatTheOperatorChangedMeanwhile) {
+  const MachineConfig c = load_config(test::default_config());
+  const WorkState before = default_work_state(c);
+  WorkState after = before;  // the program: G10 L2 P2, G92, G55 selected
+  after.g5x[1] = {1, 2, 3};
+  after.g92 = {5, 0, 0};
+  after.g92_applied = true;
+  after.active = 1;
+  WorkState current = before;  // the operator, while it ran: set_offset G56, touch-off G54 Z
+  current.g5x[2] = {7, 8, 9};
+  current.g5x[0][2] = 21.5;
+  const WorkState m = merge_work_change(current, before, after);
+  EXPECT_EQ(m.g5x[1], (Vec3{1, 2, 3})) << "the program's G10";
+  EXPECT_EQ(m.g5x[2], (Vec3{7, 8, 9})) << "set_offset meanwhile stays";
+  EXPECT_DOUBLE_EQ(m.g5x[0][2], 21.5) << "the touch-off meanwhile stays";
+  EXPECT_EQ(m.active, 1);
+  EXPECT_TRUE(m.g92_applied);
+  EXPECT_EQ(m.g92, (Vec3{5, 0, 0}));
+  EXPECT_EQ(m.g28, before.g28);
+  EXPECT_EQ(merge_work_change(current, before, before), current) << "a job that changed nothing changes nothing";
+}
+
 }  // namespace
 }  // namespace pcnc

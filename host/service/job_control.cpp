@@ -215,8 +215,10 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
                   {"scale", check.transform.scale},
                   {"planned_time_s", check.planned_time_s},
                   {"warnings", diagnostics_json(check, Diagnostic::Severity::kWarning)}};
-  follow_job(client, id, l, cfg, started, rp.file,
-             [&](JobRunner& runner) { return runner.run(rp.file, opts, check, interrupt_, progress_fn(check.planned_time_s)); });
+  follow_job(
+      client, id, l, cfg, started, rp.file,
+      [&](JobRunner& runner) { return runner.run(rp.file, opts, check, interrupt_, progress_fn(check.planned_time_s)); },
+      &ws);
 }
 
 Outcome JobControl::mdi(ClientId client, const json& id, const std::string& text, std::shared_ptr<RtLink> link,
@@ -278,7 +280,7 @@ void JobControl::mdi_job(ClientId client, const json& id, const std::string& tex
   follow_job(
       client, id, l, cfg, started, "MDI",
       [&](JobRunner& runner) { return runner.run_source(source, contouring, interrupt_, progress_fn(check.planned_time_s)); },
-      [stream](const JobRunner&) { return std::optional<WorkState>(stream->work_state()); });
+      &ws, [stream](const JobRunner&) { return std::optional<WorkState>(stream->work_state()); });
 }
 
 // The job's progress in the status object; with the check's planned time, the planned time of
@@ -299,6 +301,7 @@ std::function<void(const JobProgress&)> JobControl::progress_fn(double planned_t
 // Runs a job to its end with replies, events, the last-job record and the journal.
 void JobControl::follow_job(ClientId client, const json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
                             json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body,
+                            const WorkState* work_before,
                             const std::function<std::optional<WorkState>(const JobRunner&)>& work_after) {
   JobRunner runner(*l, cfg);
   bool replied = false;
@@ -315,8 +318,8 @@ void JobControl::follow_job(ClientId client, const json& id, std::shared_ptr<RtL
   const JobResult r = body(runner);
   // What the program left (G10, G92...) is kept, as LinuxCNC's var file keeps it; delivered
   // before the program_end event (both go to the loop thread in order).
-  if (r.end == JobEnd::kCompleted && notices_.work_after) {
-    if (auto w = work_after ? work_after(runner) : runner.work_after()) notices_.work_after(*w);
+  if (r.end == JobEnd::kCompleted && work_before && notices_.work_after) {
+    if (auto w = work_after ? work_after(runner) : runner.work_after()) notices_.work_after(*work_before, *w);
   }
   const bool host_lost = r.final_status.state == MachineState::kHostLost;
   if (!host_lost) remove_journal(journal_);  // before end_job: a next job writes its own

@@ -36,9 +36,9 @@ struct JobNotices {
   // Called from the job worker; the service delivers both on its loop thread.
   std::function<void(ClientId client, rpc::json id, Outcome outcome)> reply;
   std::function<void(rpc::json event)> event;
-  // A program or MDI ran to its end: the work state as it left it (G10, G92, G28.1...), for
-  // the service's WorkStore. May be empty.
-  std::function<void(WorkState after)> work_after;
+  // A program or MDI ran to its end: the work state it started with and the one it left (G10,
+  // G92, G28.1...), for the service's WorkStore (merge_work_change). May be empty.
+  std::function<void(WorkState before, WorkState after)> work_after;
 };
 
 class JobControl {
@@ -89,6 +89,7 @@ class JobControl {
   void resume_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg, JobJournal jj);
   void follow_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
                   rpc::json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body,
+                  const WorkState* work_before = nullptr,  // null: what the job leaves is not kept (resume)
                   const std::function<std::optional<WorkState>(const JobRunner&)>& work_after = {});
   std::function<void(const JobProgress&)> progress_fn(double planned_total_s = 0.0);
   void journal_failed(const std::string& why);

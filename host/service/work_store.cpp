@@ -38,6 +38,21 @@ std::optional<std::string> WorkStore::replace(const WorkState& next) {
   return std::nullopt;
 }
 
+WorkState merge_work_change(const WorkState& current, const WorkState& before, const WorkState& after) {
+  WorkState out = current;
+  for (std::size_t i = 0; i < out.g5x.size(); ++i) {
+    if (after.g5x[i] != before.g5x[i]) out.g5x[i] = after.g5x[i];
+  }
+  if (after.active != before.active) out.active = after.active;
+  if (after.g92 != before.g92 || after.g92_applied != before.g92_applied) {
+    out.g92 = after.g92;
+    out.g92_applied = after.g92_applied;
+  }
+  if (after.g28 != before.g28) out.g28 = after.g28;
+  if (after.g30 != before.g30) out.g30 = after.g30;
+  return out;
+}
+
 Vec3 work_position(const WorkState& w, const Vec3& machine) {
   Vec3 p = machine - w.g5x[static_cast<std::size_t>(w.active)];
   if (w.g92_applied) p = p - w.g92;
