@@ -97,7 +97,7 @@ struct Service::Impl {
   }
 
   // What a program or MDI changed (G10, G92...) goes into the service's work state and is
-  // saved; what set_offset or touch_off changed meanwhile stays (merge_work_change).
+  // saved; what set_offset changed meanwhile stays (merge_work_change).
   void post_work(WorkState before, WorkState after) {
     server->post([this, before, after] {
       const WorkState next = merge_work_change(work.state(), before, after);

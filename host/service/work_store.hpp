@@ -44,7 +44,7 @@ class WorkStore {
 
 /// `current` with what a job changed from `before` to `after`, part by part (each of the nine
 /// systems, the selection, G92 with its flag, G28, G30): a part the job left alone keeps
-/// `current`'s value, which set_offset or touch_off may have changed while the job ran.
+/// `current`'s value, which set_offset may have changed while the job ran.
 WorkState merge_work_change(const WorkState& current, const WorkState& before, const WorkState& after);
 
 /// Work coordinates of a machine position: machine - the active G5x - the applied G92 (the
