@@ -44,8 +44,11 @@ std::unique_ptr<RtLink> RtLink::attach(const MachineConfig& config, double wait_
 }
 
 bool RtLink::transient_failure(const std::string& why) {
+  // A segment pcnc-rt is creating this very moment: not sized yet ("is empty"), or sized and
+  // still zero (magic 0x0) before the rt writes its header.
   return why.find("does not exist") != std::string::npos || why.find("never published") != std::string::npos ||
-         why.find("not initialised") != std::string::npos;
+         why.find("not initialised") != std::string::npos || why.find("is empty") != std::string::npos ||
+         why.find("magic is 0x0,") != std::string::npos;
 }
 
 void RtLink::beat() {
