@@ -198,8 +198,6 @@ void print_status(const json& s) {
   }
 }
 
-
-
 std::string resolve_socket(const CtlOptions& o) {
   if (!o.socket.empty()) return o.socket;
   const std::string cfg = o.config_path.empty() ? default_config_path() : o.config_path;
