@@ -299,7 +299,10 @@ struct Session {
              pcnc::JobNotices{[this](pcnc::ClientId c, json id, pcnc::Outcome o) {
                                 post([this, c, id = std::move(id), o = std::move(o)] { reply(c, id, o); });
                               },
-                              [this](json ev) { post([this, ev = std::move(ev)] { subs.broadcast_event(ev); }); }}),
+                              [this](json ev) { post([this, ev = std::move(ev)] { subs.broadcast_event(ev); }); },
+                              [this](pcnc::WorkState before, pcnc::WorkState after) {
+                                post([this, before, after] { (void)work.replace(pcnc::merge_work_change(work.state(), before, after)); });
+                              }}),
         jogs(config, h.monitor, [this](pcnc::ClientId c, const json& id, const pcnc::Outcome& o) { reply(c, id, o); },
              [this](const json& ev) { subs.broadcast_event(ev); }),
         parts{config, work, h.monitor, jobs, jogs, subs},

@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
                  "after the run, write its machine-readable summary (JSON: check, transform, job, final status) to this "
                  "file; `pcnc run --report` builds the HTML page from it and the trace");
   app.add_option("--progress-fd", progress_fd,
-                 "write progress lines (\"progress LINE TOTAL_LINES MACHINE_TIME_S\") to this file descriptor while "
+                 "write progress lines (\"progress LINE TOTAL_LINES MACHINE_TIME_S PLANNED_DONE_S PLANNED_TOTAL_S\") to this file "
+                 "descriptor while "
                  "running (for launchers: pcnc run shows them as a progress bar)");
   app.add_option("--wait-rt", wait_rt_s, "seconds to wait for pcnc-rt's segment")->capture_default_str();
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
@@ -164,9 +165,10 @@ int main(int argc, char** argv) {
       signal(SIGPIPE, SIG_IGN);  // the progress reader may go away before we do
       fcntl(progress_fd, F_SETFL, fcntl(progress_fd, F_GETFL) | O_NONBLOCK);  // never wait for the reader
       const std::uint64_t total_lines = check.lines;
-      on_progress = [&, total_lines](const pcnc::JobProgress& p) {
-        const std::string line =
-            pcnc::format_progress_update({p.status.line, total_lines, p.status.program_time_s});
+      const double planned_total = check.planned_time_s;
+      on_progress = [&, total_lines, planned_total](const pcnc::JobProgress& p) {
+        const std::string line = pcnc::format_progress_update(
+            {p.status.line, total_lines, p.status.program_time_s, p.planned_done_s, planned_total});
         // best effort: a full pipe skips an update, a reader that went away ends them
         if (write(progress_fd, line.data(), line.size()) < 0 && errno != EAGAIN && errno != EINTR) progress_fd = -1;
       };

@@ -22,7 +22,7 @@ struct Parts {
   WorkStore work{"", default_work_state(config)};  // in memory only
   RtMonitor rt{config, 0.005, 0.1, {}};
   Subscriptions subs{[](ClientId, std::string_view) {}};
-  JobControl jobs{"/nonexistent/pcnc-test-dispatch.job", JobNotices{[](ClientId, json, Outcome) {}, [](json) {}}};
+  JobControl jobs{"/nonexistent/pcnc-test-dispatch.job", JobNotices{[](ClientId, json, Outcome) {}, [](json) {}, {}}};
   JogControl jogs{config, rt, [](ClientId, const json&, const Outcome&) {}, [](const json&) {}};
   ServiceParts parts{config, work, rt, jobs, jogs, subs};
   Dispatcher dispatcher{method_table(parts), rt};
@@ -62,6 +62,9 @@ TEST(Dispatch, ChecksComeInOrderRequestNoParamsRtThenParams) {
   EXPECT_EQ(r["error"]["message"], "pcnc-rt is not available (waiting): no pcnc-rt attached yet");
   // a method that needs the rt: the rt is checked before its own parameters
   EXPECT_EQ(code(p.call(R"({"id":4,"method":"override","params":{"percent":"fast"}})")), rpc::kRtUnavailable);
+  // mdi and touch_off read the machine's position: they need the rt
+  EXPECT_EQ(code(p.call(R"({"id":5,"method":"mdi","params":{"text":"G0 X1"}})")), rpc::kRtUnavailable);
+  EXPECT_EQ(code(p.call(R"({"id":6,"method":"touch_off","params":{"axis":"Z","value":0}})")), rpc::kRtUnavailable);
 }
 
 TEST(Dispatch, MethodsThatNeedNoRtAreAnsweredWithoutOne) {

@@ -196,7 +196,7 @@ class Mutator {
 
   std::string base(long long id) {
     const std::string sid = std::to_string(id);
-    switch (pick(0, 13)) {
+    switch (pick(0, 15)) {
       case 0: case 1: case 2: return "{\"id\":" + sid + ",\"method\":\"status\"}";
       case 3: return "{\"id\":" + sid + ",\"method\":\"set_offset\",\"params\":{\"offset\":\"G5" + std::to_string(pick(5, 9)) +
                      "\",\"x\":" + value() + "}}";
@@ -209,6 +209,8 @@ class Mutator {
       case 10: return "{\"id\":" + sid + ",\"method\":\"" + one_of(std::vector<std::string>{"pause", "resume", "stop", "estop", "reset", "jog_stop"}) + "\"}";
       case 11: return "{\"id\":" + sid + ",\"method\":\"override\",\"params\":{\"percent\":" + value() + "}}";
       case 12: return "{\"id\":" + sid + ",\"method\":\"jog\",\"params\":{\"axis\":\"X\",\"distance\":" + value() + "}}";
+      case 13: return "{\"id\":" + sid + ",\"method\":\"mdi\",\"params\":{\"text\":" + value() + "}}";
+      case 14: return "{\"id\":" + sid + ",\"method\":\"touch_off\",\"params\":{\"axis\":\"Z\",\"value\":" + value() + "}}";
       default: return "{\"id\":" + sid + ",\"method\":\"run\",\"params\":{\"file\":" + value() + "}}";
     }
   }

@@ -128,7 +128,7 @@ TEST(RpcParse, UnknownMethodListsTheKnownOnes) {
 
 TEST(RpcParse, EveryDocumentedMethodIsKnown) {
   for (const char* m : {"status", "run", "pause", "resume", "stop", "estop", "reset", "override", "jog", "jog_keepalive", "jog_stop",
-                        "set_offset", "subscribe"}) {
+                        "set_offset", "mdi", "touch_off", "subscribe"}) {
     EXPECT_TRUE(rpc::is_method(m)) << m;
   }
 }
@@ -490,6 +490,38 @@ TEST(Resume, PauseIsSkippedDwellRepeatedEmptyNurbsRefused) {
   n.kind = BlockKind::kNurbs;
   EXPECT_FALSE(continue_block(n, {1, 1, 1}, c, 0.005, &why));
   EXPECT_NE(why.find("NURBS block is invalid"), std::string::npos) << why;
+}
+
+TEST(RpcParams, Mdi) {
+  auto m = rpc::check_mdi_params(json{{"text", "G1 X5 F300\nG0 Z1"}});
+  ASSERT_TRUE(m.ok()) << m.error.message;
+  EXPECT_EQ(m.value->text, "G1 X5 F300\nG0 Z1");
+  EXPECT_FALSE(rpc::check_mdi_params(json::object()).ok()) << "text is required";
+  EXPECT_FALSE(rpc::check_mdi_params(json{{"text", 5}}).ok());
+  EXPECT_FALSE(rpc::check_mdi_params(json{{"text", ""}}).ok());
+  EXPECT_FALSE(rpc::check_mdi_params(json{{"text", " \n\t"}}).ok()) << "no line of G-code";
+  EXPECT_FALSE(rpc::check_mdi_params(json{{"text", std::string(rpc::kMaxMdiBytes + 1, 'G')}}).ok());
+  EXPECT_FALSE(rpc::check_mdi_params(json{{"text", std::string("G0\0X1", 6)}}).ok());
+  const auto unknown = rpc::check_mdi_params(json{{"text", "G0 X1"}, {"file", "x"}});
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_EQ(unknown.error.code, rpc::kInvalidParams);
+  EXPECT_NE(unknown.error.message.find("unknown parameter 'file'"), std::string::npos) << unknown.error.message;
+  // a repeated key is refused when the request is parsed, before the parameters are checked
+  EXPECT_TRUE(rpc::parse_request(R"({"id":1,"method":"mdi","params":{"text":"G0 X1","text":"G0 X9"}})").error);
+}
+
+TEST(RpcParams, TouchOff) {
+  auto t = rpc::check_touch_off_params(json{{"axis", "z"}, {"value", -1.25}});
+  ASSERT_TRUE(t.ok()) << t.error.message;
+  EXPECT_EQ(t.value->axis, 2);
+  EXPECT_DOUBLE_EQ(t.value->value, -1.25);
+  EXPECT_FALSE(rpc::check_touch_off_params(json{{"axis", "X"}}).ok()) << "value is required";
+  EXPECT_FALSE(rpc::check_touch_off_params(json{{"value", 0}}).ok()) << "axis is required";
+  EXPECT_FALSE(rpc::check_touch_off_params(json{{"axis", "A"}, {"value", 0}}).ok());
+  EXPECT_FALSE(rpc::check_touch_off_params(json{{"axis", 0}, {"value", 0}}).ok());
+  EXPECT_FALSE(rpc::check_touch_off_params(json{{"axis", "X"}, {"value", "0"}}).ok());
+  EXPECT_FALSE(rpc::check_touch_off_params(json{{"axis", "X"}, {"value", 1e5}}).ok()) << "within ±1e4 mm like set_offset";
+  EXPECT_FALSE(rpc::check_touch_off_params(json{{"axis", "X"}, {"value", 0}, {"offset", "G55"}}).ok()) << "the active system only";
 }
 
 }  // namespace

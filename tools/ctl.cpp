@@ -1,5 +1,6 @@
 // ctl.cpp — `pcnc ctl`: subcommands for every control-socket method (see ctl.hpp).
 #include "ctl.hpp"
+#include "ctl_support.hpp"
 
 #include <poll.h>
 #include <signal.h>
@@ -129,7 +130,7 @@ json CtlClient::call(const std::string& method, const json& params, double timeo
 
 // ---------------------------------------------------------------- human output
 
-namespace {
+namespace ctl {  // shared with the other ctl_*.cpp files (ctl_support.hpp)
 
 std::atomic<bool> g_ctl_interrupt{false};
 void on_ctl_signal(int) { g_ctl_interrupt.store(true); }
@@ -164,6 +165,11 @@ void print_status(const json& s) {
   if (s.contains("commanded")) {
     std::printf("commanded  %s mm\n", xyz(s["commanded"]).c_str());
     std::printf("actual     %s mm\n", xyz(s["actual"]).c_str());
+    if (s.contains("work_position")) {  // work = machine - the active offset - G92 (when applied)
+      const std::string active = s.value("work_state", json::object()).value("active", "G54");
+      std::printf("work       %s mm (%s = %s)\n", xyz(s["work_position"]["commanded"]).c_str(), active.c_str(),
+                  xyz(s.value("work_offsets", json::object()).value(active, json())).c_str());
+    }
     std::printf("ferr       %s mm\n", xyz(s["following_error"]).c_str());
     std::printf("line %u  block %llu  speed %.2f mm/s  override %.0f %%  ring %d/4  underruns %llu  clock %s\n",
                 s.value("line", 0u), static_cast<unsigned long long>(s.value("block_seq", 0ull)), s.value("path_speed", 0.0),
@@ -192,22 +198,6 @@ void print_status(const json& s) {
                 r.value("line", 0u));
   }
 }
-
-void print_status_line(const json& s) {
-  const json c = s.value("commanded", json::object());
-  std::printf("%-9s line %-6u X %9.4f Y %9.4f Z %9.4f  v %8.2f mm/s  ovr %3.0f%%  ring %d  underruns %llu\n",
-              s.value("state", "?").c_str(), s.value("line", 0u), c.value("x", 0.0), c.value("y", 0.0), c.value("z", 0.0),
-              s.value("path_speed", 0.0), s.value("feed_override_percent", 100.0), s.value("ring_fill", 0),
-              static_cast<unsigned long long>(s.value("underruns", 0ull)));
-  std::fflush(stdout);
-}
-
-struct CtlOptions {
-  std::string socket;
-  std::string config_path;
-  bool json_output = false;
-  double timeout_s = 30.0;
-};
 
 std::string resolve_socket(const CtlOptions& o) {
   if (!o.socket.empty()) return o.socket;
@@ -285,7 +275,8 @@ int wait_jog_end(const CtlOptions& o, CtlClient& c) {
   return 1;
 }
 
-}  // namespace
+}  // namespace ctl
+using namespace ctl;
 
 // ---------------------------------------------------------------- subcommands
 
@@ -305,7 +296,8 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
   auto* status = ctl->add_subcommand("status", "machine state, positions, following error, override, ring, underruns, timing");
   static bool watch = false;
   static double rate = 5.0;
-  status->add_flag("--watch", watch, "keep printing status pushed by the server until Ctrl-C");
+  status->add_flag("--watch", watch, "live view until Ctrl-C: redrawn in place on a terminal (machine and work "
+                 "coordinates, offset, following error, progress and time left), one line per update when piped");
   status->add_option("--rate", rate, "--watch rate in Hz (at most 50)")->capture_default_str();
   status->callback([&exit_code] {
     if (!watch) {
@@ -313,26 +305,7 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
       return;
     }
     install_interrupt();
-    exit_code = with_client(o, [](CtlClient& c) {
-      const json r = c.call("subscribe", json{{"rate_hz", rate}}, o.timeout_s);
-      if (r.contains("error")) return report(o, r, {});
-      while (!g_ctl_interrupt.load()) {
-        std::string line;
-        if (!c.read_line(line, 0.2)) continue;
-        const json j = json::parse(line, nullptr, false);
-        if (j.is_discarded()) continue;
-        if (o.json_output) {
-          std::printf("%s\n", line.c_str());
-          std::fflush(stdout);
-        } else if (j.value("method", "") == "status") {
-          print_status_line(j["params"]);
-        } else if (j.value("method", "") == "event") {
-          std::printf("event: %s\n", j["params"].dump().c_str());
-          std::fflush(stdout);
-        }
-      }
-      return 0;
-    });
+    exit_code = with_client(o, [](CtlClient& c) { return watch_status(o, c, rate); });  // ctl_watch.cpp
   });
 
   // run
@@ -400,6 +373,8 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
       return ended.value("end", "") == "completed" ? kExitOk : kExitFault;
     });
   });
+
+  add_operator_subcommands(*ctl, o, exit_code);  // mdi, touch-off (ctl_operator.cpp)
 
   // the simple ones
   struct Simple {

@@ -14,11 +14,21 @@ namespace pcnc {
 ProgressView make_progress_view(const ProgressUpdate& u, double elapsed_s) {
   ProgressView v;
   v.elapsed_s = elapsed_s;
+  if (u.planned_total_s > 0.0) {
+    // From the plan (gcode/planned_time.hpp): the fraction of the planned time done, and the
+    // planned time that remains at the pace of the run so far (wall time per planned second,
+    // which takes in the flowing junctions, the override and the clock). Never shown on the
+    // first percent.
+    v.fraction = std::clamp(u.planned_done_s / u.planned_total_s, 0.0, 1.0);
+    if (v.fraction >= 0.01 && elapsed_s > 0.0) {
+      v.remaining_s = (u.planned_total_s - std::min(u.planned_done_s, u.planned_total_s)) * elapsed_s / u.planned_done_s;
+    }
+    return v;
+  }
   if (u.total_lines > 0) {
     v.fraction = std::clamp(static_cast<double>(u.line) / static_cast<double>(u.total_lines), 0.0, 1.0);
   }
-  // a straight extrapolation of the wall time per line so far: honest enough for CAM
-  // programs whose lines are of similar length, and never shown on the first percent
+  // no plan (an older host): a straight extrapolation of the wall time per line so far
   if (v.fraction >= 0.01 && elapsed_s > 0.0) v.remaining_s = elapsed_s * (1.0 - v.fraction) / v.fraction;
   return v;
 }

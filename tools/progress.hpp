@@ -20,7 +20,7 @@ namespace pcnc {
 
 /// What the bar shows, computed from an update and the wall time since the start.
 struct ProgressView {
-  double fraction = 0.0;   // 0..1 of the program's lines
+  double fraction = 0.0;   // 0..1 of the program's planned time (of its lines without a plan)
   double elapsed_s = 0.0;  // wall
   std::optional<double> remaining_s;  // wall; none until 1 % is done
 };

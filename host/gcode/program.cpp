@@ -13,6 +13,7 @@
 
 #include "gcode/line_reader.hpp"
 #include "gcode/pipeline.hpp"
+#include "gcode/planned_time.hpp"
 
 namespace pcnc {
 
@@ -124,6 +125,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     PlanRecorder plan(config);
     while (pipeline.next(b)) {
       ++result.blocks;
+      result.planned_time_s += planned_time_s(b);
       if (b.kind == BlockKind::kRapid) note_rapid(result.rapid_lines, b.line);
       plan.add(b);
       if (on_block) (*on_block)(b);

@@ -121,15 +121,22 @@ void JobControl::describe(json& j, const std::optional<Status>& st) const {
   }
 }
 
-Outcome JobControl::run(ClientId client, const json& id, const rpc::RunParams& params, std::shared_ptr<RtLink> link,
-                        const Status& st, const MachineConfig& config, const WorkState& work) {
+// Why a program (or MDI) cannot start now; ok() when it can.
+Outcome JobControl::refuse_start(const Status& st) const {
   if (active_.load()) return Outcome::fail(refused("a program is already running; stop it first"));
   if (st.state != MachineState::kIdle) {
     std::string why = std::string("the machine is ") + to_string(st.state) + ", not IDLE";
     if (st.state == MachineState::kHostLost) why += ": resume or stop the program the lost host was running first";
     if (st.state == MachineState::kFault || st.state == MachineState::kEstop) why += ": reset first";
+    if (st.state == MachineState::kPaused) why += ": resume or stop the program first";
     return Outcome::fail(refused(why));
   }
+  return Outcome::ok(json());
+}
+
+Outcome JobControl::run(ClientId client, const json& id, const rpc::RunParams& params, std::shared_ptr<RtLink> link,
+                        const Status& st, const MachineConfig& config, const WorkState& work) {
+  if (Outcome no = refuse_start(st); no.error) return no;
   // Copies: set_offset may change the service's work state meanwhile.
   MachineConfig job_config = config;
   job_config.gcode.work_offsets = first_six(work.g5x);
@@ -209,6 +216,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
                   {"moves", check.moves},
                   {"offset", rpc::vec3_to_json(check.transform.offset)},
                   {"scale", check.transform.scale},
+                  {"planned_time_s", check.planned_time_s},
                   {"warnings", diagnostics_json(check, Diagnostic::Severity::kWarning)}};
   // (MSG,...)/(DEBUG,...)/(PRINT,...): in the log and to subscribers as the stream (not the
   // check) reaches them, close to when the machine does.
@@ -216,22 +224,94 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
     spdlog::info("{}:{}: {}", file, m.line, m.text);
     notices_.event(json{{"event", "message"}, {"file", file}, {"line", m.line}, {"text", m.text}});
   };
-  follow_job(client, id, l, cfg, started, rp.file,
-             [&](JobRunner& runner) { return runner.run(rp.file, opts, check, interrupt_, progress_fn()); });
+  follow_job(
+      client, id, l, cfg, started, rp.file,
+      [&](JobRunner& runner) { return runner.run(rp.file, opts, check, interrupt_, progress_fn(check.planned_time_s)); },
+      &ws);
 }
 
-std::function<void(const JobProgress&)> JobControl::progress_fn() {
-  return [this](const JobProgress& p) {
+Outcome JobControl::mdi(ClientId client, const json& id, const std::string& text, std::shared_ptr<RtLink> link,
+                        const Status& st, const MachineConfig& config, const WorkState& work) {
+  if (Outcome no = refuse_start(st); no.error) return no;
+  MachineConfig job_config = config;
+  job_config.gcode.work_offsets = first_six(work.g5x);
+  start_worker(client, id, [this, client, id, text, link, job_config, ws = work, start = st.commanded] {
+    mdi_job(client, id, text, link, job_config, ws, start);
+  });
+  return Outcome::later();
+}
+
+// MDI is a small program: the same check and the same stream, over the text. No journal: a
+// lost host's MDI is not resumed (stop abandons it).
+void JobControl::mdi_job(ClientId client, const json& id, const std::string& text, std::shared_ptr<RtLink> l,
+                         const MachineConfig& cfg, const WorkState& ws, const Vec3& start) {
+  static const std::string kName = "mdi";
+  JobOptions opts;
+  if (!cfg.gcode.tool_table.empty()) {
+    if (const std::string why = load_job_state(cfg, cfg.gcode.tool_table, opts); !why.empty()) {
+      end_job(nullptr);
+      job_reply(client, id, Outcome::fail(rpc::Error{rpc::kPreflightFailed, why, json()}));
+      return;
+    }
+  }
+  opts.work = ws;
+  opts.work_offset_index = ws.active;
+  opts.start_position = start;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    info_ = json{{"file", "MDI"}, {"phase", "preflight"}};
+  }
+  const CheckResult check = check_program_text(text, kName, cfg, opts);
+  if (!check.ok) {
+    json errors = diagnostics_json(check, Diagnostic::Severity::kError);
+    spdlog::warn("mdi refused: {} error(s)", errors.size());
+    end_job(nullptr);
+    job_reply(client, id,
+              Outcome::fail(rpc::Error{rpc::kPreflightFailed,
+                                       "mdi: " + std::to_string(errors.size()) + " error(s); nothing was moved",
+                                       json{{"file", kName}, {"errors", errors}}}));
+    return;
+  }
+  json warnings = json::array();
+  for (const auto& d : check.diagnostics) {  // an MDI text has no M2 by nature: its implicit end is no news
+    if (d.severity == Diagnostic::Severity::kWarning && d.message.find("has no M2/M30") == std::string::npos) {
+      warnings.push_back(format_diagnostic(d));
+    }
+  }
+  auto stream = std::make_shared<BlockStream>(BlockStream::FromText{}, text, kName, cfg, opts, check.transform);
+  BlockSource source;
+  source.next = [stream](Block& b) { return stream->next(b); };
+  source.progress = [stream] { return JobProgress{stream->lines_read(), stream->bytes_read(), stream->total_bytes(), Status{}}; };
+  json started = {{"started", true},         {"mdi", true},
+                  {"lines", check.lines},     {"moves", check.moves},
+                  {"planned_time_s", check.planned_time_s}, {"warnings", warnings}};
+  const bool contouring = cfg.motion.contouring_default;
+  follow_job(
+      client, id, l, cfg, started, "MDI",
+      [&](JobRunner& runner) { return runner.run_source(source, contouring, interrupt_, progress_fn(check.planned_time_s)); },
+      &ws, [stream](const JobRunner&) { return std::optional<WorkState>(stream->work_state()); });
+}
+
+// The job's progress in the status object; with the check's planned time, the planned time of
+// the blocks done (the ETA's base: `pcnc ctl status --watch`, docs/protocol.md).
+std::function<void(const JobProgress&)> JobControl::progress_fn(double planned_total_s) {
+  return [this, planned_total_s](const JobProgress& p) {
     std::lock_guard<std::mutex> lock(mutex_);
     info_["lines_read"] = p.lines_read;
     info_["bytes_read"] = p.bytes_read;
     info_["total_bytes"] = p.total_bytes;
+    if (planned_total_s > 0.0) {
+      info_["planned_time_s"] = planned_total_s;
+      info_["planned_done_s"] = p.planned_done_s;
+    }
   };
 }
 
 // Runs a job to its end with replies, events, the last-job record and the journal.
 void JobControl::follow_job(ClientId client, const json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
-                            json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body) {
+                            json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body,
+                            const WorkState* work_before,
+                            const std::function<std::optional<WorkState>(const JobRunner&)>& work_after) {
   JobRunner runner(*l, cfg);
   bool replied = false;
   runner.set_on_started([&] {
@@ -245,6 +325,11 @@ void JobControl::follow_job(ClientId client, const json& id, std::shared_ptr<RtL
     notices_.event(json{{"event", "program_started"}, {"file", file}});
   });
   const JobResult r = body(runner);
+  // What the program left (G10, G92...) is kept, as LinuxCNC's var file keeps it; delivered
+  // before the program_end event (both go to the loop thread in order).
+  if (r.end == JobEnd::kCompleted && work_before && notices_.work_after) {
+    if (auto w = work_after ? work_after(runner) : runner.work_after()) notices_.work_after(*work_before, *w);
+  }
   const bool host_lost = r.final_status.state == MachineState::kHostLost;
   if (!host_lost) remove_journal(journal_);  // before end_job: a next job writes its own
   json end = {{"file", file},

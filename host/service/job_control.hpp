@@ -36,6 +36,9 @@ struct JobNotices {
   // Called from the job worker; the service delivers both on its loop thread.
   std::function<void(ClientId client, rpc::json id, Outcome outcome)> reply;
   std::function<void(rpc::json event)> event;
+  // A program or MDI ran to its end: the work state it started with and the one it left (G10,
+  // G92, G28.1...), for the service's WorkStore (merge_work_change). May be empty.
+  std::function<void(WorkState before, WorkState after)> work_after;
 };
 
 class JobControl {
@@ -58,6 +61,11 @@ class JobControl {
   /// journal records all of `work`'s G54..G59.3, and the reply comes later.
   Outcome run(ClientId client, const rpc::json& id, const rpc::RunParams& params, std::shared_ptr<RtLink> link,
               const Status& st, const MachineConfig& config, const WorkState& work);
+  /// The `mdi` method: `text` is a small program (work offsets `work`, starting where the
+  /// machine stands, an implicit end), checked whole before anything moves; refused like run.
+  /// The reply comes once it has started (or with the check's errors, line:col, code 3).
+  Outcome mdi(ClientId client, const rpc::json& id, const std::string& text, std::shared_ptr<RtLink> link, const Status& st,
+              const MachineConfig& config, const WorkState& work);
   /// The `resume` method in HOST_LOST: continues the journal's program with the work offsets
   /// the journal recorded (reply later).
   Outcome resume(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> link, const Status& st,
@@ -75,10 +83,15 @@ class JobControl {
   void end_job(const rpc::json* last);
   void run_job(ClientId client, const rpc::json& id, const rpc::RunParams& rp, std::shared_ptr<RtLink> l,
                const MachineConfig& cfg, const WorkState& ws, const Vec3& start);
+  void mdi_job(ClientId client, const rpc::json& id, const std::string& text, std::shared_ptr<RtLink> l,
+               const MachineConfig& cfg, const WorkState& ws, const Vec3& start);
+  Outcome refuse_start(const Status& st) const;
   void resume_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg, JobJournal jj);
   void follow_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
-                  rpc::json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body);
-  std::function<void(const JobProgress&)> progress_fn();
+                  rpc::json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body,
+                  const WorkState* work_before = nullptr,  // null: what the job leaves is not kept (resume)
+                  const std::function<std::optional<WorkState>(const JobRunner&)>& work_after = {});
+  std::function<void(const JobProgress&)> progress_fn(double planned_total_s = 0.0);
   void journal_failed(const std::string& why);
   void journal_ok();
 

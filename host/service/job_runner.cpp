@@ -2,6 +2,10 @@
 #include "service/job_runner.hpp"
 
 #include <chrono>
+#include <deque>
+#include <utility>
+
+#include "gcode/planned_time.hpp"
 #include <thread>
 
 namespace pcnc {
@@ -79,6 +83,26 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     if (on_started_) on_started_();
   };
 
+  // The planned time of the blocks done: the running sum of each block's planned time as it
+  // is sent, kept for the blocks in flight (ring and staging: a few dozen) until the rt's
+  // blocks_done passes them.
+  std::deque<std::pair<std::uint64_t, double>> in_flight;  // (seq, planned time up to and including it)
+  std::uint64_t filled = 0;
+  double planned_sent = 0.0, planned_done = 0.0;
+  auto next_block = [&](Block& b) {
+    if (!source.next(b)) return false;
+    planned_sent += planned_time_s(b);
+    in_flight.emplace_back(++filled, planned_sent);
+    return true;
+  };
+  auto done_until = [&](std::uint64_t blocks_done) {
+    while (!in_flight.empty() && in_flight.front().first <= blocks_done) {
+      planned_done = in_flight.front().second;
+      in_flight.pop_front();
+    }
+    return planned_done;
+  };
+
   auto last_progress = std::chrono::steady_clock::now();
   auto report_progress = [&] {
     if (!progress) return;
@@ -87,11 +111,12 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     last_progress = now;
     JobProgress p = source.progress ? source.progress() : JobProgress{};
     p.status = link_.status();
+    p.planned_done_s = done_until(p.status.blocks_done);
     progress(p);
   };
 
   for (;;) {
-    const FeedResult r = feeder.push([&](Block& b) { return source.next(b); }, &interrupt);
+    const FeedResult r = feeder.push(next_block, &interrupt);
     if (r == FeedResult::kEndOfInput) break;
     if (r == FeedResult::kRtLost) return finish(JobEnd::kRtLost, "pcnc-rt stopped responding");
     if (r == FeedResult::kAborted || interrupt.load()) break;

@@ -22,6 +22,7 @@ struct JobProgress {
   std::uint64_t bytes_read = 0;
   std::uint64_t total_bytes = 0;
   Status status{};
+  double planned_done_s = 0.0;  // planned time (gcode/planned_time.hpp) of the blocks the rt has done
 };
 
 /// Where a job's blocks come from: normally a BlockStream over the checked file; the

@@ -108,6 +108,34 @@ Outcome do_set_offset(WorkStore& work, const rpc::SetOffsetParams& p) {
   return Outcome::ok(r);
 }
 
+// touch_off: refused while anything moves or a program is under way (the position it reads
+// must stand still, and a running program keeps the offsets it started with).
+Outcome do_touch_off(Call& c, WorkStore& work, const JobControl& jobs, const rpc::TouchOffParams& p) {
+  const MachineState s = c.status.state;
+  if (jobs.active() || s != MachineState::kIdle) {
+    return Outcome::fail(refused(std::string("touch_off needs the machine IDLE with no program under way; it is ") + to_string(s) +
+                                 (jobs.active() ? " running a program" : "")));
+  }
+  const Vec3 at = c.status.commanded;
+  const std::string system = rpc::work_offset_name(work.state().active);
+  if (auto error = work.touch_off(p.axis, p.value, at)) {
+    spdlog::error("touch_off {}: {}", system, *error);
+    return Outcome::fail(rpc::Error{rpc::kInternalError, "the work offset was not changed: " + *error, nullptr});
+  }
+  const WorkState& w = work.state();
+  const Vec3& o = w.g5x[static_cast<std::size_t>(w.active)];
+  const char axis = "XYZ"[p.axis];
+  spdlog::info("touch-off {} {} = {}: {} is now X{} Y{} Z{} (saved in {})", axis, p.value, at[static_cast<std::size_t>(p.axis)],
+               system, o[0], o[1], o[2], work.path().empty() ? "memory only" : work.path());
+  json r = rpc::vec3_to_json(o);
+  r["offset"] = system;
+  r["axis"] = std::string(1, axis);
+  r["value"] = p.value;
+  r["machine"] = rpc::vec3_to_json(at);
+  r["work_position"] = rpc::vec3_to_json(work_position(w, at));
+  return Outcome::ok(r);
+}
+
 }  // namespace
 
 std::vector<Method> method_table(ServiceParts parts) {
@@ -158,6 +186,14 @@ std::vector<Method> method_table(ServiceParts parts) {
        }},
       {"set_offset", kParams, kNoRt,
        with_params(rpc::check_set_offset_params, [s](Call&, const rpc::SetOffsetParams& p) { return do_set_offset(s.work, p); })},
+      {"mdi", kParams, kRt,
+       with_params(rpc::check_mdi_params,
+                   [s](Call& c, const rpc::MdiParams& p) {
+                     return s.jobs.mdi(c.client, c.id, p.text, c.link, c.status, s.config, s.work.state());
+                   })},
+      {"touch_off", kParams, kRt,
+       with_params(rpc::check_touch_off_params,
+                   [s](Call& c, const rpc::TouchOffParams& p) { return do_touch_off(c, s.work, s.jobs, p); })},
       {"subscribe", kParams, kNoRt,
        with_params(rpc::check_subscribe_params,
                    [s](Call& c, const rpc::SubscribeParams& p) {
@@ -192,6 +228,12 @@ json status_object(const ServiceParts& parts) {
                          {"G28", rpc::vec3_to_json(w.g28)},
                          {"G30", rpc::vec3_to_json(w.g30)},
                          {"file", parts.work.path().empty() ? json(nullptr) : json(parts.work.path())}};
+  // Work coordinates of the positions (machine - the active G5x - the applied G92): what a
+  // program started now would read (a running program keeps the offsets it started with).
+  if (st) {
+    j["work_position"] = json{{"commanded", rpc::vec3_to_json(work_position(w, st->commanded))},
+                              {"actual", rpc::vec3_to_json(work_position(w, st->actual))}};
+  }
   j["jog"] = json{{"continuous", parts.jogs.continuous_active()}};
   return j;
 }

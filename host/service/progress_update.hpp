@@ -1,8 +1,10 @@
 // progress_update.hpp — the line pcnc-host writes on its progress pipe (--progress-fd) while
 // it runs a program, for the launcher's progress display (tools/progress.hpp):
-//   "progress LINE TOTAL_LINES MACHINE_TIME_S\n"
+//   "progress LINE TOTAL_LINES MACHINE_TIME_S [PLANNED_DONE_S PLANNED_TOTAL_S]\n"
 // LINE is the source line the machine is executing, TOTAL_LINES the program's line count
-// from the check pass, MACHINE_TIME_S the program time on the machine so far. When the job
+// from the check pass, MACHINE_TIME_S the program time on the machine so far; PLANNED_TOTAL_S
+// the planned time of all the program's blocks (the check's) and PLANNED_DONE_S that of the
+// blocks the machine has done (gcode/planned_time.hpp): the bar's fraction and ETA. When the job
 // has ended the host writes "done\n" and waits (briefly) for "ok\n" from the launcher, which
 // has then cleared its progress display: the run report that follows starts on a clean line.
 //
@@ -22,12 +24,14 @@ struct ProgressUpdate {
   std::uint32_t line = 0;
   std::uint64_t total_lines = 0;
   double machine_time_s = 0.0;
+  double planned_done_s = 0.0;   // 0 with planned_total_s 0: not known (an older host)
+  double planned_total_s = 0.0;
 };
 
 inline std::string format_progress_update(const ProgressUpdate& u) {
   char buf[128];
-  std::snprintf(buf, sizeof buf, "progress %u %llu %.4f\n", u.line, static_cast<unsigned long long>(u.total_lines),
-                u.machine_time_s);
+  std::snprintf(buf, sizeof buf, "progress %u %llu %.4f %.4f %.4f\n", u.line, static_cast<unsigned long long>(u.total_lines),
+                u.machine_time_s, u.planned_done_s, u.planned_total_s);
   return buf;
 }
 
@@ -38,7 +42,10 @@ inline std::optional<ProgressUpdate> parse_progress_update(std::string_view line
   ProgressUpdate u;
   if (!(in >> word) || word != "progress") return std::nullopt;
   if (!(in >> u.line >> u.total_lines >> u.machine_time_s)) return std::nullopt;
+  if ((in >> std::ws).eof()) return u;
+  if (!(in >> u.planned_done_s >> u.planned_total_s)) return std::nullopt;
   if (!(in >> std::ws).eof()) return std::nullopt;
+  if (!(u.planned_done_s >= 0.0) || !(u.planned_total_s >= 0.0)) return std::nullopt;
   return u;
 }
 

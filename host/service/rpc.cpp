@@ -150,7 +150,7 @@ std::string dump_line(const json& j) { return j.dump(-1, ' ', false, json::error
 const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names = {"status", "run",     "pause",  "resume",        "stop",
                                                  "estop",  "reset",   "override", "jog",         "jog_keepalive",
-                                                 "jog_stop", "set_offset", "subscribe"};
+                                                 "jog_stop", "set_offset", "mdi",     "touch_off",   "subscribe"};
   return names;
 }
 
@@ -365,6 +365,34 @@ Checked<SetOffsetParams> check_set_offset_params(const json& params) {
     any = any || p.xyz[i].has_value();
   }
   if (!any) r.fail("set_offset needs at least one of x, y, z (mm)");
+  return done(r, p);
+}
+
+Checked<MdiParams> check_mdi_params(const json& params) {
+  ParamReader r("mdi", params);
+  MdiParams p;
+  if (auto t = r.string("text", true)) {
+    if (t->find_first_not_of(" \t\r\n") == std::string::npos) {
+      r.fail("parameter 'text' of mdi must hold at least one line of G-code");
+    } else if (t->size() > kMaxMdiBytes) {
+      r.fail("parameter 'text' of mdi is too long: " + std::to_string(t->size()) + " bytes, at most " +
+             std::to_string(kMaxMdiBytes) + " (run a longer program as a file)");
+    } else if (t->find('\0') != std::string::npos) {
+      r.fail("parameter 'text' of mdi must not contain a NUL character");
+    }
+    p.text = *t;
+  }
+  return done(r, p);
+}
+
+Checked<TouchOffParams> check_touch_off_params(const json& params) {
+  ParamReader r("touch_off", params);
+  TouchOffParams p;
+  if (auto a = r.string("axis", true)) {
+    p.axis = parse_axis_name(*a);
+    if (p.axis < 0) r.fail("parameter 'axis' of touch_off must be X, Y or Z, got '" + *a + "'");
+  }
+  if (auto v = r.number("value", -1e4, 1e4, true, "mm")) p.value = *v;
   return done(r, p);
 }
 

@@ -93,6 +93,15 @@ struct SetOffsetParams {
   std::optional<double> xyz[kAxes];   // program zero in machine coordinates, mm; missing: unchanged
 };
 
+struct MdiParams {
+  std::string text;  // one or more lines of G-code (a small program), at most kMaxMdiBytes
+};
+
+struct TouchOffParams {
+  int axis = 0;        // 0 X, 1 Y, 2 Z
+  double value = 0.0;  // what the current position shall read in the active work system, mm
+};
+
 struct SubscribeParams {
   double rate_hz = 10.0;  // 0 = unsubscribe, else (0, 50]
 };
@@ -100,6 +109,7 @@ struct SubscribeParams {
 constexpr double kMaxSubscribeHz = 50.0;
 constexpr double kMaxJogDistanceMm = 1000.0;
 constexpr double kDefaultJogFeedMmMin = 600.0;
+constexpr std::size_t kMaxMdiBytes = 16384;
 
 /// Either a value or the error to send back.
 template <typename T>
@@ -113,6 +123,8 @@ Checked<RunParams> check_run_params(const json& params);
 Checked<OverrideParams> check_override_params(const json& params);
 Checked<JogParams> check_jog_params(const json& params, const MachineConfig& config);
 Checked<SetOffsetParams> check_set_offset_params(const json& params);
+Checked<MdiParams> check_mdi_params(const json& params);
+Checked<TouchOffParams> check_touch_off_params(const json& params);
 Checked<SubscribeParams> check_subscribe_params(const json& params);
 /// For methods without parameters: params must be absent, null or an empty object.
 std::optional<Error> check_no_params(const std::string& method, const json& params);

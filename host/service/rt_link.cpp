@@ -44,8 +44,11 @@ std::unique_ptr<RtLink> RtLink::attach(const MachineConfig& config, double wait_
 }
 
 bool RtLink::transient_failure(const std::string& why) {
+  // A segment pcnc-rt is creating this very moment: not sized yet ("is empty"), or sized and
+  // still zero (magic 0x0) before the rt writes its header.
   return why.find("does not exist") != std::string::npos || why.find("never published") != std::string::npos ||
-         why.find("not initialised") != std::string::npos;
+         why.find("not initialised") != std::string::npos || why.find("is empty") != std::string::npos ||
+         why.find("magic is 0x0,") != std::string::npos;
 }
 
 void RtLink::beat() {
@@ -72,6 +75,11 @@ bool pid_running(int pid) {
 
 std::uint64_t RtLink::send(Command cmd) {
   std::lock_guard<std::mutex> lock(send_mutex_);
+  // Ids keep rising across hosts: a host started after another one (a restart of the
+  // service) would otherwise number from 1 again, below the rt's last_command_id, and take
+  // the rt's status as the answer to commands it has not taken yet (a program "ended" at once).
+  const std::uint64_t seen = status().last_command_id;
+  if (next_id_.load() <= seen) next_id_.store(seen + 1);
   cmd.id = next_id_.fetch_add(1);
   if (!shm().commands.try_push(cmd)) return 0;
   shm().block_published.notify();

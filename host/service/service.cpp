@@ -49,7 +49,8 @@ struct Service::Impl {
         work(work_state_path(c), default_work_state(c)),
         jobs(journal_path(state_dir(c)),
              JobNotices{[this](ClientId client, json id, Outcome o) { post_reply(client, std::move(id), std::move(o)); },
-                        [this](json event) { post_event(std::move(event)); }}),
+                        [this](json event) { post_event(std::move(event)); },
+                        [this](WorkState before, WorkState after) { post_work(std::move(before), std::move(after)); }}),
         jogs(config, rt, [this](ClientId client, const json& id, const Outcome& o) { reply(client, id, o); },
              [this](const json& event) { subs.broadcast_event(event); }),
         parts{config, work, rt, jobs, jogs, subs},
@@ -93,6 +94,20 @@ struct Service::Impl {
 
   void post_event(json event) {
     server->post([this, event = std::move(event)] { subs.broadcast_event(event); });
+  }
+
+  // What a program or MDI changed (G10, G92...) goes into the service's work state and is
+  // saved; what set_offset changed meanwhile stays (merge_work_change).
+  void post_work(WorkState before, WorkState after) {
+    server->post([this, before, after] {
+      const WorkState next = merge_work_change(work.state(), before, after);
+      if (next == work.state()) return;
+      if (auto error = work.replace(next)) {
+        spdlog::error("the work offsets the program left were not saved: {}", *error);
+      } else {
+        spdlog::info("work offsets as the program left them saved in {}", work.path().empty() ? "memory only" : work.path());
+      }
+    });
   }
 
   // Construction order is the order of dependence; destruction runs backwards, so the job

@@ -14,6 +14,19 @@ std::optional<std::string> WorkStore::set_g5x(int index, const std::optional<dou
   for (int i = 0; i < kAxes; ++i) {
     if (xyz[i]) o[static_cast<std::size_t>(i)] = *xyz[i];
   }
+  return replace(next);
+}
+
+std::optional<std::string> WorkStore::touch_off(int axis, double value, const Vec3& machine, double tool_length) {
+  if (axis < 0 || axis >= kAxes) return "no axis " + std::to_string(axis);
+  WorkState next = state_;
+  const auto a = static_cast<std::size_t>(axis);
+  const double g92 = next.g92_applied ? next.g92[a] : 0.0;
+  next.g5x[static_cast<std::size_t>(next.active)][a] = machine[a] - g92 - (axis == 2 ? tool_length : 0.0) - value;
+  return replace(next);
+}
+
+std::optional<std::string> WorkStore::replace(const WorkState& next) {
   if (!path_.empty()) {
     try {
       save_work_state(path_, next);
@@ -23,6 +36,27 @@ std::optional<std::string> WorkStore::set_g5x(int index, const std::optional<dou
   }
   state_ = next;
   return std::nullopt;
+}
+
+WorkState merge_work_change(const WorkState& current, const WorkState& before, const WorkState& after) {
+  WorkState out = current;
+  for (std::size_t i = 0; i < out.g5x.size(); ++i) {
+    if (after.g5x[i] != before.g5x[i]) out.g5x[i] = after.g5x[i];
+  }
+  if (after.active != before.active) out.active = after.active;
+  if (after.g92 != before.g92 || after.g92_applied != before.g92_applied) {
+    out.g92 = after.g92;
+    out.g92_applied = after.g92_applied;
+  }
+  if (after.g28 != before.g28) out.g28 = after.g28;
+  if (after.g30 != before.g30) out.g30 = after.g30;
+  return out;
+}
+
+Vec3 work_position(const WorkState& w, const Vec3& machine) {
+  Vec3 p = machine - w.g5x[static_cast<std::size_t>(w.active)];
+  if (w.g92_applied) p = p - w.g92;
+  return p;
 }
 
 std::array<Vec3, 6> first_six(const WorkOffsets& g5x) {

@@ -30,11 +30,26 @@ class WorkStore {
   /// G54..G59.3 (0..8) := `xyz` where given, then saved. On a failed save the state is left as
   /// it was and the error returned.
   std::optional<std::string> set_g5x(int index, const std::optional<double> (&xyz)[kAxes]);
+  /// G10 L20's meaning for one axis of the active system: its offset := `machine` (the
+  /// position now, machine mm) - the applied G92 offset - `tool_length` - `value`, so that
+  /// the position reads `value` in work coordinates; then saved. Same failure rule.
+  std::optional<std::string> touch_off(int axis, double value, const Vec3& machine, double tool_length = 0.0);
+  /// The whole state (what a program or MDI left: G10, G92, G28.1...), then saved. Same rule.
+  std::optional<std::string> replace(const WorkState& next);
 
  private:
   std::string path_;
   WorkState state_;
 };
+
+/// `current` with what a job changed from `before` to `after`, part by part (each of the nine
+/// systems, the selection, G92 with its flag, G28, G30): a part the job left alone keeps
+/// `current`'s value, which set_offset may have changed while the job ran.
+WorkState merge_work_change(const WorkState& current, const WorkState& before, const WorkState& after);
+
+/// Work coordinates of a machine position: machine - the active G5x - the applied G92 (the
+/// tool length is the job's: a service between jobs has none).
+Vec3 work_position(const WorkState& w, const Vec3& machine);
 
 /// G54..G59 of `g5x` in the config's form (gcode.work_offsets, what the interpreter reads).
 std::array<Vec3, 6> first_six(const WorkOffsets& g5x);
