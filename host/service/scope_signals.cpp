@@ -98,9 +98,9 @@ std::optional<Trigger> parse_trigger(std::string_view text, std::string& error) 
   if (t.signal < 0) return bad("unknown signal '" + lhs + "' (signals: " + signal_list() + ")");
   if (rhs.empty()) return bad("no level after the comparison");
   if (t.signal == scope_signal_index("state")) {
+    if (t.absolute) return bad("abs() of state");
     MachineState st{};
     if (parse_state_name(rhs, st)) {
-      if (t.absolute) return bad("abs() of state");
       t.level = static_cast<double>(static_cast<int>(st));
       return t;
     }
