@@ -212,6 +212,31 @@ TEST(ScopeFiles, ResultToCsvAndPage) {
   EXPECT_THROW(capture_record(broken), std::runtime_error);
 }
 
+// The capture thread's turn: it follows the ring while it keeps up, and a turn that comes
+// more than the ring's length late fails the capture naming the samples lost.
+TEST(CaptureControl, DrainingFollowsTheRingAndReportsALapAsLostSamples) {
+  auto ring = std::make_unique<ScopeRing<kScopeSlots>>();
+  for (std::uint64_t n = 0; n < 100; ++n) ring->publish(sample(n));
+  ScopeRecorder rec(params_with(nullptr, 0.5, 0.0), 2000.0);  // 1000 rows
+  std::uint64_t next = drain_scope(*ring, 40, rec);  // the capture began at sample 40
+  EXPECT_EQ(next, 100u);
+  EXPECT_EQ(rec.rows().size(), 60u);
+  for (std::uint64_t n = 100; n < 600; ++n) ring->publish(sample(n));
+  next = drain_scope(*ring, next, rec);
+  EXPECT_EQ(next, 600u);
+  EXPECT_EQ(rec.rows().size(), 560u);
+  EXPECT_EQ(rec.rows().back().line, 599u);
+  EXPECT_FALSE(rec.finished());
+
+  // the host sleeps through more than a ring's worth of cycles
+  for (std::uint64_t n = 600; n < 600 + kScopeSlots + 25; ++n) ring->publish(sample(n));
+  drain_scope(*ring, next, rec);
+  ASSERT_EQ(rec.phase(), ScopeRecorder::Phase::kFailed);
+  EXPECT_NE(rec.failure().find("lost 25 sample(s) from the rt's sample 600"), std::string::npos) << rec.failure();
+  EXPECT_NE(rec.failure().find("4096 cycles behind"), std::string::npos) << rec.failure();
+  EXPECT_EQ(rec.rows().size(), 560u) << "nothing after the gap is recorded";
+}
+
 TEST(CaptureControl, RefusedUnderTheVirtualClock) {
   CaptureControl cc(2000.0, [](ClientId, json, Outcome) {});
   Status st;

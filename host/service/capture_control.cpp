@@ -7,7 +7,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <thread>
 
 #include "service/scope_recorder.hpp"
@@ -55,11 +54,31 @@ json capture_result(const ScopeRecorder& rec, const CaptureParams& p, double cyc
   return r;
 }
 
+std::uint64_t drain_scope(const ScopeRing<kScopeSlots>& ring, std::uint64_t next, ScopeRecorder& rec) {
+  const std::uint64_t w = ring.written();
+  if (w > next + kScopeSlots) {  // lapped: those samples are overwritten already
+    rec.lost(next, w - kScopeSlots - next, "the host read more than " + std::to_string(kScopeSlots) + " cycles behind the rt");
+    return w;
+  }
+  for (; next < w && !rec.finished(); ++next) {
+    TraceSample s;
+    const ScopeRead r = ring.read(next, s);
+    if (r == ScopeRead::kNotYet) break;
+    if (r == ScopeRead::kLost) {
+      rec.lost(next, 1, "overwritten while the host read it");
+      break;
+    }
+    rec.feed(next, s);
+  }
+  return next;
+}
+
 struct CaptureControl::Capture {
   ClientId client = 0;
   json id;
   std::shared_ptr<RtLink> link;
   CaptureParams params;
+  std::uint64_t first = 0;  // the rt's first sample after the request
   std::atomic<bool> cancel{false}, done{false};
   std::thread thread;
 };
@@ -116,6 +135,7 @@ Outcome CaptureControl::start(ClientId client, const json& id, std::shared_ptr<R
   cap->id = id;
   cap->link = std::move(link);
   cap->params = params;
+  cap->first = cap->link->shm().scope.written();
   Capture* c = cap.get();
   const double hz = cycle_hz_;
   const Reply reply = reply_;
@@ -126,35 +146,15 @@ Outcome CaptureControl::start(ClientId client, const json& id, std::shared_ptr<R
     };
     ScopeRecorder rec(c->params, hz);
     const auto& ring = c->link->shm().scope;
-    std::uint64_t next = ring.written();  // the first sample after the request
+    std::uint64_t next = c->first;
     const auto t0 = std::chrono::steady_clock::now();
-    double seen_min = std::numeric_limits<double>::infinity(), seen_max = -seen_min;
     while (!c->cancel) {
       std::this_thread::sleep_for(kDrainEvery);
       if (!c->link->rt_alive()) {
         return finish(Outcome::fail(rpc::Error{rpc::kRtUnavailable, "pcnc-rt was lost during the capture: " +
                                                                         c->link->rt_loss_reason(), nullptr}));
       }
-      const std::uint64_t w = ring.written();
-      if (w > next + kScopeSlots) {  // lapped: those samples are overwritten already
-        rec.lost(next, w - kScopeSlots - next, "the host read more than " + std::to_string(kScopeSlots) + " cycles behind the rt");
-      }
-      for (; next < w && !rec.finished(); ++next) {
-        TraceSample s;
-        const ScopeRead r = ring.read(next, s);
-        if (r == ScopeRead::kNotYet) break;
-        if (r == ScopeRead::kLost) {
-          rec.lost(next, 1, "overwritten while the host read it");
-          break;
-        }
-        rec.feed(next, s);
-        if (c->params.trigger && rec.phase() == ScopeRecorder::Phase::kArmed) {
-          double v = scope_signal_value(s, c->params.trigger->signal);
-          if (c->params.trigger->absolute) v = std::fabs(v);
-          seen_min = std::min(seen_min, v);
-          seen_max = std::max(seen_max, v);
-        }
-      }
+      next = drain_scope(ring, next, rec);
       if (rec.phase() == ScopeRecorder::Phase::kDone) {
         return finish(Outcome::ok(capture_result(rec, c->params, hz)));
       }
@@ -166,13 +166,14 @@ Outcome CaptureControl::start(ClientId client, const json& id, std::shared_ptr<R
       const bool waiting = rec.phase() == ScopeRecorder::Phase::kFilling || rec.phase() == ScopeRecorder::Phase::kArmed;
       if (waiting && waited > c->params.trigger_timeout_s) {
         char buf[160];
-        if (seen_min <= seen_max) {
-          std::snprintf(buf, sizeof buf, " (while armed it ranged over [%g, %g])", seen_min, seen_max);
+        if (rec.armed_min() <= rec.armed_max()) {
+          std::snprintf(buf, sizeof buf, " (while armed it ranged over [%g, %g])", rec.armed_min(), rec.armed_max());
         } else {
           buf[0] = '\0';
         }
-        return finish(Outcome::fail(refused("the trigger '" + c->params.trigger->text + "' did not hold within " +
-                                            std::to_string(static_cast<long>(c->params.trigger_timeout_s)) + " s" + buf)));
+        char within[48];
+        std::snprintf(within, sizeof within, "%g s", c->params.trigger_timeout_s);
+        return finish(Outcome::fail(refused("the trigger '" + c->params.trigger->text + "' did not hold within " + within + buf)));
       }
     }
     c->done = true;  // cancelled: the client left, or the service ends

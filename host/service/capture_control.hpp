@@ -54,6 +54,11 @@ class CaptureControl {
   std::list<std::unique_ptr<Capture>> captures_;
 };
 
+/// One turn of a capture's thread: feeds `rec` the samples from `next` up to what the rt has
+/// written, or tells it which were lost (lapped: more than kScopeSlots behind, or overwritten
+/// during the copy). Returns the next sample to read. Pure of threads, for tests.
+std::uint64_t drain_scope(const ScopeRing<kScopeSlots>& ring, std::uint64_t next, class ScopeRecorder& rec);
+
 /// The record as the `capture` result: signals, rows, period, trigger and its row, and the
 /// columns (t and each signal) rounded as the trace writes them. Pure, for tests.
 rpc::json capture_result(const class ScopeRecorder& rec, const CaptureParams& params, double cycle_hz);

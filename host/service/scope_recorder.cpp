@@ -1,6 +1,7 @@
 // scope_recorder.cpp — pre-trigger, trigger and record of one capture (see scope_recorder.hpp).
 #include "service/scope_recorder.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pcnc {
@@ -35,8 +36,12 @@ ScopeRecorder::Phase ScopeRecorder::feed(std::uint64_t n, const TraceSample& s) 
     case Phase::kFilling:
     case Phase::kArmed:
       if (k >= pre_) {
-        if (phase_ == Phase::kFilling || k == pre_) armed_t_ = s.t;
+        if (k == pre_) armed_t_ = s.t;
         phase_ = Phase::kArmed;
+        double v = scope_signal_value(s, params_.trigger->signal);
+        if (params_.trigger->absolute) v = std::fabs(v);
+        armed_min_ = std::min(armed_min_, v);
+        armed_max_ = std::max(armed_max_, v);
         if (params_.trigger->holds(s)) {
           // the pre-trigger's samples, oldest first, then the trigger sample
           for (std::size_t i = 0; i < pre_; ++i) rows_.push_back(ring_[(ring_next_ + i) % pre_]);

@@ -41,6 +41,10 @@ class ScopeRecorder {
   std::uint64_t trigger_sample() const { return trigger_n_; }
   double armed_t() const { return armed_t_; }               // machine time the trigger was armed at
   std::uint64_t samples_fed() const { return fed_; }
+  /// The trigger's value (abs() applied) while armed and not holding: its range, for the
+  /// message when it never holds (+inf/-inf before any).
+  double armed_min() const { return armed_min_; }
+  double armed_max() const { return armed_max_; }
 
  private:
   CaptureParams params_;
@@ -51,6 +55,7 @@ class ScopeRecorder {
   std::vector<TraceSample> rows_;
   std::uint64_t first_n_ = 0, next_n_ = 0, trigger_n_ = 0, fed_ = 0;
   double armed_t_ = 0.0;
+  double armed_min_ = 1e300, armed_max_ = -1e300;
   std::string failure_;
 };
 
