@@ -237,6 +237,25 @@ TEST(CaptureControl, DrainingFollowsTheRingAndReportsALapAsLostSamples) {
   EXPECT_EQ(rec.rows().size(), 560u) << "nothing after the gap is recorded";
 }
 
+// The largest record allowed, with values as long as they get, still fits the socket's reply
+// bound (control_server.hpp: a client whose queue passes it is dropped).
+TEST(ScopeFiles, TheLargestRecordFitsTheSocketsReplyBound) {
+  auto p = check_capture_params(json{{"signals", {"cmd_x", "act_x", "ferr_x", "cmd_y", "act_y", "ferr_y"}}, {"seconds", 4}}, 2000.0);
+  ASSERT_TRUE(p.ok()) << p.error.message;
+  ScopeRecorder rec(*p.value, 2000.0);
+  for (std::uint64_t n = 0; !rec.finished(); ++n) {
+    TraceSample s;
+    s.t = 123456.7895 + static_cast<double>(n) * 0.0005;  // a day and more of rt uptime
+    s.commanded = {-12.3456789 - static_cast<double>(n % 7) * 1e-7, -12.3456781, 0.0};
+    s.actual = {-12.3456782, -12.3456783, 0.0};
+    s.following_error = {-0.0012345, -0.0054321, 0.0};
+    rec.feed(n, s);
+  }
+  ASSERT_EQ(rec.rows().size(), 8000u);
+  const std::string line = rpc::format_result(json(123456), capture_result(rec, *p.value, 2000.0));
+  EXPECT_LT(line.size(), ServerLimits{}.max_output_bytes) << line.size() << " bytes";
+}
+
 TEST(CaptureControl, RefusedUnderTheVirtualClock) {
   CaptureControl cc(2000.0, [](ClientId, json, Outcome) {});
   Status st;
