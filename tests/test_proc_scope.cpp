@@ -121,6 +121,9 @@ TEST(Scope, RefusesBadRequestsWithTheirReason) {
   r = ctl({"--signals", "ferr_x", "--seconds", "30", "-o", out});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("at most 10 s"), std::string::npos) << r.err;
+  r = ctl({"--signals", "ferr_x", "--seconds", "1", "--pre-trigger", "20", "-o", out});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("need --trigger"), std::string::npos) << r.err;
   r = ctl({"--signals", "ferr_x", "--seconds", "1", "-o", "/nonexistent/dir/s.html"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("/nonexistent/dir"), std::string::npos) << r.err;

@@ -512,10 +512,15 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
   cap->add_option("--signals", cap_signals, "comma-separated trace columns: line,state,cmd_x..cmd_z,act_x..act_z,ferr_x..ferr_z,speed")->required();
   cap->add_option("--seconds", cap_seconds, "record length, s (at most 10, and 48000 values: seconds x cycle rate x signals)")->required();
   cap->add_option("--trigger", cap_trigger, "start on a condition, e.g. \"ferr_x>0.005\" or \"abs(ferr_y)>=0.002\" (default: at once)");
-  cap->add_option("--pre-trigger", cap_pre, "percent of the record before the trigger")->capture_default_str();
-  cap->add_option("--trigger-timeout", cap_wait, "seconds to wait for the trigger")->capture_default_str();
+  auto* cap_pre_opt = cap->add_option("--pre-trigger", cap_pre, "percent of the record before the trigger")->capture_default_str();
+  auto* cap_wait_opt = cap->add_option("--trigger-timeout", cap_wait, "seconds to wait for the trigger")->capture_default_str();
   cap->add_option("-o,--output", cap_out, "the HTML page; the CSV goes beside it with the same stem")->required();
-  cap->callback([&exit_code] {
+  cap->callback([&exit_code, cap_pre_opt, cap_wait_opt] {
+    if (cap_trigger.empty() && (cap_pre_opt->count() > 0 || cap_wait_opt->count() > 0)) {
+      std::fprintf(stderr, "pcnc ctl capture: --pre-trigger and --trigger-timeout need --trigger (without one the record starts at once)\n");
+      exit_code = kExitBadInput;
+      return;
+    }
     json params = {{"seconds", cap_seconds}, {"signals", json::array()}};
     for (std::size_t a = 0; a <= cap_signals.size();) {
       const std::size_t b = std::min(cap_signals.find(',', a), cap_signals.size());
