@@ -3,8 +3,11 @@
 // sample) and the program runs on to its end; the trigger sits where its condition first
 // holds after the pre-trigger is full; `pcnc ctl capture` writes the CSV (header, one row per
 // cycle) beside the HTML page; unknown signals, bad triggers, too long a record, a trigger
-// that never comes and an output path that cannot be written are refused with their reason.
+// that never comes and an output path that cannot be written are refused with their reason;
+// an rt that dies during a capture ends it with error 2.
 #include <gtest/gtest.h>
+
+#include <signal.h>
 
 #include <cmath>
 #include <fstream>
@@ -136,6 +139,18 @@ TEST(Scope, RefusesBadRequestsWithTheirReason) {
   EXPECT_NE(never["error"]["message"].get<std::string>().find("did not hold within"), std::string::npos) << never.dump();
   EXPECT_NE(never["error"]["message"].get<std::string>().find("ranged over"), std::string::npos) << never.dump();
   EXPECT_EQ(p.status()["state"], "IDLE");
+
+  // pcnc-rt dies during a capture: error 2, at once, not a record with a hole.
+  json gone;
+  std::thread waiter([&] { gone = p.call("capture", {{"signals", {"ferr_x"}}, {"seconds", 5}}, 30); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  p.kill_rt(SIGKILL);
+  waiter.join();
+  ASSERT_TRUE(gone.contains("error")) << gone.dump();
+  EXPECT_EQ(gone["error"]["code"], rpc::kRtUnavailable) << gone.dump();
+  // "pcnc-rt was lost during the capture: ..." (or, had the request come after the kill,
+  // "pcnc-rt is not available"): either way no record
+  EXPECT_NE(gone["error"]["message"].get<std::string>().find("pcnc-rt"), std::string::npos) << gone.dump();
 }
 
 }  // namespace
