@@ -4,14 +4,25 @@
 // pre-trigger and trigger position and its refusal of a gap, and the CSV/HTML files.
 #include <gtest/gtest.h>
 
-#include <memory>
+#include <unistd.h>
 
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "config/config.hpp"
 #include "ctl_capture.hpp"
+#include "ipc/segment.hpp"
 #include "ipc/scope_ring.hpp"
 #include "report/scope_page.hpp"
 #include "service/capture_control.hpp"
+#include "service/rt_link.hpp"
 #include "service/scope_recorder.hpp"
 #include "service/scope_signals.hpp"
+#include "test_paths.hpp"
 
 namespace pcnc {
 namespace {
@@ -254,6 +265,55 @@ TEST(ScopeFiles, TheLargestRecordFitsTheSocketsReplyBound) {
   ASSERT_EQ(rec.rows().size(), 8000u);
   const std::string line = rpc::format_result(json(123456), capture_result(rec, *p.value, 2000.0));
   EXPECT_LT(line.size(), ServerLimits{}.max_output_bytes) << line.size() << " bytes";
+}
+
+// A capture's thread against a segment in this process, written at the rt's pace by a
+// stand-in for the rt (this thread, beating its heartbeat): the reply is the whole record,
+// consecutive samples from the request on. Under ThreadSanitizer it checks the thread and the
+// ring for races.
+TEST(CaptureControl, ACaptureThreadRecordsFromTheSegmentAndReplies) {
+  MachineConfig cfg = load_config(test::default_config());
+  cfg.process.shm_name = "/pcnc-test-scope-" + std::to_string(getpid());
+  RtSegment rt(cfg.process.shm_name);
+  auto& shm = rt.shm();
+  shm.header.rt_heartbeat_ns.store(monotonic_ns());
+  for (std::uint64_t n = 0; n < 7; ++n) shm.scope.publish(sample(n));  // before the request
+  auto link = std::make_shared<RtLink>(cfg);
+
+  std::mutex m;
+  std::condition_variable cv;
+  std::optional<Outcome> got;
+  json got_id;
+  CaptureControl cc(2000.0, [&](ClientId client, json id, Outcome o) {
+    EXPECT_EQ(client, 3u);
+    std::lock_guard lock(m);
+    got = std::move(o);
+    got_id = std::move(id);
+    cv.notify_all();
+  });
+  const Outcome started = cc.start(3, json("cap-1"), link, Status{}, params_with(nullptr, 0.05, 0.0));  // 100 rows
+  ASSERT_TRUE(started.is_later());
+  EXPECT_EQ(cc.active(), 1u);
+  std::uint64_t n = 7;
+  for (;;) {
+    {
+      std::unique_lock lock(m);
+      if (cv.wait_for(lock, std::chrono::microseconds(500), [&] { return got.has_value(); })) break;
+    }
+    shm.scope.publish(sample(n++));
+    shm.header.rt_heartbeat_ns.store(monotonic_ns());
+    ASSERT_LT(n, 200000u) << "no reply";
+  }
+  ASSERT_TRUE(got->result) << (got->error ? got->error->message : "");
+  EXPECT_EQ(got_id, "cap-1");
+  const json& r = *got->result;
+  EXPECT_EQ(r["rows"], 100);
+  EXPECT_EQ(r["first_sample"], 7);
+  EXPECT_FALSE(r["columns"].contains("cmd_x")) << "only the signals asked for";
+  EXPECT_TRUE(r["columns"].contains("speed"));
+  const auto line = r["columns"]["line"].get<std::vector<double>>();
+  ASSERT_EQ(line.size(), 100u);
+  for (std::size_t i = 0; i < line.size(); ++i) EXPECT_EQ(line[i], static_cast<double>(7 + i));
 }
 
 TEST(CaptureControl, RefusedUnderTheVirtualClock) {
