@@ -141,8 +141,9 @@ Outcome CaptureControl::start(ClientId client, const json& id, std::shared_ptr<R
   const Reply reply = reply_;
   c->thread = std::thread([c, hz, reply] {
     auto finish = [&](Outcome o) {
-      c->done = true;
+      c->link.reset();  // a finished capture holds no link (nor the old rt's segment) until reaped
       if (!c->cancel) reply(c->client, c->id, std::move(o));
+      c->done = true;
     };
     ScopeRecorder rec(c->params, hz);
     const auto& ring = c->link->shm().scope;
@@ -176,6 +177,7 @@ Outcome CaptureControl::start(ClientId client, const json& id, std::shared_ptr<R
         return finish(Outcome::fail(refused("the trigger '" + c->params.trigger->text + "' did not hold within " + within + buf)));
       }
     }
+    c->link.reset();
     c->done = true;  // cancelled: the client left, or the service ends
   });
   captures_.push_back(std::move(cap));
