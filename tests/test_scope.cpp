@@ -194,9 +194,9 @@ TEST(ScopeRecorder, AGapFailsTheCaptureSayingHowManySamplesWereLost) {
   EXPECT_EQ(rec.feed(15, sample(15)), ScopeRecorder::Phase::kFailed);
   EXPECT_NE(rec.failure().find("lost 3 sample(s) from the rt's sample 12"), std::string::npos) << rec.failure();
   ScopeRecorder lapped(params_with(nullptr, 0.05, 0.0), 2000.0);
-  lapped.lost(500, 96, "the host read more than 4096 cycles behind the rt");
+  lapped.lost(500, 96, "the host read more than 2048 cycles behind the rt");
   EXPECT_EQ(lapped.phase(), ScopeRecorder::Phase::kFailed);
-  EXPECT_NE(lapped.failure().find("4096 cycles behind"), std::string::npos);
+  EXPECT_NE(lapped.failure().find("2048 cycles behind"), std::string::npos);
 }
 
 TEST(ScopeFiles, ResultToCsvAndPage) {
@@ -244,7 +244,7 @@ TEST(CaptureControl, DrainingFollowsTheRingAndReportsALapAsLostSamples) {
   drain_scope(*ring, next, rec);
   ASSERT_EQ(rec.phase(), ScopeRecorder::Phase::kFailed);
   EXPECT_NE(rec.failure().find("lost 25 sample(s) from the rt's sample 600"), std::string::npos) << rec.failure();
-  EXPECT_NE(rec.failure().find("4096 cycles behind"), std::string::npos) << rec.failure();
+  EXPECT_NE(rec.failure().find("2048 cycles behind"), std::string::npos) << rec.failure();
   EXPECT_EQ(rec.rows().size(), 560u) << "nothing after the gap is recorded";
 }
 

@@ -16,7 +16,7 @@ namespace pcnc {
 using rpc::json;
 
 namespace {
-constexpr auto kDrainEvery = std::chrono::milliseconds(5);  // 10 cycles; the ring holds 4096
+constexpr auto kDrainEvery = std::chrono::milliseconds(5);  // 10 cycles; the ring holds kScopeSlots (2048)
 
 double round_to(double v, double step) { return std::round(v / step) * step; }
 }  // namespace

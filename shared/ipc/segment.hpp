@@ -30,7 +30,9 @@ constexpr std::uint64_t kSegmentMagic = 0x314D48534E434350ull;  // "PCCNSHM1" li
 constexpr std::uint32_t kLayoutVersion = 4;  // bump on any change of the types below (4: the scope ring)
 constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
 constexpr std::size_t kMailboxSlots = 64;
-constexpr std::size_t kScopeSlots = 4096;  // 2.05 s of cycles at 2 kHz: how far a capture may lag
+// 1.02 s of cycles at 2 kHz: how far a capture may lag (it reads every 5 ms). 2048 x 104 bytes
+// keeps the whole segment at 224 KB (it is a file: RLIMIT_FSIZE applies to its creation).
+constexpr std::size_t kScopeSlots = 2048;
 
 /// The motion ring: host -> rt, preprocessed blocks (the executor consumes it).
 using MotionRing = SpscRing<Block, kRingSlots>;
