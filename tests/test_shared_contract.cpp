@@ -1,8 +1,10 @@
 // test_shared_contract.cpp — the in-process properties of the shared-memory types: ring
-// capacity and order, seqlock snapshots (the config loader: test_config.cpp).
+// capacity and order, seqlock snapshots, the scope ring under a racing reader, the layout
+// version (the config loader: test_config.cpp).
 #include <gtest/gtest.h>
 
 #include <cstddef>
+#include <memory>
 #include <thread>
 
 #include "config/config.hpp"
@@ -66,14 +68,51 @@ TEST(Seqlock, ReaderNeverSeesATornSnapshot) {
   EXPECT_GT(reads, 0u);
 }
 
-// Layout version 3 (issue 19): Status carries trace_failed. Any change of Block, Command,
-// Status or the segment bumps kLayoutVersion, so that a host and an rt of different builds
-// refuse each other, and a restarted rt takes no position from a segment it cannot read.
-TEST(SharedContract, LayoutVersionThreeCarriesTraceFailed) {
-  EXPECT_EQ(kLayoutVersion, 3u);
+// Layout version 4 (issue 20): the segment ends with the scope's ring (3, issue 19: Status
+// carries trace_failed). Any change of Block, Command, Status or the segment bumps
+// kLayoutVersion, so that a host and an rt of different builds refuse each other, and a
+// restarted rt takes no position from a segment it cannot read.
+TEST(SharedContract, LayoutVersionFourCarriesTheScopeRing) {
+  EXPECT_EQ(kLayoutVersion, 4u);
   Status s{};
   EXPECT_EQ(s.trace_failed, 0);
   EXPECT_LT(offsetof(Status, trace_failed), offsetof(Status, line));
+  EXPECT_GT(offsetof(SharedSegment, scope), offsetof(SharedSegment, status));
+  EXPECT_EQ(decltype(SharedSegment::scope)::kSlots, kScopeSlots);
+}
+
+// A reader racing the writer gets whole samples in order, or is told it lost them: never a
+// sample torn between two cycles or one from a later lap.
+TEST(ScopeRing, AReaderRacingTheWriterGetsWholeSamplesOrLosses) {
+  auto ring = std::make_unique<ScopeRing<64>>();
+  constexpr std::uint64_t kSamples = 200000;
+  std::thread writer([&] {
+    TraceSample s{};
+    for (std::uint64_t n = 0; n < kSamples; ++n) {
+      s.t = static_cast<double>(n);
+      s.commanded = {static_cast<double>(n), static_cast<double>(n), static_cast<double>(n)};
+      s.speed = static_cast<double>(n);
+      ring->publish(s);
+    }
+  });
+  std::uint64_t next = 0, ok = 0, lost = 0;
+  while (next < kSamples) {
+    TraceSample s;
+    const ScopeRead r = ring->read(next, s);
+    if (r == ScopeRead::kNotYet) continue;
+    if (r == ScopeRead::kLost) {
+      ++lost;
+    } else {
+      ++ok;
+      ASSERT_EQ(s.t, static_cast<double>(next));
+      ASSERT_EQ(s.commanded[2], s.t);
+      ASSERT_EQ(s.speed, s.t);
+    }
+    ++next;
+  }
+  writer.join();
+  EXPECT_EQ(ok + lost, kSamples);
+  EXPECT_GT(ok, 0u);
 }
 
 }  // namespace

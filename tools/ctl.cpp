@@ -21,8 +21,10 @@
 
 #include "config/config.hpp"
 #include "config/exit_status.hpp"
+#include "config/output_path.hpp"
 #include "config/runtime_paths.hpp"
 #include "check.hpp"  // parse_xyz, as `pcnc run --offset`
+#include "ctl_capture.hpp"
 
 namespace pcnc {
 
@@ -488,6 +490,61 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
     if (!std::isnan(oz)) params["z"] = oz;
     exit_code = simple_call(o, "set_offset", params, [](const json& r) {
       std::printf("%s = X %.4f Y %.4f Z %.4f\n", r.value("offset", "?").c_str(), r.value("x", 0.0), r.value("y", 0.0), r.value("z", 0.0));
+    });
+  });
+
+  // capture: the scope (docs/servo-tuning.md); the files are written here, by the client
+  auto* cap = ctl->add_subcommand("capture", "record signals at the rt's full cycle rate into -o PAGE.html and PAGE.csv: "
+                                             "`capture --signals cmd_x,act_x,ferr_x --seconds 2 --trigger \"ferr_x>0.005\" -o scope.html`");
+  static std::string cap_signals, cap_trigger, cap_out;
+  static double cap_seconds = 0.0, cap_pre = 10.0, cap_wait = 60.0;
+  cap->add_option("--signals", cap_signals, "comma-separated trace columns: line,state,cmd_x..cmd_z,act_x..act_z,ferr_x..ferr_z,speed")->required();
+  cap->add_option("--seconds", cap_seconds, "record length, s (at most 10, and 48000 values: seconds x cycle rate x signals)")->required();
+  cap->add_option("--trigger", cap_trigger, "start on a condition, e.g. \"ferr_x>0.005\" or \"abs(ferr_y)>=0.002\" (default: at once)");
+  auto* cap_pre_opt = cap->add_option("--pre-trigger", cap_pre, "percent of the record before the trigger")->capture_default_str();
+  auto* cap_wait_opt = cap->add_option("--trigger-timeout", cap_wait, "seconds to wait for the trigger")->capture_default_str();
+  cap->add_option("-o,--output", cap_out, "the HTML page; the CSV goes beside it with the same stem")->required();
+  cap->callback([&exit_code, cap_pre_opt, cap_wait_opt] {
+    if (cap_trigger.empty() && (cap_pre_opt->count() > 0 || cap_wait_opt->count() > 0)) {
+      std::fprintf(stderr, "pcnc ctl capture: --pre-trigger and --trigger-timeout need --trigger (without one the record starts at once)\n");
+      exit_code = kExitBadInput;
+      return;
+    }
+    json params = {{"seconds", cap_seconds}, {"signals", json::array()}};
+    for (std::size_t a = 0; a <= cap_signals.size();) {
+      const std::size_t b = std::min(cap_signals.find(',', a), cap_signals.size());
+      params["signals"].push_back(cap_signals.substr(a, b - a));
+      a = b + 1;
+    }
+    if (!cap_trigger.empty()) {
+      params["trigger"] = cap_trigger;
+      params["pre_trigger_percent"] = cap_pre;
+      params["trigger_timeout_s"] = cap_wait;
+    }
+    try {
+      if (std::filesystem::path(cap_out).extension() == ".csv") throw OutputPathError("-o names the HTML page; the CSV is written beside it");
+      check_output_paths({{cap_out, "-o"}, {capture_csv_path(cap_out), "the CSV beside -o"}});
+    } catch (const OutputPathError& e) {
+      std::fprintf(stderr, "pcnc ctl capture: %s\n", e.what());
+      exit_code = kExitBadInput;
+      return;
+    }
+    exit_code = with_client(o, [&](CtlClient& c) {
+      const json r = c.call("capture", params, o.timeout_s + cap_seconds + (cap_trigger.empty() ? 0.0 : cap_wait));
+      if (r.contains("error")) return report(o, r, {});
+      try {
+        write_capture_files(capture_record(r["result"]), cap_out);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "pcnc ctl capture: %s\n", e.what());
+        return kExitFault;
+      }
+      return report(o, r, [](const json& res) {
+        char when[64] = "";
+        if (res["trigger"].is_string()) std::snprintf(when, sizeof when, ", trigger at machine time %.4f s", res.value("t_trigger_s", 0.0));
+        std::printf("captured %zu cycles (%.3f s)%s; wrote %s and %s\n", res.value("rows", std::size_t{0}),
+                    static_cast<double>(res.value("rows", 0)) * res.value("period_s", 0.0), when, cap_out.c_str(),
+                    capture_csv_path(cap_out).c_str());
+      });
     });
   });
 

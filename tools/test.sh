@@ -65,7 +65,7 @@ if [ "${PCNC_SKIP_SANITIZERS:-0}" != "1" ]; then
 
   step "ThreadSanitizer: shared-memory, ring, segment and rt tests"
   cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPCNC_SANITIZE=thread >/dev/null
-  TSAN_TESTS="test_shared_contract test_segment test_ring_two_process"
+  TSAN_TESTS="test_shared_contract test_segment test_ring_two_process test_scope"
   cmake --build build-tsan -j "$JOBS" --target $TSAN_TESTS
   PCNC_RING_TEST_BLOCKS=100000 ctest --test-dir build-tsan --output-on-failure -j "$JOBS" \
     -R '^(SpscRing|Seqlock|Config|Segment|RingTwoProcess)\.'

@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "service/scope_signals.hpp"
+
 namespace pcnc {
 
 using rpc::json;
@@ -199,6 +201,12 @@ std::vector<Method> method_table(ServiceParts parts) {
                    [s](Call& c, const rpc::SubscribeParams& p) {
                      s.subs.subscribe(c.client, p.rate_hz);
                      return Outcome::ok(p.rate_hz <= 0.0 ? json{{"rate_hz", 0}} : json{{"rate_hz", p.rate_hz}});
+                   })},
+      {"capture", kParams, kRt,
+       with_params([s](const json& params) { return check_capture_params(params, s.config.motion.cycle_hz); },
+                   [s](Call& c, const CaptureParams& p) {
+                     if (!s.captures) return Outcome::fail(refused("capture is not available in this service"));
+                     return s.captures->start(c.client, c.id, c.link, c.status, p);
                    })},
   };
 }

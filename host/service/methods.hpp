@@ -6,12 +6,13 @@
 // gathers what every part knows, is built here too.
 //
 // May include: dispatch.hpp and the service's parts (rt_monitor, job_control, jog_control,
-// subscriptions, work_store), rpc.hpp, shared/.
+// subscriptions, work_store, capture_control), rpc.hpp, shared/.
 #pragma once
 
 #include <vector>
 
 #include "config/config.hpp"
+#include "service/capture_control.hpp"
 #include "service/dispatch.hpp"
 #include "service/job_control.hpp"
 #include "service/jog_control.hpp"
@@ -29,6 +30,7 @@ struct ServiceParts {
   JobControl& jobs;
   JogControl& jogs;
   Subscriptions& subs;
+  CaptureControl* captures = nullptr;  // the scope (capture); null: capture is refused
 };
 
 /// One row per method of rpc::method_names(), in that order.

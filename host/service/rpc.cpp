@@ -150,7 +150,7 @@ std::string dump_line(const json& j) { return j.dump(-1, ' ', false, json::error
 const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names = {"status", "run",     "pause",  "resume",        "stop",
                                                  "estop",  "reset",   "override", "jog",         "jog_keepalive",
-                                                 "jog_stop", "set_offset", "mdi",     "touch_off",   "subscribe"};
+                                                 "jog_stop", "set_offset", "mdi",     "touch_off",   "subscribe", "capture"};
   return names;
 }
 

@@ -8,6 +8,7 @@
 //   jog_control     jogs, their replies, the continuous jog's deadman
 //   subscriptions   status pushes and events for subscribed clients
 //   work_store      the work-coordinate state (G54..G59.3): its file, set_offset
+//   capture_control the scope: captures of the rt's per-cycle samples
 //
 // Everything a part reports from another thread (the rt monitor, the job worker) reaches
 // the clients through ControlServer::post, on the loop thread.
@@ -53,7 +54,9 @@ struct Service::Impl {
                         [this](WorkState before, WorkState after) { post_work(std::move(before), std::move(after)); }}),
         jogs(config, rt, [this](ClientId client, const json& id, const Outcome& o) { reply(client, id, o); },
              [this](const json& event) { subs.broadcast_event(event); }),
-        parts{config, work, rt, jobs, jogs, subs},
+        captures(c.motion.cycle_hz,
+                 [this](ClientId client, json id, Outcome o) { post_reply(client, std::move(id), std::move(o)); }),
+        parts{config, work, rt, jobs, jogs, subs, &captures},
         dispatcher(method_table(parts), rt) {}
 
   // ---- loop thread ----
@@ -85,6 +88,7 @@ struct Service::Impl {
     awaiting.erase(client);
     subs.remove(client);
     jogs.client_gone(client);
+    captures.client_gone(client);
   }
 
   // ---- any thread: delivered on the loop thread ----
@@ -120,6 +124,7 @@ struct Service::Impl {
   WorkStore work;  // G54..G59.3 and the rest (loop thread): loaded in run(), changed by set_offset
   JobControl jobs;
   JogControl jogs;
+  CaptureControl captures;  // the scope: capture threads reading the rt's sample ring
   ServiceParts parts;
   Dispatcher dispatcher;
   std::map<ClientId, int> awaiting;  // delayed replies (run, resume, jog) not yet sent, per client (loop thread)
@@ -194,6 +199,7 @@ void Service::run(const std::atomic<bool>& stop) {
   s.jobs.interrupt();  // a running program is stopped along the path
   s.jogs.stop_continuous("the service is shutting down");
   s.jobs.join();
+  s.captures.cancel_all();  // before the server goes: a capture thread posts its reply through it
   s.rt.stop();
   s.server.reset();
   s.rt.release();

@@ -130,6 +130,7 @@ void RtLoop::cycle(std::uint64_t now_ns) {
     shm_.header.slot_freed_ns.store(now_ns, std::memory_order_release);
     shm_.slot_freed.notify();
   }
+  shm_.scope.publish(machine_->trace_sample());  // the scope's flight recorder: never waits
   if (trace_) {
     if (options_.virtual_clock) {
       trace_->push_wait(machine_->trace_sample());

@@ -1,5 +1,6 @@
 // segment.hpp — the shared-memory segment where pcnc-host and pcnc-rt meet (the seed's
-// dual-port RAM): header, 4-slot motion ring, command mailbox, status snapshot.
+// dual-port RAM): header, 4-slot motion ring, command mailbox, status snapshot, and the
+// scope's flight recorder of per-cycle samples (scope_ring.hpp).
 //
 // pcnc-rt creates it (RtSegment) and removes it on a clean exit; pcnc-host opens it
 // (HostSegment) and refuses anything whose magic, layout version or size differ from its own.
@@ -17,6 +18,7 @@
 
 #include "ipc/block.hpp"
 #include "ipc/command.hpp"
+#include "ipc/scope_ring.hpp"
 #include "ipc/seqlock.hpp"
 #include "ipc/spsc_ring.hpp"
 #include "ipc/status.hpp"
@@ -25,9 +27,12 @@
 namespace pcnc {
 
 constexpr std::uint64_t kSegmentMagic = 0x314D48534E434350ull;  // "PCCNSHM1" little-endian
-constexpr std::uint32_t kLayoutVersion = 3;  // bump on any change of the types below
+constexpr std::uint32_t kLayoutVersion = 4;  // bump on any change of the types below (4: the scope ring)
 constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
 constexpr std::size_t kMailboxSlots = 64;
+// 1.02 s of cycles at 2 kHz: how far a capture may lag (it reads every 5 ms). 2048 x 104 bytes
+// keeps the whole segment at 224 KB (it is a file: RLIMIT_FSIZE applies to its creation).
+constexpr std::size_t kScopeSlots = 2048;
 
 /// The motion ring: host -> rt, preprocessed blocks (the executor consumes it).
 using MotionRing = SpscRing<Block, kRingSlots>;
@@ -52,6 +57,7 @@ struct SharedSegment {
   Wakeup block_published;                    // host -> rt: a block was published (virtual clock)
   SpscRing<Command, kMailboxSlots> commands; // host -> rt
   Seqlock<Status> status;                    // rt -> host
+  ScopeRing<kScopeSlots> scope;              // rt -> host: every cycle's sample, overwritten after kScopeSlots
 };
 
 static_assert(std::atomic<std::int32_t>::is_always_lock_free);
