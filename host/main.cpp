@@ -174,7 +174,8 @@ int main(int argc, char** argv) {
       };
     }
     report.job = runner.run(run_file, options, check, g_interrupt, on_progress);
-    if (runner.work_after()) {  // G10, G92, G28.1 ...: kept for the next program, as LinuxCNC's var file
+    const pcnc::WorkState work_before = options.work ? *options.work : pcnc::default_work_state(config);
+    if (runner.work_after() && !(*runner.work_after() == work_before)) {  // G10, G92, G28.1 ...: kept for the next program, as LinuxCNC's var file
       try {
         pcnc::save_work_state(pcnc::work_state_path(config), *runner.work_after());
       } catch (const std::exception& e) {

@@ -84,6 +84,21 @@ TEST(GcodeOffsets, ExtraSystemsAndM2BackToG54) {
   EXPECT_EQ(l.result.work.active, 0) << "M2 selects G54 again";
 }
 
+TEST(GcodeOffsets, OffsetIsThisJobsG54OnlyUnlessTheProgramSetsG54) {
+  JobOptions o;  // list_program's --offset 0,0,0 over the config's G54 (0,0,0 in wide_config)
+  WorkState w = default_work_state(wide_config());
+  w.g5x[0] = Vec3{5, 5, 5};
+  o.work = w;
+  o.offset = Vec3{1, 2, 3};
+  const Listing kept = list_program("G0 X0 Y0 Z0\nG10 L2 P2 X9\nM2\n", wide_config(), o);
+  ASSERT_TRUE(kept.result.ok) << kept.first_error();
+  expect_xyz(kept.moves[0].end, 1, 2, 3, "--offset places this job");
+  expect_xyz(kept.result.work.g5x[0], 5, 5, 5, "the state file's G54 stays");
+  EXPECT_NEAR(kept.result.work.g5x[1][0], 9.0, 1e-12);
+  const Listing set = list_program("G10 L2 P1 X7 Y7 Z7\nM2\n", wide_config(), o);
+  expect_xyz(set.result.work.g5x[0], 7, 7, 7, "the program's own G10 L2 P1 is kept");
+}
+
 TEST(GcodeOffsets, TheStartingWorkStateIsUsed) {
   JobOptions o;
   WorkState w = default_work_state(wide_config());

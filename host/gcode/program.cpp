@@ -46,6 +46,15 @@ WorkState start_work(const MachineConfig& config, const JobOptions& options) {
   return w;
 }
 
+// What a job leaves for the state file: --offset was this job's G54 only, so unless the
+// program set G54 itself (G10 L2 P1 ...) the file's G54 stays.
+WorkState work_left(const MachineConfig& config, const JobOptions& options, WorkState after) {
+  if (options.offset && after.g5x[0] == *options.offset) {
+    after.g5x[0] = (options.work ? *options.work : default_work_state(config)).g5x[0];
+  }
+  return after;
+}
+
 JobFrame make_frame(const MachineConfig& config, const JobOptions& options, const Transform& t) {
   JobFrame f;
   f.work = start_work(config, options);
@@ -207,7 +216,7 @@ MoveListing list_input(const Input& in, const std::string& name, const MachineCo
       if (on_move) on_move(m);
     }
     result.lines = pipeline.lines();
-    result.work = pipeline.work_state();
+    result.work = work_left(config, options, pipeline.work_state());
   } catch (const std::exception& e) {
     sink.error(0, 0, e.what());
   }
@@ -266,6 +275,8 @@ std::string format_move(const Move& m) {
 struct BlockStream::Impl {
   Impl(std::unique_ptr<LineReader> reader, const std::string& name, const MachineConfig& config, const JobFrame& frame)
       : sink(name), pipeline(std::move(reader), config, frame, sink) {}
+  MachineConfig config;  // for work_left
+  JobOptions options;
   DiagnosticSink sink;
   Pipeline pipeline;  // keeps its own copy of the config: the stream may outlive the caller's
 };
@@ -275,6 +286,8 @@ BlockStream::BlockStream(const std::string& path, const MachineConfig& config, c
     : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(path), path, config,
                                    make_frame(config, options, transform))) {
   if (options.on_message) impl_->pipeline.set_message_handler(options.on_message);
+  impl_->config = config;
+  impl_->options = options;
 }
 
 BlockStream::BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config,
@@ -282,9 +295,13 @@ BlockStream::BlockStream(FromText, std::string_view text, const std::string& nam
     : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(LineReader::FromText{}, text), name, config,
                                    make_frame(config, options, transform))) {
   if (options.on_message) impl_->pipeline.set_message_handler(options.on_message);
+  impl_->config = config;
+  impl_->options = options;
 }
 
-WorkState BlockStream::work_state() const { return impl_->pipeline.work_state(); }
+WorkState BlockStream::work_state() const {
+  return work_left(impl_->config, impl_->options, impl_->pipeline.work_state());
+}
 
 BlockStream::~BlockStream() = default;
 BlockStream::BlockStream(BlockStream&&) noexcept = default;
