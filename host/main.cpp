@@ -106,6 +106,15 @@ int main(int argc, char** argv) {
 
   if (serve) {
     if (app.count("--log-level") == 0) spdlog::set_level(spdlog::level::info);  // a service logs what it does
+    if (!tool_table.empty()) config.gcode.tool_table = tool_table;  // the jobs' tool table
+    if (!config.gcode.tool_table.empty()) {
+      try {
+        (void)pcnc::load_tool_table(config.gcode.tool_table);  // refused now, not at the first job
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "pcnc-host: %s\n", e.what());
+        return pcnc::kExitBadInput;
+      }
+    }
     try {
       pcnc::Service service(config);
       service.run(g_interrupt);

@@ -135,6 +135,21 @@ TEST(ExitCodes, ARefusedProgramExits2) {
   }
 }
 
+TEST(ExitCodes, ABadToolTableExits2WithItsLineForEveryCommandThatTakesOne) {
+  const std::string dir = make_temp_dir("xtools");
+  const std::string config = write_test_config(dir, "xtools");
+  const std::string table = dir + "/bad.tbl";
+  std::ofstream(table) << "T1 P1 Z10 D6\nT2 P2 Z5 Q12\n";
+  const std::string program = write_program(dir, "ok.ngc", "G21 G90 G54\nT1 M6 G43\nG0 Z-1\nM30\n");
+  for (const Args& a : {Args{pcnc_exe(), "check", program, "--config", config, "--tool-table", table},
+                        Args{pcnc_exe(), "run", program, "--clock", "virtual", "--config", config, "--tool-table", table},
+                        Args{host_exe(), "--serve", "--config", config, "--tool-table", table}}) {
+    const ProcessResult r = run_process(a, 60);
+    EXPECT_EQ(r.exit_code, 2) << show(a) << ": " << r.out << r.err;
+    EXPECT_TRUE(has(r.err, "bad.tbl:2:10")) << show(a) << ": " << r.err;
+  }
+}
+
 TEST(ExitCodes, ARefusedProgramExits2FromTheHostAndTheService) {
   ServicePair pair("xsvc");
   ASSERT_TRUE(pair.start("virtual")) << pair.host_log() << pair.rt_log();
