@@ -146,11 +146,7 @@ TEST(ServiceOperator, MdiAndTouchOffAreRefusedWhileAProgramRunsAndStatusHasThePl
 TEST(ServiceOperator, CtlMdiAndTouchOff) {
   ServicePair p("op-ctl");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();
-  auto ctl = [&](std::vector<std::string> args) {
-    std::vector<std::string> argv = {pcnc_exe(), "ctl", "--config", p.config()};
-    argv.insert(argv.end(), args.begin(), args.end());
-    return run_process(argv, 120);
-  };
+  auto ctl = [&](const std::vector<std::string>& args) { return p.ctl(args); };
   ProcessResult r = ctl({"mdi", "G1 X2 F300", "G1 Y3"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("MDI completed"), std::string::npos) << r.out;

@@ -106,9 +106,8 @@ TEST(Scope, RefusesBadRequestsWithTheirReason) {
   ServicePair p("scope-bad");
   ASSERT_TRUE(p.start("real")) << p.host_log();
   auto ctl = [&](std::vector<std::string> args) {
-    std::vector<std::string> argv = {pcnc_exe(), "ctl", "--config", p.config(), "capture"};
-    argv.insert(argv.end(), args.begin(), args.end());
-    return run_process(argv, 60);
+    args.insert(args.begin(), "capture");
+    return p.ctl(args, 60);
   };
   const std::string out = p.dir() + "/s.html";
   ProcessResult r = ctl({"--signals", "cmd_x,ferr_q", "--seconds", "1", "-o", out});

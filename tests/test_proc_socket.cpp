@@ -480,12 +480,7 @@ TEST(ServiceSocket, BadClientsDoNotDisturbARunningProgram) {
 TEST(ServiceSocket, CtlCommandLine) {
   ServicePair p("sock-ctl");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();
-  const std::vector<std::string> base = {pcnc_exe(), "ctl", "--config", p.config()};
-  auto ctl = [&](std::vector<std::string> args) {
-    std::vector<std::string> argv = base;
-    argv.insert(argv.end(), args.begin(), args.end());
-    return run_process(argv, 120);
-  };
+  auto ctl = [&](const std::vector<std::string>& args) { return p.ctl(args); };
   ProcessResult r = ctl({"status"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("IDLE"), std::string::npos) << r.out;
@@ -524,12 +519,7 @@ TEST(ServiceSocket, CtlCommandLine) {
 TEST(ServiceSocket, CtlRunOffsetAndPlacement) {
   ServicePair p("sock-ctl-offset");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();
-  const std::vector<std::string> base = {pcnc_exe(), "ctl", "--config", p.config()};
-  auto ctl = [&](std::vector<std::string> args) {
-    std::vector<std::string> argv = base;
-    argv.insert(argv.end(), args.begin(), args.end());
-    return run_process(argv, 120);
-  };
+  auto ctl = [&](const std::vector<std::string>& args) { return p.ctl(args); };
   ProcessResult r = ctl({"run", source_dir() + "/examples/demo.ngc", "--offset", "13,12,24", "--wait"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("placement  machine = 1.000000 * program + (13.0000, 12.0000, 24.0000) mm"), std::string::npos) << r.out;

@@ -19,6 +19,12 @@ std::string rt_exe() { return bin_dir() + "/rt/pcnc-rt"; }
 std::string host_exe() { return bin_dir() + "/host/pcnc-host"; }
 std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
+ProcessResult ServicePair::ctl(const std::vector<std::string>& args, double timeout_s) const {
+  std::vector<std::string> argv = {pcnc_exe(), "ctl", "--config", config_};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run_process(argv, timeout_s);
+}
+
 ServicePair::ServicePair(const std::string& tag, const std::vector<std::pair<std::string, std::string>>& replacements)
     : tag_(tag), dir_(make_temp_dir(tag)) {
   config_ = write_test_config(dir_, tag, replacements);

@@ -43,6 +43,8 @@ class ServicePair {
 
   const std::string& dir() const { return dir_; }
   const std::string& config() const { return config_; }
+  /// `pcnc ctl --config <this pair's config> ARGS...`, run to its end (at most `timeout_s`).
+  ProcessResult ctl(const std::vector<std::string>& args, double timeout_s = 120) const;
   const std::string& socket() const { return socket_; }
   const std::string& tag() const { return tag_; }
   std::string host_log() const { return host_.err() + host_.out(); }
