@@ -99,15 +99,15 @@ std::string check_knots(const std::vector<double>& k, int degree, int count, con
 
 std::string validate(const BSplineSurface& s) {
   if (s.degree < 1 || s.degree > kMaxSurfaceDegree)
-    return "degree " + std::to_string(s.degree) + " is outside 1.." + std::to_string(kMaxSurfaceDegree);
+    return "degree: " + std::to_string(s.degree) + " is outside 1.." + std::to_string(kMaxSurfaceDegree);
   if (auto w = check_knots(s.knots_u, s.degree, s.count_u, "knots_u"); !w.empty()) return w;
   if (auto w = check_knots(s.knots_v, s.degree, s.count_v, "knots_v"); !w.empty()) return w;
   if (s.points.size() != static_cast<std::size_t>(s.count_u) * static_cast<std::size_t>(s.count_v))
-    return "control points: " + std::to_string(s.points.size()) + ", expected " + std::to_string(s.count_u) + " x " +
+    return "control_points: " + std::to_string(s.points.size()) + " points, expected " + std::to_string(s.count_u) + " x " +
            std::to_string(s.count_v);
   for (std::size_t i = 0; i < s.points.size(); ++i)
-    if (!finite(s.points[i])) return "control point " + std::to_string(i) + " is not finite";
-  if (!std::isfinite(s.e)) return "e is not a finite number";
+    if (!finite(s.points[i])) return "control_points: point " + std::to_string(i) + " is not finite";
+  if (!std::isfinite(s.e)) return "e: not a finite number";
   return {};
 }
 

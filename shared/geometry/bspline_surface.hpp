@@ -36,7 +36,8 @@ struct BSplineSurface {
 };
 
 /// Why `s` is not a usable surface (degree, sizes, knots clamped and non-decreasing with a
-/// non-empty domain, finite numbers), or an empty string.
+/// non-empty domain, finite numbers) as "<key>: <why>" (degree, knots_u, knots_v,
+/// control_points, e), or an empty string.
 std::string validate(const BSplineSurface& s);
 
 /// The B-spline basis of `degree` over `knots` (count + degree + 1 of them) at t, clamped
