@@ -110,13 +110,17 @@ void SurfaceCorrection::correct(const Move& m) {
 
 void SurfaceCorrection::split(const Move& m, const std::function<Vec3(double)>& path) {
   bool outside = false;
-  auto lifted = [&](double t) {
+  auto on_surface = [&](double t) {
     Vec3 p = path(t);
     const SurfaceHeight h = surface_height(*surface_, p[0], p[1]);
     outside = outside || !h.inside;
     p[2] += h.z - reference_;
     return p;
   };
+  // A move that does not start on the corrected path (the first, or one after a machine-frame
+  // move) is followed as the corrected path plus the start's difference fading out along it.
+  const Vec3 start_gap = last_end_ - on_surface(0.0);
+  auto lifted = [&](double t) { return on_surface(t) + (1.0 - t) * start_gap; };
   // Pieces [t0, t1] on a stack, the first on top; each is kept when every sample of the
   // lifted path lies within the tolerance of its chord, else bisected.
   struct Piece {

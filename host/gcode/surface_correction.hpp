@@ -16,6 +16,8 @@
 //   * moves given in machine coordinates (G53, G28, G30) are not corrected: they go to the
 //     machine position asked for (a safe height, a tool change place);
 //   * every move starts where the last one ended (the first at the machine's start position);
+//     one that does not start on the corrected path (the first move, a move after a G53 one)
+//     follows it plus the start's difference, fading linearly to nothing at its end;
 //   * outside the surface's X/Y footprint the height is held at the nearest edge, with one
 //     warning per program naming the first line that leaves it.
 #pragma once
