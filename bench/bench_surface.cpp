@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <random>
 #include <vector>
@@ -147,6 +148,8 @@ int main(int argc, char** argv) {
       f0 += fairness(fit) / seeds, f1 += fair.fairness / seeds, e1 += fair.e / seeds;
       m0 += d0.mean / seeds, s0 += d0.std / seeds, m1 += d1.mean / seeds, s1 += d1.std / seeds;
       t0 += r0.rms / seeds, t1 += r1.rms / seeds;
+      if (std::getenv("BENCH_SURFACE_SEEDS"))
+        std::printf("    seed %d: e %.4f, F %.5g -> %.5g, RMS to true %.3f -> %.3f µm\n", s, fair.e, fairness(fit), fair.fairness, um(r0.rms), um(r1.rms));
     }
     std::printf("  %s grid: F %.5g -> %.5g (%+.2f %%, mean e %.3f); fitted - design: mean %.3f -> %.3f µm, std %.3f -> "
                 "%.3f µm; RMS to the true surface %.3f -> %.3f µm\n",
