@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -59,6 +60,32 @@ TEST(ProcSurface, FitThenCheckWithTheSurface) {
   const ProcessResult checked = run_process({pcnc_bin(), "check", dir + "/p.ngc", "--surface", dir + "/S.json"});
   EXPECT_EQ(checked.exit_code, 0) << checked.err;
   EXPECT_NE(checked.out.find("OK"), std::string::npos);
+}
+
+// The corrected program on the two processes: the trace's commanded Z at the end of the G1
+// move is the program's Z plus the surface's offset there (12.5 + 8 = X20.5, Y20.5).
+TEST(ProcSurface, RunCorrectsTheCommandedZ) {
+  const std::string dir = make_temp_dir("surface_run");
+  write(dir + "/grid.csv", grid_csv());
+  ASSERT_EQ(run_process({pcnc_bin(), "surface", "fit", dir + "/grid.csv", "-o", dir + "/S.json"}).exit_code, 0);
+  const std::string config = write_test_config(dir, "surface_run");
+  write(dir + "/p.ngc", "G21 G90\nG0 X0 Y0 Z-2\nG1 X8 Y8 F600\nG4 P0.2\nM2\n");
+  const ProcessResult run =
+      run_process({pcnc_bin(), "run", dir + "/p.ngc", "--clock", "virtual", "--config", config, "--surface",
+                   dir + "/S.json", "--trace", dir + "/trace.csv", "-q"},
+                  300);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const BSplineSurface s = load_surface_file(dir + "/S.json");
+  const double offset = surface_height(s, 20.5, 20.5).z - surface_height(s, 12.5, 12.5).z;
+  ASSERT_GT(std::fabs(offset), 0.002) << "the test needs a visible offset";
+  // the last trace row (the dwell, then the end): commanded X, Y, Z
+  const std::string trace = read_file(dir + "/trace.csv");
+  const auto last = trace.rfind('\n', trace.size() - 2);
+  double t, line, x, y, z;
+  ASSERT_EQ(std::sscanf(trace.c_str() + last + 1, "%lf,%lf,%*[^,],%lf,%lf,%lf", &t, &line, &x, &y, &z), 5)
+      << trace.substr(last);
+  EXPECT_NEAR(x, 20.5, 1e-6);
+  EXPECT_NEAR(z, 23.0 + offset, 1e-6);
 }
 
 TEST(ProcSurface, RefusalsExitTwoNamingTheCause) {
