@@ -8,22 +8,28 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "config/exit_status.hpp"
 #include "config/output_path.hpp"
 #include "config/point_grid_csv.hpp"
 #include "config/surface_file.hpp"
 #include "geometry/surface_fit.hpp"
+#include "report/report_html.hpp"  // fixed()
 #include "report/surface_page.hpp"
 
 namespace pcnc {
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
+// Six significant digits (F spans many decades).
+std::string sig(double v) {
+  std::ostringstream o;
+  o.precision(6);
+  o << v;
+  return o.str();
 }
+
+std::string signed_percent(double v) { return (v >= 0 ? "+" : "") + fixed(v, 2); }
 
 struct Distance {
   double mean = 0, std = 0, max_abs = 0;
@@ -51,8 +57,8 @@ Distance distance(const BSplineSurface& s, const Design& design, int n = 101) {
 }
 
 std::string describe(const Distance& d) {
-  return "mean " + fmt("%.3f", d.mean * 1000) + " µm, std " + fmt("%.3f", d.std * 1000) + " µm, max |d| " +
-         fmt("%.3f", d.max_abs * 1000) + " µm";
+  return "mean " + fixed(d.mean * 1000, 3) + " µm, std " + fixed(d.std * 1000, 3) + " µm, max |d| " +
+         fixed(d.max_abs * 1000, 3) + " µm";
 }
 
 }  // namespace
@@ -83,7 +89,7 @@ int run_surface_fit(const SurfaceFitOptions& o, std::ostream& out, std::ostream&
   }
   const double f_initial = fairness(initial);
   out << o.points << ": " << grid.cols << " x " << grid.rows << " points, degree " << o.degree << "\n";
-  out << "  e = " << fmt("%.4f", o.e) << ": F = " << fmt("%.6g", f_initial) << " mm^-2\n";
+  out << "  e = " << fixed(o.e, 4) << ": F = " << sig(f_initial) << " mm^-2\n";
   SurfaceFit chosen = initial;
   if (o.fair) {
     FairFit fair = fair_fit(grid, o.degree);
@@ -91,8 +97,8 @@ int run_surface_fit(const SurfaceFitOptions& o, std::ostream& out, std::ostream&
       err << "pcnc surface fit: " << o.points << ": " << fair.fit.error << "\n";
       return kExitBadInput;
     }
-    out << "  faired: e = " << fmt("%.4f", fair.e) << ": F = " << fmt("%.6g", fair.fairness) << " mm^-2 ("
-        << fmt("%+.2f", f_initial > 0 ? 100.0 * (fair.fairness - f_initial) / f_initial : 0.0) << " %; " << fair.fits
+    out << "  faired: e = " << fixed(fair.e, 4) << ": F = " << sig(fair.fairness) << " mm^-2 ("
+        << signed_percent(f_initial > 0 ? 100.0 * (fair.fairness - f_initial) / f_initial : 0.0) << " %; " << fair.fits
         << " fits: scan of e in steps of 0.05, then golden section)\n";
     chosen = std::move(fair.fit);
   }
@@ -104,14 +110,14 @@ int run_surface_fit(const SurfaceFitOptions& o, std::ostream& out, std::ostream&
   } else if (o.design_plane) {
     const double z = *o.design_plane;
     design_z = [z](double, double) { return z; };
-    design_name = "the plane z = " + fmt("%g", z) + " mm";
+    design_name = "the plane z = " + sig(z) + " mm";
   }
   std::vector<std::pair<std::string, std::string>> figures = {
       {"points", o.points + ": " + std::to_string(grid.cols) + " × " + std::to_string(grid.rows)},
       {"degree", std::to_string(o.degree)},
-      {"F before fairing", fmt("%.6g", f_initial) + " mm⁻² (e = " + fmt("%.4f", o.e) + ")"}};
+      {"F before fairing", sig(f_initial) + " mm⁻² (e = " + fixed(o.e, 4) + ")"}};
   if (o.fair)
-    figures.push_back({"F after fairing", fmt("%.6g", fairness(chosen)) + " mm⁻² (e = " + fmt("%.4f", chosen.surface.e) + ")"});
+    figures.push_back({"F after fairing", sig(fairness(chosen)) + " mm⁻² (e = " + fixed(chosen.surface.e, 4) + ")"});
   if (design_z) {
     const Distance d0 = distance(initial.surface, design_z);
     out << "  distance to " << design_name << " (Z, fitted - design, " << d0.samples << " samples): " << describe(d0)

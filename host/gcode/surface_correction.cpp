@@ -5,18 +5,12 @@
 #include <cmath>
 #include <string>
 
+#include "gcode/nurbs_rough.hpp"  // distance_to_segment
 #include "geometry/nurbs.hpp"
 #include "geometry/plane.hpp"
 
 namespace pcnc {
 namespace {
-
-double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double l2 = dot(ab, ab);
-  const double t = l2 > 0.0 ? std::clamp(dot(p - a, ab) / l2, 0.0, 1.0) : 0.0;
-  return norm(p - (a + t * ab));
-}
 
 // The smallest X/Y distance between neighbouring control points: the scale of the surface's detail.
 double control_spacing(const BSplineSurface& s) {

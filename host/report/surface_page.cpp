@@ -11,12 +11,6 @@
 namespace pcnc {
 namespace {
 
-std::string num(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 // A diverging scale: blue (low) through white (0) to red (high), symmetric about 0 when the
 // values straddle it; otherwise a sequential one over [min, max].
 std::string colour(double t) {  // t in [-1, 1]
@@ -58,30 +52,30 @@ std::string surface_page_html(const SurfacePage& p) {
   const double cw = w / std::max(1, p.nx), ch = h / std::max(1, p.ny);
   for (int j = 0; j < p.ny; ++j)
     for (int i = 0; i < p.nx; ++i)
-      s << "<rect x=\"" << num("%.2f", m + i * cw) << "\" y=\"" << num("%.2f", m + h - (j + 1) * ch) << "\" width=\""
-        << num("%.2f", cw + 0.3) << "\" height=\"" << num("%.2f", ch + 0.3) << "\" fill=\""
+      s << "<rect x=\"" << fixed(m + i * cw, 2) << "\" y=\"" << fixed(m + h - (j + 1) * ch, 2) << "\" width=\""
+        << fixed(cw + 0.3, 2) << "\" height=\"" << fixed(ch + 0.3, 2) << "\" fill=\""
         << colour(t_of(p.values[static_cast<std::size_t>(j * p.nx + i)])) << "\"/>\n";
   s << "<rect x=\"" << m << "\" y=\"" << m << "\" width=\"" << w << "\" height=\"" << h
     << "\" fill=\"none\" stroke=\"#333\"/>\n";
   for (const Vec3& q : p.probes)
-    s << "<circle cx=\"" << num("%.2f", sx(q[0])) << "\" cy=\"" << num("%.2f", sy(q[1]))
-      << "\" r=\"2.5\" fill=\"#000\"><title>" << num("%.4f", q[0]) << ", " << num("%.4f", q[1]) << ", "
-      << num("%.4f", q[2]) << " mm</title></circle>\n";
-  s << "<text x=\"" << m << "\" y=\"" << m + h + 16 << "\">X " << num("%.3f", p.x0) << "</text><text x=\"" << m + w
-    << "\" y=\"" << m + h + 16 << "\" text-anchor=\"end\">X " << num("%.3f", p.x1) << " mm</text>\n";
-  s << "<text x=\"" << m - 4 << "\" y=\"" << m + h << "\" text-anchor=\"end\">Y " << num("%.3f", p.y0)
-    << "</text><text x=\"" << m - 4 << "\" y=\"" << m + 10 << "\" text-anchor=\"end\">" << num("%.3f", p.y1)
+    s << "<circle cx=\"" << fixed(sx(q[0]), 2) << "\" cy=\"" << fixed(sy(q[1]), 2)
+      << "\" r=\"2.5\" fill=\"#000\"><title>" << fixed(q[0], 4) << ", " << fixed(q[1], 4) << ", "
+      << fixed(q[2], 4) << " mm</title></circle>\n";
+  s << "<text x=\"" << m << "\" y=\"" << m + h + 16 << "\">X " << fixed(p.x0, 3) << "</text><text x=\"" << m + w
+    << "\" y=\"" << m + h + 16 << "\" text-anchor=\"end\">X " << fixed(p.x1, 3) << " mm</text>\n";
+  s << "<text x=\"" << m - 4 << "\" y=\"" << m + h << "\" text-anchor=\"end\">Y " << fixed(p.y0, 3)
+    << "</text><text x=\"" << m - 4 << "\" y=\"" << m + 10 << "\" text-anchor=\"end\">" << fixed(p.y1, 3)
     << "</text>\n";
   // the colour bar
   const double bx = m + w + 20, bh = h;
   for (int k = 0; k < 50; ++k) {
     const double t = 1.0 - 2.0 * (k + 0.5) / 50.0;
-    s << "<rect x=\"" << bx << "\" y=\"" << num("%.2f", m + k * bh / 50) << "\" width=\"16\" height=\""
-      << num("%.2f", bh / 50 + 0.3) << "\" fill=\"" << colour(t) << "\"/>\n";
+    s << "<rect x=\"" << bx << "\" y=\"" << fixed(m + k * bh / 50, 2) << "\" width=\"16\" height=\""
+      << fixed(bh / 50 + 0.3, 2) << "\" fill=\"" << colour(t) << "\"/>\n";
   }
   const double top = diverging ? span : vmax, bottom = diverging ? -span : vmin;
-  s << "<text x=\"" << bx + 20 << "\" y=\"" << m + 10 << "\">" << num("%.2f", top) << " µm</text>\n";
-  s << "<text x=\"" << bx + 20 << "\" y=\"" << m + bh << "\">" << num("%.2f", bottom) << " µm</text>\n";
+  s << "<text x=\"" << bx + 20 << "\" y=\"" << m + 10 << "\">" << fixed(top, 2) << " µm</text>\n";
+  s << "<text x=\"" << bx + 20 << "\" y=\"" << m + bh << "\">" << fixed(bottom, 2) << " µm</text>\n";
   s << "</svg>\n<p>Dots: the measured points (hover for their coordinates). The map is sampled on "
     << p.nx << " × " << p.ny << " cells.</p>\n</body></html>\n";
   return s.str();
