@@ -86,6 +86,8 @@ TEST(SurfaceCorrection, ShiftsZAndSplitsLongLinesWithinTheTolerance) {
   for (std::size_t i = 1; i < out.size(); ++i) EXPECT_EQ(out[i].start, out[i - 1].end) << i;
   // the corrected end point, exactly
   EXPECT_EQ(pieces.back().end, (Vec3{b[0], b[1], b[2] + stage.offset_at(b[0], b[1])}));
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+    EXPECT_EQ(pieces[i].contouring, i + 1 < pieces.size()) << "joints inside the move flow; its end keeps M22";
   for (const Move& m : pieces) {
     EXPECT_EQ(m.kind, MoveKind::kLine);
     EXPECT_EQ(m.line, 7);

@@ -156,6 +156,9 @@ void SurfaceCorrection::split(const Move& m, const std::function<Vec3(double)>& 
     stack.push_back({p.t0, tm, p.a, mid, p.depth + 1});
   }
   pending_.back().end = end;
+  // The joints inside one programmed move are no corners: they flow (M21's rule, turns under
+  // the contouring angle) even under M22/G61, which stops only where the program's move ends.
+  for (std::size_t i = 0; i + 1 < pending_.size(); ++i) pending_[i].contouring = true;
   if (outside && !warned_outside_ && sink_) {
     warned_outside_ = true;
     sink_->warning(m.line, m.column, "surface-outside",

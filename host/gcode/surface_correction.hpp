@@ -13,6 +13,9 @@
 //   * lines and rapids stay lines and rapids; arcs (any plane, helices too) and NURBS moves
 //     become lines at their feed: the corrected path is no longer an arc or the programmed
 //     curve, and a chain of lines within the tolerance is what the rt can follow exactly;
+//   * the joints between the pieces of one move are marked contouring (they flow at speed, as
+//     the unsplit move did; the rt's contouring angle still applies), the last piece keeps the
+//     move's own M21/M22 state: under M22 the machine stops only where the program's move ends;
 //   * moves given in machine coordinates (G53, G28, G30) are not corrected: they go to the
 //     machine position asked for (a safe height, a tool change place);
 //   * every move starts where the last one ended (the first at the machine's start position);

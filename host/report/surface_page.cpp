@@ -36,7 +36,7 @@ std::string surface_page_html(const SurfacePage& p) {
   auto t_of = [&](double v) { return diverging ? v / span : 2.0 * (v - vmin) / span - 1.0; };
 
   const double w = 520, h_map = std::max(1.0, p.y1 - p.y0) / std::max(1e-9, p.x1 - p.x0) * w;
-  const double h = std::clamp(h_map, 120.0, 800.0), m = 40;
+  const double h = std::clamp(h_map, 120.0, 800.0), m = 64;
   auto sx = [&](double x) { return m + (x - p.x0) / std::max(1e-9, p.x1 - p.x0) * w; };
   auto sy = [&](double y) { return m + h - (y - p.y0) / std::max(1e-9, p.y1 - p.y0) * h; };
   std::ostringstream s;
