@@ -104,6 +104,12 @@ TEST(ProcSurface, RefusalsExitTwoNamingTheCause) {
   const ProcessResult none = run_process({pcnc_bin(), "surface", "fit"});
   EXPECT_EQ(none.exit_code, 2);
 
+  // pcnc-host refuses a bad surface before it serves or runs anything
+  const ProcessResult host = run_process({bin_dir() + "/host/pcnc-host", "--serve", "--config",
+                                          write_test_config(dir, "surface_bad"), "--surface", dir + "/small.csv"});
+  EXPECT_EQ(host.exit_code, 2);
+  EXPECT_NE(host.err.find("small.csv: not valid JSON"), std::string::npos) << host.err;
+
   write(dir + "/p.ngc", "G0 X1\nM2\n");
   write(dir + "/broken.json", "{\"format\": \"pcnc-bspline-surface\", \"version\": 1}");
   const ProcessResult check = run_process({pcnc_bin(), "check", dir + "/p.ngc", "--surface", dir + "/broken.json"});

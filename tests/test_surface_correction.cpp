@@ -13,6 +13,7 @@
 #include "gcode/program.hpp"
 #include "gcode/surface_correction.hpp"
 #include "gcode_test_util.hpp"
+#include "geometry/nurbs.hpp"
 #include "geometry/surface_fit.hpp"
 
 namespace pcnc {
@@ -141,6 +142,33 @@ TEST(SurfaceCorrection, ArcsBecomeLinesWithinTheTolerance) {
   EXPECT_LE(worst, tol * 1.0001);
   EXPECT_NEAR(out.back().end[0], 5, 1e-12);
   EXPECT_NEAR(out.back().end[2], 1 + stage.offset_at(5, 10), 1e-12);
+}
+
+TEST(SurfaceCorrection, NurbsMovesBecomeLinesWithinTheTolerance) {
+  const auto s = wavy_surface();
+  const double tol = 0.001;
+  SurfaceCorrection stage(s, 0.0, tol, nullptr);
+  const auto curve = std::make_shared<const NurbsCurve>(
+      make_nurbs({{2, 3, 4}, {8, 20, 4}, {15, 2, 3}, {22, 18, 3}}, {1, 2, 1, 1}, 4));
+  Move m = line(curve->points.front(), curve->points.back());
+  m.kind = MoveKind::kNurbs;
+  m.nurbs = curve;
+  // a plunge to the curve's start first, so that the curve starts on the corrected path
+  std::vector<Move> out = run_stage(stage, {line({2, 3, 10}, {2, 3, 4}), m});
+  out.erase(out.begin());
+  ASSERT_GT(out.size(), 10u);
+  double worst = 0;
+  for (int i = 0; i <= 5000; ++i) {
+    Vec3 p = nurbs_point(curve->view(), curve->u_min() + (curve->u_max() - curve->u_min()) * i / 5000.0);
+    p[2] += stage.offset_at(p[0], p[1]);
+    worst = std::max(worst, distance_to_polyline(p, out));
+  }
+  EXPECT_LE(worst, tol * 1.0001);
+  for (const Move& piece : out) {
+    EXPECT_EQ(piece.kind, MoveKind::kLine);
+    EXPECT_EQ(piece.nurbs, nullptr);
+  }
+  EXPECT_NEAR(out.back().end[2], 3 + stage.offset_at(22, 18), 1e-12);
 }
 
 TEST(SurfaceCorrection, MachineFrameMovesAndDwellsAreNotLifted) {
