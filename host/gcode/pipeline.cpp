@@ -14,15 +14,16 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       sink_(sink),
       reader_(std::move(reader)),
       source_(*reader_, config_, frame, sink_),
+      comp_(sink_, config_.cutter_comp.gouge_check),
+      from_source_([this](Move& m) { return source_.next(m); }),
       preflight_(config_, sink_, soft_limits),
       merge_(config_.motion.corner_tolerance_mm),  // tolerance 0: merging off
       validator_(config_, frame.start),
       to_merge_([this](Move& m) { return checked_move(m); }) {}
 
-// The interpreter's moves through the geometry stages, in their order. None exists yet; each
-// will link here as `return <stage>_.next(<pull from the stage before>, m);`:
-//   cutter compensation, then surface correction, then smoothing.
-bool Pipeline::geometry_move(Move& m) { return source_.next(m); }
+// The interpreter's moves through the geometry stages, in their order: cutter compensation
+// (then, when they exist, surface correction and smoothing, each pulling from the one before).
+bool Pipeline::geometry_move(Move& m) { return comp_.next(from_source_, m); }
 
 // ... then the preflight, which sees every move; a move without displacement ends there.
 bool Pipeline::checked_move(Move& m) {

@@ -7,8 +7,8 @@
 //
 //   LineReader   source text, line by line, in fixed memory            (line_reader.hpp)
 //   MoveSource   lexer -> parser -> interpreter: Moves in machine mm   (move_source.hpp)
-//   [geometry stages, each optional, in this order — none yet:
-//      cutter compensation, surface correction, smoothing]
+//   CutterComp   G41/G42: the tool centre's path (LinuxCNC's moves)   (cutter_comp.hpp)
+//   [geometry stages to come, in this order: surface correction, smoothing]
 //   Preflight    the whole program: soft limits, extents, feed time    (preflight.hpp)
 //                (sees every programmed move; moves without displacement end here)
 //   SegmentMerger  packing for the ring: collinear G1 runs -> one line  (segment_merge.hpp)
@@ -32,6 +32,7 @@
 
 #include "config/config.hpp"
 #include "gcode/block_validator.hpp"
+#include "gcode/cutter_comp.hpp"
 #include "gcode/diagnostics.hpp"
 #include "gcode/interpreter.hpp"
 #include "gcode/line_reader.hpp"
@@ -72,6 +73,7 @@ class Pipeline {
 
   bool failed() const { return sink_.has_errors(); }
   const Preflight& preflight() const { return preflight_; }
+  const CompFigures& comp_figures() const { return comp_.figures(); }
   const LineReader& reader() const { return *reader_; }
   std::uint64_t lines() const { return source_.lines(); }
 
@@ -84,6 +86,8 @@ class Pipeline {
   DiagnosticSink& sink_;
   std::unique_ptr<LineReader> reader_;
   MoveSource source_;
+  CutterComp comp_;
+  MovePull from_source_;        // the interpreter's output, the compensation's input
   Preflight preflight_;
   SegmentMerger merge_;
   BlockValidator validator_;
