@@ -119,6 +119,13 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
         << f4(r.min_point[1]) << " .. " << f4(r.max_point[1]) << ", Z " << f4(r.min_point[2]) << " .. "
         << f4(r.max_point[2]) << " mm\n";
     out << "  feed time (length/F, no acceleration): " << f4(r.feed_length_time_s) << " s\n";
+    if (r.comp.sessions > 0) {
+      const CompFigures& c = r.comp;
+      out << "  cutter compensation: " << c.sessions << " entr" << (c.sessions == 1 ? "y" : "ies") << ", tool diameter up to "
+          << f4(2.0 * c.max_radius_mm) << " mm: " << c.moves_in << " programmed moves -> " << c.moves_out
+          << " tool moves (" << c.corner_arcs << " convex corner arcs, " << c.concave_corners
+          << " concave corners cut back)\n";
+    }
   } else {
     out << o.file << ": OK\n";
   }

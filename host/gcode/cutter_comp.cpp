@@ -3,6 +3,7 @@
 // cutter_comp.hpp). Angles and tolerances are LinuxCNC's, so that the end points agree.
 #include "gcode/cutter_comp.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -162,7 +163,35 @@ void CutterComp::comp_off() {
   active_ = false;
 }
 
+void CutterComp::record_contour(const Move& m) {
+  if (figures_.contour.empty() || index_ == 0) {
+    if (figures_.contour.empty() || !figures_.contour.back().empty()) figures_.contour.emplace_back();
+  }
+  std::vector<Vec3>& line = figures_.contour.back();
+  const auto add = [&](const Vec3& p) {
+    if (contour_points_ >= CompFigures::kMaxContourPoints) {
+      figures_.contour_truncated = true;
+      return;
+    }
+    line.push_back(p);
+    ++contour_points_;
+  };
+  if (line.empty()) add(prog_);
+  if (m.kind == MoveKind::kArc) {
+    const Vec2 c = in_plane(m.center), a = prog();
+    const double sweep = turn_angle(a, c, m.sweep > 0.0 ? 1 : -1, in_plane(m.end));
+    const int n = std::max(1, static_cast<int>(std::ceil(std::fabs(sweep) / (3.0 * kPi / 180.0))));
+    const double a0 = angle_of(a - c), r = norm(a - c), z0 = oop(prog_), z1 = oop(m.end);
+    for (int i = 1; i < n; ++i) {
+      const double t = static_cast<double>(i) / n;
+      add(to_space(c + polar(r, a0 + t * sweep), z0 + t * (z1 - z0)));
+    }
+  }
+  add(m.end);
+}
+
 void CutterComp::programmed_piece(const Move& m) {
+  record_contour(m);
   const Vec2 a = prog(), b = in_plane(m.end);
   Piece p;
   if (m.kind == MoveKind::kArc) {

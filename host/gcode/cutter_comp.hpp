@@ -24,6 +24,7 @@
 // is scaled and offset by the real radius.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -45,6 +46,11 @@ struct CompFigures {
   std::uint64_t corner_arcs = 0;       // convex corners rounded
   std::uint64_t concave_corners = 0;   // offset moves cut back at a concave corner
   double max_radius_mm = 0.0;          // the largest tool radius used
+  // The programmed contour of each session (machine mm, arcs as chords of at most 3 degrees),
+  // for the run report's top view; at most kMaxContourPoints in all (contour_truncated then).
+  static constexpr std::size_t kMaxContourPoints = 20000;
+  std::vector<std::vector<Vec3>> contour;
+  bool contour_truncated = false;
 };
 
 class CutterComp {
@@ -99,6 +105,8 @@ class CutterComp {
   Vec2 prog() const { return in_plane(prog_); }
   void programmed_piece(const Move& m);
   void note_crossings();  // the warning for gouge pairs skipped at self-crossings
+  void record_contour(const Move& m);  // the programmed move, for CompFigures::contour
+  std::size_t contour_points_ = 0;
 
   DiagnosticSink& sink_;
   bool gouge_check_ = true;

@@ -142,6 +142,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.plan = plan.finish();
     if (pipeline.failed()) pipeline.drain();  // the rest of the program's diagnostics
     const Preflight& pre = pipeline.preflight();
+    result.comp = pipeline.comp_figures();
     result.transform = t;
     result.lines = pipeline.lines();
     result.moves = pre.moves();

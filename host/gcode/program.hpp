@@ -17,6 +17,7 @@
 #include "ipc/block.hpp"
 #include "config/config.hpp"
 #include "config/work_state.hpp"
+#include "gcode/cutter_comp.hpp"
 #include "gcode/diagnostics.hpp"
 #include "gcode/move.hpp"
 #include "gcode/move_source.hpp"
@@ -73,6 +74,8 @@ struct CheckResult {
   // What caps each block's speed and how its junctions are passed, per run of lines (ok
   // only): the run report attributes the trace's time to these causes (gcode/time_cause.hpp).
   std::vector<LinePlan> plan;
+  // What cutter radius compensation did (G41/G42), and the programmed contour it offset.
+  CompFigures comp;
 };
 
 /// Pass 1: reads the whole file through the whole pipeline: parses, interprets, checks soft
