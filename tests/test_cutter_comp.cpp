@@ -243,3 +243,27 @@ TEST(CutterComp, FitScalesThePathNotTheTool) {
 
 }  // namespace
 }  // namespace pcnc::test
+
+namespace pcnc::test {
+namespace {
+
+TEST(CutterComp, CheckCountsMovesAndKeepsTheProgrammedContour) {
+  const RunResult r = run_program("G0 X0 Y0\nG42.1 D2\nG1 X10 Y0 F100\nG1 X10 Y10\nG3 X0 Y10 I-5 J0\nG40\nG0 X0 Y20\nM2\n",
+                                  wide_config());
+  ASSERT_TRUE(r.check.ok);
+  const CompFigures& c = r.check.comp;
+  EXPECT_EQ(c.sessions, 1u);
+  EXPECT_EQ(c.moves_in, 3u);
+  EXPECT_EQ(c.corner_arcs, 1u);  // at (10,0); the arc at (10,10) turns the same way (tangent)
+  EXPECT_EQ(c.moves_out, 4u);
+  EXPECT_DOUBLE_EQ(c.max_radius_mm, 1.0);
+  ASSERT_EQ(c.contour.size(), 1u);
+  // (0,0), (10,0), (10,10), then the half circle in chords of at most 3 degrees: 60 more.
+  ASSERT_EQ(c.contour[0].size(), 3u + 60u);
+  EXPECT_NEAR(c.contour[0].back()[0], 0.0, 1e-12);
+  EXPECT_NEAR(c.contour[0].back()[1], 10.0, 1e-12);
+  EXPECT_NEAR(c.contour[0][32][1], 15.0, 1e-9);  // the half circle's top, 5 above its center
+}
+
+}  // namespace
+}  // namespace pcnc::test
