@@ -50,6 +50,7 @@ bool CutterComp::next(const std::function<bool(Move&)>& pull, Move& out) {
     if (ended_) return false;
     Move m;
     if (!pull(m)) {
+      if (!run_.empty()) flush_run();
       dequeue();
       if (active_) note_crossings();
       ended_ = true;
@@ -73,6 +74,7 @@ void CutterComp::process(Move& m) {
     have_pos_ = true;
   }
   const MoveComp& c = m.comp;
+  if (!run_.empty() && !run_candidate(m)) flush_run();
   if (active_ && (c.side == 0 || c.serial != serial_)) comp_off();
   if (!active_ && c.side != 0 && c.radius_mm > 0.0 && c.serial != serial_ && c.serial != broken_serial_) {
     if (!comp_on(m)) return;
@@ -97,7 +99,18 @@ void CutterComp::process(Move& m) {
     emitted_ = m.end;
     return;
   }
+  if (run_candidate(m)) {
+    run_.push_back(m);
+    return;
+  }
+  dispatch(m);
+}
+
+void CutterComp::dispatch(Move& m) {
   switch (m.kind) {
+    case MoveKind::kNurbs:
+      fit_nurbs(m);
+      break;
     case MoveKind::kRapid:
     case MoveKind::kLine:
       arc_not_allowed_ = false;
@@ -201,7 +214,7 @@ void CutterComp::programmed_piece(const Move& m) {
     p = segment(a, b);
   }
   Gouge g;
-  if (gouge_check_ && !gouge_.programmed(p, index_, m.line, g)) {
+  if (options_.gouge_check && !gouge_.programmed(p, index_, m.line, g)) {
     sink_.error(g.line, g.column, describe_gouge(g, radius_));
     broken_serial_ = serial_;
     active_ = false;
@@ -255,7 +268,7 @@ void CutterComp::emit(const Held& h) {
   ready_.push_back(out);
   emitted_ = out.end;
   ++figures_.moves_out;
-  if (h.entry || !active_ || !gouge_check_) return;
+  if (h.entry || !active_ || !options_.gouge_check) return;
   Gouge g;
   if (!gouge_.tool(piece, h.index, out.line, out.column, g)) {
     sink_.error(g.line, g.column, describe_gouge(g, radius_));

@@ -17,6 +17,10 @@
 //   * a move with no motion in the plane (Z under G17) keeps the tool's place in the plane;
 //   * G40 ends the held move where it is; the next move goes from there to its programmed end
 //     point and must be straight (an arc there is an error, as in LinuxCNC).
+// Beyond LinuxCNC: a NURBS move (G5.2/G6.2), and a run of at least 8 G1 moves each shorter than
+// cutter_comp.fit_segment_max_mm turning less than the contouring angle at each junction, are
+// replaced by tangent biarcs within cutter_comp.fit_tolerance_mm (geometry/biarc.hpp) whose
+// offsets are exact; those arcs then go through the rules above (cutter_comp_fit.cpp).
 // Besides LinuxCNC's local tests, every tool move is measured against every programmed move
 // within kGougeWindow moves on either side (exact distances, geometry/intersect.hpp): a tool
 // path that comes closer to the contour than the tool radius is a gouge, reported with the
@@ -46,6 +50,14 @@ struct CompFigures {
   std::uint64_t corner_arcs = 0;       // convex corners rounded
   std::uint64_t concave_corners = 0;   // offset moves cut back at a concave corner
   double max_radius_mm = 0.0;          // the largest tool radius used
+  // Biarc fits under G41/G42 (cutter_comp_fit.cpp): NURBS curves and runs of short G1 moves
+  // replaced by tangent arcs, then offset exactly.
+  std::uint64_t fitted_nurbs = 0;      // NURBS moves fitted
+  std::uint64_t fitted_runs = 0;       // G1 runs fitted
+  std::uint64_t moves_replaced = 0;    // programmed moves they held (a NURBS counts 1)
+  std::uint64_t biarcs = 0;            // biarcs that replaced them
+  std::uint64_t fit_arcs = 0;          // arcs (and straight pieces) those biarcs are made of
+  double max_fit_deviation_mm = 0.0;   // the largest deviation measured between a curve and its arcs
   // The programmed contour of each session (machine mm, arcs as chords of at most 3 degrees),
   // for the run report's top view; at most kMaxContourPoints in all (contour_truncated then).
   static constexpr std::size_t kMaxContourPoints = 20000;
@@ -53,10 +65,18 @@ struct CompFigures {
   bool contour_truncated = false;
 };
 
+/// The config's [cutter_comp] and the contouring angle, as the stage uses them.
+struct CompOptions {
+  bool gouge_check = true;             // false: LinuxCNC's local tests alone
+  double fit_segment_max_mm = 0.5;     // G1 runs: each move shorter than this
+  double fit_tolerance_mm = 0.001;     // biarcs within this of the curve
+  double contouring_angle_rad = 0.17453292519943295;  // G1 runs: each junction turning less
+  static constexpr std::size_t kMinRun = 8;           // G1 runs: at least this many moves
+};
+
 class CutterComp {
  public:
-  /// `gouge_check` false: LinuxCNC's local tests alone (config cutter_comp.gouge_check).
-  CutterComp(DiagnosticSink& sink, bool gouge_check) : sink_(sink), gouge_check_(gouge_check) {}
+  CutterComp(DiagnosticSink& sink, const CompOptions& options) : sink_(sink), options_(options) {}
 
   /// The next move of the compensated stream (see SegmentMerger::next for the shape).
   bool next(const std::function<bool(Move&)>& pull, Move& out);
@@ -82,6 +102,11 @@ class CutterComp {
   };
 
   void process(Move& m);
+  void dispatch(Move& m);  // one programmed move of an active session
+  // cutter_comp_fit.cpp: biarcs for NURBS curves and short G1 runs
+  bool run_candidate(const Move& m) const;
+  void flush_run();
+  void fit_nurbs(const Move& m);
   bool comp_on(const Move& m);
   void comp_off();
   void straight_entry(const Move& m);
@@ -109,7 +134,8 @@ class CutterComp {
   std::size_t contour_points_ = 0;
 
   DiagnosticSink& sink_;
-  bool gouge_check_ = true;
+  CompOptions options_;
+  std::vector<Move> run_;  // short G1 moves held back: a smooth run to fit, if long enough
   std::deque<Move> ready_;   // moves to hand on, in order
   std::vector<Held> queue_;  // held back
   bool ended_ = false;

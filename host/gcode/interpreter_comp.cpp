@@ -35,9 +35,7 @@ bool Interpreter::comp_forbids(const ParsedLine& l) {
   if (nonmodal == 520 || (nonmodal >= 920 && nonmodal <= 923))
     return refuse(l.g_col[kGNonModal], "change axis offsets (" + g_name(nonmodal) + ")");
   if (nonmodal == 530) return refuse(l.g_col[kGNonModal], "use G53");
-  const int motion = l.g[kGMotion];
-  if (motion == 52 || motion == 62)
-    return refuse(l.g_col[kGMotion], "convert a NURBS curve (" + g_name(motion) + ")");
+  const int motion = l.g[kGMotion];  // NURBS (G5.2/G6.2) are fitted with biarcs (cutter_comp_fit.cpp)
   const int effective = motion >= 0 ? motion : motion_;
   if (is_cycle(effective) && (motion >= 0 || axis_words(l)))
     return refuse(motion >= 0 ? l.g_col[kGMotion] : 0, "use canned cycles");

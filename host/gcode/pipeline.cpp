@@ -8,13 +8,24 @@
 
 namespace pcnc {
 
+namespace {
+CompOptions comp_options(const MachineConfig& c) {
+  CompOptions o;
+  o.gouge_check = c.cutter_comp.gouge_check;
+  o.fit_segment_max_mm = c.cutter_comp.fit_segment_max_mm;
+  o.fit_tolerance_mm = c.cutter_comp.fit_tolerance_mm;
+  o.contouring_angle_rad = c.motion.contouring_angle_deg * 3.14159265358979323846 / 180.0;
+  return o;
+}
+}  // namespace
+
 Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& config, const JobFrame& frame,
                    DiagnosticSink& sink, bool soft_limits)
     : config_(config),
       sink_(sink),
       reader_(std::move(reader)),
       source_(*reader_, config_, frame, sink_),
-      comp_(sink_, config_.cutter_comp.gouge_check),
+      comp_(sink_, comp_options(config_)),
       from_source_([this](Move& m) { return source_.next(m); }),
       preflight_(config_, sink_, soft_limits),
       merge_(config_.motion.corner_tolerance_mm),  // tolerance 0: merging off

@@ -1,4 +1,4 @@
-// offset.hpp — plane geometry for cutter radius compensation: 2D points, the pieces of a
+// offset.hpp — plane geometry for cutter radius compensation (points: vec2.hpp): the pieces of a
 // contour (a straight segment or a circular arc, with its signed sweep), their offsets by a
 // tool radius to the left or right, the sweep of an arc between two points (LinuxCNC's
 // find_turn rule), and how two pieces meet (a convex or concave corner, or tangent).
@@ -7,22 +7,14 @@
 
 #include <cmath>
 
+#include "geometry/vec2.hpp"
+
 namespace pcnc {
 
-struct Vec2 {
-  double x = 0.0;
-  double y = 0.0;
-};
-inline constexpr Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
-inline constexpr Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
-inline constexpr Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
-inline constexpr double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
-inline constexpr double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
-inline double norm(Vec2 a) { return std::hypot(a.x, a.y); }
 inline double angle_of(Vec2 a) { return std::atan2(a.y, a.x); }
 inline Vec2 polar(double r, double angle) { return {r * std::cos(angle), r * std::sin(angle)}; }
 /// a turned +90 degrees (to its left).
-inline constexpr Vec2 left_normal(Vec2 a) { return {-a.y, a.x}; }
+inline constexpr Vec2 left_normal(Vec2 a) { return perp(a); }
 
 /// Which side of the path the tool runs on, looking along the path from +normal (G41 left,
 /// G42 right).
