@@ -267,3 +267,85 @@ TEST(CutterComp, CheckCountsMovesAndKeepsTheProgrammedContour) {
 
 }  // namespace
 }  // namespace pcnc::test
+
+namespace pcnc::test {
+namespace {
+
+// A circle of radius 5 about (0,0) written as CAM writes it: chords of about 0.2 mm, end
+// points rounded to 0.001 mm, from angle a0 for n chords, counter-clockwise.
+std::string cam_arc(double a0, int n, double step = 0.04) {
+  std::string s;
+  char buf[64];
+  for (int i = 1; i <= n; ++i) {
+    const double a = a0 + i * step;
+    std::snprintf(buf, sizeof buf, "G1 X%.3f Y%.3f\n", 5.0 * std::cos(a), 5.0 * std::sin(a));
+    s += buf;
+  }
+  return s;
+}
+
+TEST(CutterCompFit, ShortG1RunBecomesBiarcsOffsetExactly) {
+  // Entry to (5,0), then 60 chords of 0.2 mm along the circle, the tool (r 1) on the right:
+  // outside, on the circle of radius 6.
+  const std::string prog = "G0 X8 Y-3\nG42.1 D2\nG1 X5 Y0 F100\n" + cam_arc(0.0, 60) + "G40\nG1 X0 Y8\nM2\n";
+  const RunResult r = run_program(prog, wide_config());
+  ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
+  EXPECT_EQ(r.check.comp.fitted_runs, 1u);
+  EXPECT_EQ(r.check.comp.moves_replaced, 60u);
+  EXPECT_GT(r.check.comp.biarcs, 0u);
+  EXPECT_LT(r.check.comp.fit_arcs, 60u) << "fewer, longer arcs than chords";
+  EXPECT_LE(r.check.comp.max_fit_deviation_mm, 0.001 + 1e-12);
+  // Every tool move made for the run ends on the offset circle within the tolerance plus the
+  // programmed points' rounding (0.5 um).
+  const Listing l = list_program(prog);
+  ASSERT_TRUE(l.result.ok);
+  int on_circle = 0;
+  for (const Move& m : l.moves) {
+    if (m.line < 4 || m.line > 63) continue;
+    EXPECT_NEAR(std::hypot(m.end[0], m.end[1]), 6.0, 0.0015) << format_move(m);
+    ++on_circle;
+  }
+  EXPECT_GT(on_circle, 2);
+
+  // The same chords one by one (LinuxCNC's way; fitting off by a tiny segment limit): a
+  // tool move per chord, each offset along its own rounded chord's normal.
+  MachineConfig one_by_one = wide_config();
+  one_by_one.cutter_comp.fit_segment_max_mm = 0.01;
+  const Listing raw = list_program(prog, one_by_one);
+  ASSERT_TRUE(raw.result.ok) << raw.first_error();
+  int raw_moves = 0;
+  for (const Move& m : raw.moves) raw_moves += m.line >= 4 && m.line <= 63 ? 1 : 0;
+  EXPECT_GE(raw_moves, 60);
+  EXPECT_LT(on_circle, raw_moves);
+}
+
+TEST(CutterCompFit, ShortRunsAndCornersAreOffsetOneByOne) {
+  // 7 chords: below the run length of 8, offset as LinuxCNC does.
+  const RunResult seven = run_program("G0 X8 Y-3\nG42.1 D2\nG1 X5 Y0 F100\n" + cam_arc(0.0, 7) + "G40\nG1 X0 Y8\nM2\n", wide_config());
+  ASSERT_TRUE(seven.check.ok);
+  EXPECT_EQ(seven.check.comp.fitted_runs, 0u);
+  // Two runs of 10 with a corner of 30 degrees (more than the 10 degree contouring angle)
+  // between them: two fits, never one across the corner.
+  const std::string two = "G0 X8 Y-3\nG42.1 D2\nG1 X5 Y0 F100\n" + cam_arc(0.0, 10) + cam_arc(0.4 + 0.52, 10) + "G40\nG1 X0 Y8\nM2\n";
+  const RunResult r = run_program(two, wide_config());
+  ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
+  EXPECT_EQ(r.check.comp.fitted_runs, 2u);
+  EXPECT_EQ(r.check.comp.moves_replaced, 19u) << "the first chord of the second run turns the corner";
+}
+
+TEST(CutterCompFit, NurbsUnderCompensationIsFitted) {
+  const std::string prog =
+      "G0 X-9 Y-9\nG41.1 D2\nG1 X-6 Y-6 F300\nG5.2 X-2 Y0 P1 L4\nX2 Y-6 P1\nX6 Y0 P1\nX6 Y6 P1\nG5.3\nG1 X8 Y8\nG40\nG1 X10 Y10\nM2\n";
+  const RunResult r = run_program(prog, wide_config());
+  ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
+  EXPECT_EQ(r.check.comp.fitted_nurbs, 1u);
+  EXPECT_EQ(r.check.comp.moves_replaced, 1u);
+  EXPECT_GT(r.check.comp.fit_arcs, 4u);
+  EXPECT_LE(r.check.comp.max_fit_deviation_mm, 0.001);
+  // A NURBS cannot be the entry move.
+  const Listing entry = list_program("F300 G41.1 D2\nG5.2 X-2 Y0 P1 L4\nX2 Y-6 P1\nX6 Y0 P1\nG5.3\nM2\n");
+  EXPECT_TRUE(entry.has_error("cannot be the entry move")) << entry.first_error();
+}
+
+}  // namespace
+}  // namespace pcnc::test
