@@ -62,8 +62,8 @@ class Pipeline {
   /// without making blocks: the --fit measuring pass, or the rest of a failed program.
   void drain();
 
-  /// The moves as they leave the front end (interpreter, then cutter compensation when it
-  /// exists), before the preflight: `pcnc check --print-moves`. False after the End move.
+  /// The moves as they leave the front end (interpreter, then cutter compensation), before
+  /// the preflight: `pcnc check --print-moves`. False after the End move.
   /// Not to be mixed with next()/drain() on one pipeline.
   bool front_end_move(Move& m) { return geometry_move(m); }
   /// Message comments ((MSG,...), (DEBUG,...), (PRINT,...)) as their lines run.

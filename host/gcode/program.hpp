@@ -133,7 +133,7 @@ class BlockStream {
 std::string format_block(const Block& b);
 
 /// `pcnc check --print-moves`: the program through the front end only (lexer, control flow,
-/// interpreter and, once it exists, cutter compensation), each move handed to `on_move` and
+/// interpreter and cutter compensation), each move handed to `on_move` and
 /// each message comment to `on_message` in program order. The travel and the blocks are not
 /// checked (that is check_program's), as LinuxCNC's interpreter does not: ok means the
 /// program is valid G-code. The work state after the program (G10, G92, G28.1...) is returned
