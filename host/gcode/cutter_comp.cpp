@@ -221,28 +221,28 @@ void CutterComp::programmed_piece(const Move& m) {
   }
 }
 
-void CutterComp::enqueue_line(const Move& m, Vec2 dir, Vec2 end, double o) {
+CutterComp::Held CutterComp::held(const Move& m, Vec2 end, double o) const {
   Held h;
   h.m = m;
-  h.dir = dir;
   h.end = end;
   h.out_of_plane = o;
   h.entry = first_move_;
   h.index = index_;
+  return h;
+}
+
+void CutterComp::enqueue_line(const Move& m, Vec2 dir, Vec2 end, double o) {
+  Held h = held(m, end, o);
+  h.dir = dir;
   queue_.push_back(h);
 }
 
 void CutterComp::enqueue_arc(const Move& m, double original_turn, Vec2 end, Vec2 center, int turn, double o) {
-  Held h;
-  h.m = m;
+  Held h = held(m, end, o);
   h.m.kind = MoveKind::kArc;
-  h.end = end;
-  h.out_of_plane = o;
   h.center = center;
   h.turn = turn;
   h.original_turn = original_turn;
-  h.entry = first_move_;
-  h.index = index_;
   queue_.push_back(h);
 }
 

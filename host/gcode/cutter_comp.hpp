@@ -116,6 +116,7 @@ class CutterComp {
   bool move_endpoint_and_flush(const Move& m, Vec2 p);
   void dequeue();
   void emit(const Held& h);
+  Held held(const Move& m, Vec2 end, double oop) const;  // a held move of this session
   void enqueue_line(const Move& m, Vec2 dir, Vec2 end, double oop);
   void enqueue_arc(const Move& m, double original_turn, Vec2 end, Vec2 center, int turn, double oop);
   void set_endpoint(Vec2 p) {
