@@ -349,3 +349,25 @@ TEST(CutterCompFit, NurbsUnderCompensationIsFitted) {
 
 }  // namespace
 }  // namespace pcnc::test
+
+namespace pcnc::test {
+namespace {
+
+TEST(CutterComp, ArcEntryKeepsItsEndOffsetAndMovesItsCentre) {
+  // G41 with r 1 on a G3 half circle about (5,0) from (0,0) to (10,0): the tool is inside, the
+  // arc ends 1 mm inside at (9,0), and its centre moves to (4.5,0) so that it starts at the tool.
+  const Listing l = list_program("G0 X0 Y0\nG41.1 D2\nG3 X10 Y0 I5 J0 F100\nG40\nG1 X10 Y-5\nM2\n");
+  ASSERT_TRUE(l.result.ok) << l.first_error();
+  ASSERT_EQ(l.moves.size(), 3u);
+  ASSERT_EQ(l.moves[1].kind, MoveKind::kArc);
+  expect_end(l.moves[1], 9, 0);
+  EXPECT_NEAR(l.moves[1].center[0], 4.5, 1e-12);
+  EXPECT_NEAR(l.moves[1].center[1], 0.0, 1e-12);
+  EXPECT_NEAR(l.moves[1].radius, 4.5, 1e-12);
+  EXPECT_NEAR(l.moves[1].sweep, kPi, 1e-12);
+  const Listing short_entry = list_program("G0 X0 Y0\nG41.1 D2\nG3 X0.8 Y0 I0.4 J0 F100\nM2\n");
+  EXPECT_TRUE(short_entry.has_error("entry arc")) << short_entry.first_error();
+}
+
+}  // namespace
+}  // namespace pcnc::test

@@ -122,7 +122,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
     if (r.comp.sessions > 0) {
       const CompFigures& c = r.comp;
       out << "  cutter compensation: " << c.sessions << " entr" << (c.sessions == 1 ? "y" : "ies") << ", tool diameter up to "
-          << f4(2.0 * c.max_radius_mm) << " mm: " << c.moves_in << " programmed moves -> " << c.moves_out
+          << f4(2.0 * c.max_radius_mm) << " mm: " << c.moves_in << " moves offset (biarcs counted) -> " << c.moves_out
           << " tool moves (" << c.corner_arcs << " convex corner arcs, " << c.concave_corners
           << " concave corners cut back)\n";
       if (c.fitted_nurbs + c.fitted_runs > 0) {

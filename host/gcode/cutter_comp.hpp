@@ -45,7 +45,7 @@ namespace pcnc {
 /// What compensation did over a program, for `pcnc check` and the run report.
 struct CompFigures {
   std::uint64_t sessions = 0;          // G41/G42 entries that moved the tool
-  std::uint64_t moves_in = 0;          // programmed moves compensated
+  std::uint64_t moves_in = 0;          // moves offset (a fitted curve counts its arcs)
   std::uint64_t moves_out = 0;         // tool moves made for them (corner arcs included)
   std::uint64_t corner_arcs = 0;       // convex corners rounded
   std::uint64_t concave_corners = 0;   // offset moves cut back at a concave corner

@@ -457,7 +457,7 @@ std::string render_report_html(const ReportPage& page) {
     if (s.comp_entries > 0) {
       r.push_back({"cutter compensation",
                    "tool diameter " + num("comp-tool-diameter", fixed(s.comp_tool_diameter_mm, 4)) + " mm; " +
-                       num("comp-moves-in", std::to_string(s.comp_moves_in)) + " programmed moves → " +
+                       num("comp-moves-in", std::to_string(s.comp_moves_in)) + " moves offset (biarcs counted) → " +
                        num("comp-moves-out", std::to_string(s.comp_moves_out)) + " tool moves",
                    "G41/G42 in " + std::to_string(s.comp_entries) +
                        " entr" + (s.comp_entries == 1 ? "y" : "ies") +
