@@ -552,6 +552,8 @@ TEST(ReportHtml, CutterCompensationContourAndToolDiameter) {
   page.summary.comp_moves_in = 4;
   page.summary.comp_moves_out = 6;
   page.summary.comp_tool_diameter_mm = 3.0;
+  page.summary.comp_biarcs = 9;
+  page.summary.comp_moves_replaced = 40;
   page.summary.comp_contour = {{{5, 5, 24}, {20, 5, 24}, {20, 20, 24}, {5, 20, 24}, {5, 5, 24}}};
   const std::string html = render_report_html(page);
   const auto all = svgs(html);
@@ -568,6 +570,9 @@ TEST(ReportHtml, CutterCompensationContourAndToolDiameter) {
   const RunSummary back = run_summary_from_json(to_json(page.summary));
   EXPECT_EQ(back.comp_entries, 1u);
   EXPECT_EQ(back.comp_moves_out, 6u);
+  EXPECT_EQ(back.comp_biarcs, 9u);
+  EXPECT_EQ(back.comp_moves_replaced, 40u);
+  EXPECT_NE(html.find("9 biarcs replaced 40 programmed moves"), std::string::npos);
   EXPECT_DOUBLE_EQ(back.comp_tool_diameter_mm, 3.0);
   ASSERT_EQ(back.comp_contour.size(), 1u);
   EXPECT_EQ(back.comp_contour[0].size(), 5u);

@@ -461,6 +461,9 @@ std::string render_report_html(const ReportPage& page) {
                        num("comp-moves-out", std::to_string(s.comp_moves_out)) + " tool moves",
                    "G41/G42 in " + std::to_string(s.comp_entries) +
                        " entr" + (s.comp_entries == 1 ? "y" : "ies") +
+                       (s.comp_biarcs > 0 ? "; " + std::to_string(s.comp_biarcs) + " biarcs replaced " +
+                                                std::to_string(s.comp_moves_replaced) + " programmed moves"
+                                          : std::string()) +
                        "; the top view draws the programmed contour dashed over the tool centre path"});
     }
     groups.push_back({"Program", r});

@@ -170,6 +170,8 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.comp_entries = r.check.comp.sessions;
   s.comp_moves_in = r.check.comp.moves_in;
   s.comp_moves_out = r.check.comp.moves_out;
+  s.comp_biarcs = r.check.comp.biarcs;
+  s.comp_moves_replaced = r.check.comp.moves_replaced;
   s.comp_tool_diameter_mm = 2.0 * r.check.comp.max_radius_mm;
   s.comp_contour = r.check.comp.contour;
   s.end = to_string(r.job.end);
@@ -227,6 +229,8 @@ nlohmann::json to_json(const RunSummary& s) {
     j["check"]["cutter_comp"] = {{"entries", s.comp_entries},
                                  {"programmed_moves", s.comp_moves_in},
                                  {"tool_moves", s.comp_moves_out},
+                                 {"biarcs", s.comp_biarcs},
+                                 {"moves_replaced_by_biarcs", s.comp_moves_replaced},
                                  {"tool_diameter_mm", s.comp_tool_diameter_mm},
                                  {"contour", s.comp_contour}};
   }
@@ -263,6 +267,8 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
     s.comp_entries = k.at("entries").get<std::uint64_t>();
     s.comp_moves_in = k.at("programmed_moves").get<std::uint64_t>();
     s.comp_moves_out = k.at("tool_moves").get<std::uint64_t>();
+    s.comp_biarcs = k.value("biarcs", std::uint64_t{0});
+    s.comp_moves_replaced = k.value("moves_replaced_by_biarcs", std::uint64_t{0});
     s.comp_tool_diameter_mm = k.at("tool_diameter_mm").get<double>();
     if (k.contains("contour")) s.comp_contour = k.at("contour").get<std::vector<std::vector<Vec3>>>();
   }
