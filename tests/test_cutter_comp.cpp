@@ -371,3 +371,25 @@ TEST(CutterComp, ArcEntryKeepsItsEndOffsetAndMovesItsCentre) {
 
 }  // namespace
 }  // namespace pcnc::test
+
+namespace pcnc::test {
+namespace {
+
+TEST(CutterComp, FitLeavesRoomForTheUnscaledTool) {
+  // A 120 mm plate cut outside with a 3 mm tool: --fit scales the plate, the tool stays 3 mm,
+  // and the scale leaves room for it (without that room the tool path left the travel).
+  const std::string plate =
+      "G0 X-80 Y-100 Z0\nG1 Z-1 F600\nG41.1 D3\nG1 X-60 Y-60\nG1 X-60 Y60\nG1 X20 Y60\nG2 X60 Y20 I0 J-40\n"
+      "G1 X60 Y-60\nG1 X-60 Y-60\nG40\nG1 X-100 Y-100\nG0 Z0\nM2\n";
+  JobOptions o;
+  o.fit = true;
+  const MachineConfig c = mill_config();
+  const RunResult r = run_program(plate, c, o);
+  ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
+  EXPECT_LE(r.check.max_point[0], c.axes[0].travel_max_mm + 1e-9);
+  EXPECT_NEAR(r.check.max_point[0], c.axes[0].travel_max_mm, 1e-6) << "the tool path spans the travel";
+  EXPECT_LT(r.check.transform.scale, 0.2);
+}
+
+}  // namespace
+}  // namespace pcnc::test
