@@ -393,3 +393,29 @@ TEST(CutterComp, FitLeavesRoomForTheUnscaledTool) {
 
 }  // namespace
 }  // namespace pcnc::test
+
+namespace pcnc::test {
+namespace {
+
+// LinuxCNC's sample programs with compensation (shared corpus), with a tool table giving their
+// tools a diameter: each is offset (entries made, tool moves at least as many as moves offset)
+// and accepted to the blocks.
+TEST(CutterComp, LinuxCncSampleProgramsRun) {
+  auto table = std::make_shared<ToolTable>();
+  std::vector<std::string> errors;
+  ASSERT_TRUE(parse_tool_table("T1 P1 D2\nT4 P4 D3\n", "tools.tbl", *table, errors));
+  JobOptions o;
+  o.tools = table;
+  o.offset = Vec3{0, 0, 0};
+  for (const char* name : {"comp.ngc", "comp311.ngc", "comp-g1.ngc"}) {
+    const std::string path = std::string(PCNC_SHARED_DIR) + "/gcode/linuxcnc/nc_files/" + name;
+    const CheckResult r = check_program(path, wide_config(), o);
+    ASSERT_TRUE(r.ok) << name << ": " << (r.diagnostics.empty() ? "" : format_diagnostic(r.diagnostics.front()));
+    EXPECT_GE(r.comp.sessions, 1u) << name;
+    EXPECT_GE(r.comp.moves_out, r.comp.moves_in) << name;
+    EXPECT_GT(r.comp.max_radius_mm, 0.0) << name;
+  }
+}
+
+}  // namespace
+}  // namespace pcnc::test
