@@ -241,12 +241,6 @@ TEST(CutterComp, FitScalesThePathNotTheTool) {
   EXPECT_NEAR(feeds[1].end[1], off[1] + s * 100 - 1, 1e-9);
 }
 
-}  // namespace
-}  // namespace pcnc::test
-
-namespace pcnc::test {
-namespace {
-
 TEST(CutterComp, CheckCountsMovesAndKeepsTheProgrammedContour) {
   const RunResult r = run_program("G0 X0 Y0\nG42.1 D2\nG1 X10 Y0 F100\nG1 X10 Y10\nG3 X0 Y10 I-5 J0\nG40\nG0 X0 Y20\nM2\n",
                                   wide_config());
@@ -265,11 +259,6 @@ TEST(CutterComp, CheckCountsMovesAndKeepsTheProgrammedContour) {
   EXPECT_NEAR(c.contour[0][32][1], 15.0, 1e-9);  // the half circle's top, 5 above its center
 }
 
-}  // namespace
-}  // namespace pcnc::test
-
-namespace pcnc::test {
-namespace {
 
 // A circle of radius 5 about (0,0) written as CAM writes it: chords of about 0.2 mm, end
 // points rounded to 0.001 mm, from angle a0 for n chords, counter-clockwise.
@@ -347,12 +336,6 @@ TEST(CutterCompFit, NurbsUnderCompensationIsFitted) {
   EXPECT_TRUE(entry.has_error("cannot be the entry move")) << entry.first_error();
 }
 
-}  // namespace
-}  // namespace pcnc::test
-
-namespace pcnc::test {
-namespace {
-
 TEST(CutterComp, ArcEntryKeepsItsEndOffsetAndMovesItsCentre) {
   // G41 with r 1 on a G3 half circle about (5,0) from (0,0) to (10,0): the tool is inside, the
   // arc ends 1 mm inside at (9,0), and its centre moves to (4.5,0) so that it starts at the tool.
@@ -368,12 +351,6 @@ TEST(CutterComp, ArcEntryKeepsItsEndOffsetAndMovesItsCentre) {
   const Listing short_entry = list_program("G0 X0 Y0\nG41.1 D2\nG3 X0.8 Y0 I0.4 J0 F100\nM2\n");
   EXPECT_TRUE(short_entry.has_error("entry arc")) << short_entry.first_error();
 }
-
-}  // namespace
-}  // namespace pcnc::test
-
-namespace pcnc::test {
-namespace {
 
 TEST(CutterComp, FitLeavesRoomForTheUnscaledTool) {
   // A 120 mm plate cut outside with a 3 mm tool: --fit scales the plate, the tool stays 3 mm,
@@ -391,11 +368,6 @@ TEST(CutterComp, FitLeavesRoomForTheUnscaledTool) {
   EXPECT_LT(r.check.transform.scale, 0.2);
 }
 
-}  // namespace
-}  // namespace pcnc::test
-
-namespace pcnc::test {
-namespace {
 
 // LinuxCNC's sample programs with compensation (shared corpus), with a tool table giving their
 // tools a diameter: each is offset (entries made, tool moves at least as many as moves offset)
