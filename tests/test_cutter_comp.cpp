@@ -389,5 +389,26 @@ TEST(CutterComp, LinuxCncSampleProgramsRun) {
   }
 }
 
+TEST(CutterComp, OffsetMoveThatRunsBackwardsIsAGougeLinuxCncMisses) {
+  // Straight onto a circle of 0.31 mm chords with a 2 mm tool inside it: the entry is cut back
+  // 1 mm at the concave corner, so the first chord's offset runs backwards; the next corners
+  // are within LinuxCNC's 0.05 rad, so its own test never looks at it.
+  std::string prog = "G21 G90 F600\nG0 X-12 Y0\nG41.1 D2\n";
+  char buf[64];
+  for (int i = 0; i < 12; ++i) {
+    const double a = 2.0 * kPi * i / 200.0;
+    std::snprintf(buf, sizeof buf, "G1 X%.4f Y%.4f\n", 10.0 * std::cos(a), 10.0 * std::sin(a));
+    prog += buf;
+  }
+  prog += "G40\nG1 X0 Y0\nM2\n";
+  MachineConfig one_by_one = wide_config();
+  one_by_one.cutter_comp.fit_segment_max_mm = 0.01;  // the chords one by one, as LinuxCNC
+  const Listing l = list_program(prog, one_by_one);
+  EXPECT_TRUE(l.has_error("cutter compensation would gouge")) << l.first_error();
+  MachineConfig local = one_by_one;
+  local.cutter_comp.gouge_check = false;
+  EXPECT_TRUE(list_program(prog, local).result.ok);
+}
+
 }  // namespace
 }  // namespace pcnc::test

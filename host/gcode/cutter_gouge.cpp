@@ -18,12 +18,30 @@ void GougeCheck::start(double radius_mm) {
   tools_.clear();
 }
 
+namespace {
+// A box around a piece (an arc's whole circle): pieces whose boxes are farther apart than the
+// radius cannot be closer, and need no exact distance.
+struct Bounds {
+  double x0, y0, x1, y1;
+};
+Bounds bounds(const Piece& p) {
+  if (p.arc) return {p.c.x - p.r, p.c.y - p.r, p.c.x + p.r, p.c.y + p.r};
+  return {std::min(p.a.x, p.b.x), std::min(p.a.y, p.b.y), std::max(p.a.x, p.b.x), std::max(p.a.y, p.b.y)};
+}
+double gap(const Bounds& a, const Bounds& b) {
+  const double dx = std::max({0.0, a.x0 - b.x1, b.x0 - a.x1});
+  const double dy = std::max({0.0, a.y0 - b.y1, b.y0 - a.y1});
+  return std::hypot(dx, dy);
+}
+}  // namespace
+
 bool GougeCheck::measure(const Item& tool, const Item& prog, Gouge& g) const {
   // Look-ahead: a tool move must not cut into the contour still to be cut after it. A move
   // and its next one meet at a corner LinuxCNC's own rules decide (cutter_comp.cpp); an
   // earlier contour may be material a later pass removes (roughing passes under G41/G42).
   const int ahead = prog.index - tool.index;
   if (ahead < 2 || ahead > kGougeWindow) return true;
+  if (gap(bounds(tool.p), bounds(prog.p)) >= radius_) return true;
   Vec2 at;
   const double d = distance(tool.p, prog.p, &at);
   const double depth = radius_ - d;
