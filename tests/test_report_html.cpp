@@ -3,6 +3,7 @@
 // summary's JSON round trip, the page's figures equal to the summary's, SVGs present and
 // non-empty, nothing fetched from the network; and the page rendered by headless Chromium
 // into a screenshot that is neither missing nor blank.
+#include <algorithm>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -532,6 +533,44 @@ TEST(ReportHtml, SpeedPlotAndWhereTheTimeWent) {
     EXPECT_LE(page.slowest[i].lost_s, page.slowest[i - 1].lost_s) << "most lost first";
   }
   EXPECT_NE(html.find("turn 90.0°"), std::string::npos);
+}
+
+// Cutter compensation: the top view draws the programmed contour over the tool path, the
+// figures name the tool diameter, and the summary JSON keeps both.
+TEST(ReportHtml, CutterCompensationContourAndToolDiameter) {
+  ReportPage page = sample_page();
+  page.summary.comp_entries = 1;
+  page.summary.comp_moves_in = 4;
+  page.summary.comp_moves_out = 6;
+  page.summary.comp_tool_diameter_mm = 3.0;
+  page.summary.comp_biarcs = 9;
+  page.summary.comp_moves_replaced = 40;
+  page.summary.comp_contour = {{{5, 5, 24}, {20, 5, 24}, {20, 20, 24}, {5, 20, 24}, {5, 5, 24}}};
+  const std::string html = render_report_html(page);
+  const auto all = svgs(html);
+  ASSERT_GE(all.size(), 2u);
+  const std::string& top = all[1];
+  const std::size_t g = top.find("class=\"comp-contour\"");
+  ASSERT_NE(g, std::string::npos);
+  const std::size_t pl = top.find("<polyline points=\"", g);
+  ASSERT_NE(pl, std::string::npos);
+  const std::string pts = top.substr(pl, top.find("\"/>", pl) - pl);
+  EXPECT_EQ(std::count(pts.begin(), pts.end(), ','), 5) << pts;  // the five contour points
+  EXPECT_NE(top.find("tool diameter 3.000 mm"), std::string::npos);
+  EXPECT_EQ(span(html, "comp-tool-diameter"), "3.0000");
+  const RunSummary back = run_summary_from_json(to_json(page.summary));
+  EXPECT_EQ(back.comp_entries, 1u);
+  EXPECT_EQ(back.comp_moves_out, 6u);
+  EXPECT_EQ(back.comp_biarcs, 9u);
+  EXPECT_EQ(back.comp_moves_replaced, 40u);
+  EXPECT_NE(html.find("9 biarcs replaced 40 programmed moves"), std::string::npos);
+  EXPECT_DOUBLE_EQ(back.comp_tool_diameter_mm, 3.0);
+  ASSERT_EQ(back.comp_contour.size(), 1u);
+  EXPECT_EQ(back.comp_contour[0].size(), 5u);
+  // Without compensation the top view has no contour and the JSON no cutter_comp.
+  const std::string plain = render_report_html(sample_page());
+  EXPECT_EQ(plain.find("comp-contour"), std::string::npos);
+  EXPECT_FALSE(to_json(sample_summary())["check"].contains("cutter_comp"));
 }
 
 }  // namespace

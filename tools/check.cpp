@@ -120,6 +120,18 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
         << f4(r.min_point[1]) << " .. " << f4(r.max_point[1]) << ", Z " << f4(r.min_point[2]) << " .. "
         << f4(r.max_point[2]) << " mm\n";
     out << "  feed time (length/F, no acceleration): " << f4(r.feed_length_time_s) << " s\n";
+    if (r.comp.sessions > 0) {
+      const CompFigures& c = r.comp;
+      out << "  cutter compensation: " << c.sessions << " entr" << (c.sessions == 1 ? "y" : "ies") << ", tool diameter up to "
+          << f4(2.0 * c.max_radius_mm) << " mm: " << c.moves_in << " moves offset (biarcs counted) -> " << c.moves_out
+          << " tool moves (" << c.corner_arcs << " convex corner arcs, " << c.concave_corners
+          << " concave corners cut back)\n";
+      if (c.fitted_nurbs + c.fitted_runs > 0) {
+        out << "  biarc fit: " << c.biarcs << " biarcs (" << c.fit_arcs << " arcs) replaced " << c.moves_replaced
+            << " programmed moves (" << c.fitted_nurbs << " NURBS curves, " << c.fitted_runs
+            << " runs of short G1 moves); max deviation " << f4(c.max_fit_deviation_mm * 1000.0) << " um\n";
+      }
+    }
   } else {
     out << o.file << ": OK\n";
   }

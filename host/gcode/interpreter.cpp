@@ -59,6 +59,7 @@ Move Interpreter::base_move(MoveKind kind, const ParsedLine& l, int column) cons
   m.start = m.end = to_machine(q_);
   m.contouring = contouring_;
   m.known = known_;
+  m.comp = comp_;
   return m;
 }
 
@@ -69,6 +70,7 @@ Move Interpreter::end_move(int line) const {
   m.start = m.end = to_machine(q_);
   m.contouring = contouring_;
   m.known = known_;
+  m.comp = comp_;
   return m;
 }
 
@@ -118,6 +120,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
   if (motion == 62) allowed |= kAxisBits | bit('P') | bit('K') | bit('R');
   if (nonmodal == 40 || l.g[kGPathControl] == 640) allowed |= bit('P');
   if (l.m[kMToolChange] == 61) allowed |= bit('Q');
+  if (l.g[kGCutterComp] >= 410) allowed |= bit('D');  // G41/G42: tool number; G41.1/G42.1: diameter
   if (l.g[kGPathControl] == 640) allowed |= bit('P') | bit('Q');
   if (l.g[kGToolLength] == 430) allowed |= bit('H');
 
@@ -157,8 +160,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
           return fail(l, col, "P word (number of turns) on an arc is not supported; expected one arc per line");
         return fail(l, col, "P word with no G code that uses it; expected P only with G4 (dwell, seconds), G64, G5.2 (weight) or G6.2 (order)");
       case 'D':
-        return fail(l, col,
-                    "D word with no G code that uses it (cutter compensation is not supported); expected no D word");
+        return fail(l, col, "D word with no G code that uses it; expected D only with G41/G42 (tool) or G41.1/G42.1 (diameter)");
       case 'E':
         return fail(
             l, col,
@@ -179,7 +181,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   const int motion_word = l.g[kGMotion];
   if (motion_word == 53)
     return fail(l, l.g_col[kGMotion], "G5.3 without an open G5.2 NURBS curve; expected G5.2 first");
-  if (!check_words(l)) return false;
+  if (!check_words(l) || !comp_forbids(l)) return false;
   const int first = out.count;
 
   // Feed, spindle, tool, coolant (RS274 order of execution).
@@ -213,10 +215,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   }
   if (l.g[kGPlane] >= 0) normal_axis_ = l.g[kGPlane] == 170 ? 2 : l.g[kGPlane] == 180 ? 1 : 0;
   if (l.g[kGUnits] >= 0) inches_ = l.g[kGUnits] == 200;
-  if (l.g[kGCutterComp] == 400) {
-    warn(l, l.g_col[kGCutterComp], "G40",
-         [&] { return std::string("G40 ignored: cutter compensation is never active on this machine"); });
-  }
+  if (!comp_words(l)) return false;
   // T, M6, M61 and the tool length offset (after the units: G43.1's words are in them).
   if (!tool_words(l)) {
     out.count = first;
@@ -298,6 +297,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   } else if (stop == 2 || stop == 30) {
     out.push(base_move(MoveKind::kEnd, l, l.m_col[kMStop]));
     select_system(0);  // M2/M30: back to G54, as LinuxCNC does
+    comp_.side = 0;    // ... and to G40
     ended_ = true;
   }
   return true;

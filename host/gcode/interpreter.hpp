@@ -110,6 +110,8 @@ class Interpreter : public SystemParameters {
   bool set_offsets(const ParsedLine& l);   // G10 L1/L2/L10/L11/L20
   bool axis_offset(const ParsedLine& l);   // G52, G92, G92.1-G92.3
   bool tool_words(const ParsedLine& l);    // T, M6, M61, G43/G43.1/G49
+  bool comp_forbids(const ParsedLine& l);  // what cannot happen with cutter compensation on
+  bool comp_words(const ParsedLine& l);    // G40, G41/G42, G41.1/G42.1 (interpreter_comp.cpp)
   bool cycle(const ParsedLine& l, int motion, bool first_of_series, MoveList& out);
   void select_system(int index);           // makes g5x_ the offset of system index (0..8)
   void update_origin();                    // origin_ from g5x_, g92_, tlo_
@@ -170,6 +172,7 @@ class Interpreter : public SystemParameters {
   double feed_ = 0.0;  // F as written, current units per minute
   bool contouring_ = false;
   bool ended_ = false;
+  MoveComp comp_{};  // cutter radius compensation, carried on every move
 
   // An open NURBS group: LinuxCNC's G5.2 ... G5.3 or Fanuc's G6.2 ... closing knot-only lines.
   struct NurbsGroup {

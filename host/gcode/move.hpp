@@ -20,6 +20,16 @@ enum class MoveKind : std::uint8_t { kRapid, kLine, kArc, kDwell, kPause, kEnd, 
 
 struct NurbsCurve;
 
+/// Cutter radius compensation in effect for a move (G41/G42/G41.1/G42.1 until G40), as the
+/// interpreter hands it to the compensation stage (cutter_comp.hpp).
+struct MoveComp {
+  std::uint8_t side = 0;         // 0 off (G40), 1 left (G41), 2 right (G42); a negative D swapped it
+  std::uint8_t normal_axis = 2;  // the plane compensation works in (G17 2, G18 1, G19 0)
+  bool inch = false;             // G20 when it went on (LinuxCNC's arc tolerance is in program units)
+  std::uint32_t serial = 0;      // counts the G41/G42 that turned it on: a new one is a new entry
+  double radius_mm = 0.0;        // the real tool radius, never scaled by --fit
+};
+
 struct Move {
   MoveKind kind = MoveKind::kLine;
   int line = 0;                // source line (1-based)
@@ -44,6 +54,8 @@ struct Move {
   // kNurbs: the validated curve in machine coordinates (first control point = start, last =
   // end), shared so that copying a Move stays cheap; feed_mm_s is its programmed feed.
   std::shared_ptr<const NurbsCurve> nurbs;
+
+  MoveComp comp;
 };
 
 /// A straight move without displacement: checked (it may move under another transform) but

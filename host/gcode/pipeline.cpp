@@ -8,17 +8,30 @@
 
 namespace pcnc {
 
+namespace {
+CompOptions comp_options(const MachineConfig& c) {
+  CompOptions o;
+  o.gouge_check = c.cutter_comp.gouge_check;
+  o.fit_segment_max_mm = c.cutter_comp.fit_segment_max_mm;
+  o.fit_tolerance_mm = c.cutter_comp.fit_tolerance_mm;
+  o.contouring_angle_rad = c.motion.contouring_angle_deg * 3.14159265358979323846 / 180.0;
+  return o;
+}
+}  // namespace
+
 Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& config, const JobFrame& frame,
                    DiagnosticSink& sink, bool soft_limits)
     : config_(config),
       sink_(sink),
       reader_(std::move(reader)),
       source_(*reader_, config_, frame, sink_),
+      comp_(sink_, comp_options(config_)),
+      from_source_([this](Move& m) { return source_.next(m); }),
       preflight_(config_, sink_, soft_limits),
       merge_(config_.motion.corner_tolerance_mm),  // tolerance 0: merging off
       validator_(config_, frame.start),
       to_merge_([this](Move& m) { return checked_move(m); }),
-      to_surface_([this](Move& m) { return source_.next(m); }) {
+      to_surface_([this](Move& m) { return comp_.next(from_source_, m); }) {
   if (frame.surface) {
     // the path tolerance when there is one, else gcode.surface_tolerance_mm
     const double tol = config_.motion.corner_tolerance_mm > 0.0 ? config_.motion.corner_tolerance_mm
@@ -33,7 +46,7 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
 // correction, then smoothing.
 bool Pipeline::geometry_move(Move& m) {
   if (surface_) return surface_->next(to_surface_, m);
-  return source_.next(m);
+  return comp_.next(from_source_, m);
 }
 
 // ... then the preflight, which sees every move; a move without displacement ends there.

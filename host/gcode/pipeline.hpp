@@ -7,8 +7,9 @@
 //
 //   LineReader   source text, line by line, in fixed memory            (line_reader.hpp)
 //   MoveSource   lexer -> parser -> interpreter: Moves in machine mm   (move_source.hpp)
+//   CutterComp   G41/G42: the tool centre's path (LinuxCNC's moves)   (cutter_comp.hpp)
 //   [geometry stages, each optional, in this order:
-//      cutter compensation, surface correction (surface_correction.hpp), smoothing]
+//      surface correction (surface_correction.hpp), smoothing]
 //   Preflight    the whole program: soft limits, extents, feed time    (preflight.hpp)
 //                (sees every programmed move; moves without displacement end here)
 //   SegmentMerger  packing for the ring: collinear G1 runs -> one line  (segment_merge.hpp)
@@ -32,6 +33,7 @@
 
 #include "config/config.hpp"
 #include "gcode/block_validator.hpp"
+#include "gcode/cutter_comp.hpp"
 #include "gcode/diagnostics.hpp"
 #include "gcode/interpreter.hpp"
 #include "gcode/line_reader.hpp"
@@ -62,8 +64,8 @@ class Pipeline {
   /// without making blocks: the --fit measuring pass, or the rest of a failed program.
   void drain();
 
-  /// The moves as they leave the front end (interpreter, then cutter compensation when it
-  /// exists), before the preflight: `pcnc check --print-moves`. False after the End move.
+  /// The moves as they leave the front end (interpreter, then cutter compensation), before
+  /// the preflight: `pcnc check --print-moves`. False after the End move.
   /// Not to be mixed with next()/drain() on one pipeline.
   bool front_end_move(Move& m) { return geometry_move(m); }
   /// Message comments ((MSG,...), (DEBUG,...), (PRINT,...)) as their lines run.
@@ -73,6 +75,7 @@ class Pipeline {
 
   bool failed() const { return sink_.has_errors(); }
   const Preflight& preflight() const { return preflight_; }
+  const CompFigures& comp_figures() const { return comp_.figures(); }
   const LineReader& reader() const { return *reader_; }
   std::uint64_t lines() const { return source_.lines(); }
 
@@ -85,6 +88,8 @@ class Pipeline {
   DiagnosticSink& sink_;
   std::unique_ptr<LineReader> reader_;
   MoveSource source_;
+  CutterComp comp_;
+  MovePull from_source_;        // the interpreter's output, the compensation's input
   Preflight preflight_;
   SegmentMerger merge_;
   BlockValidator validator_;

@@ -134,7 +134,7 @@ void Preflight::finish() {
   }
 }
 
-FitResult fit_to_travel(const Box& box, const Vec3& offset, const MachineConfig& config) {
+FitResult fit_to_travel(const Box& box, const Vec3& offset, const MachineConfig& config, double tool_radius_mm) {
   FitResult r;
   r.offset = offset;
   double scale = 1.0;
@@ -143,7 +143,8 @@ FitResult fit_to_travel(const Box& box, const Vec3& offset, const MachineConfig&
     const auto k = static_cast<std::size_t>(i);
     const double ext = box.max[k] - box.min[k];
     const double travel = config.axes[k].travel_max_mm - config.axes[k].travel_min_mm;
-    if (ext > travel) scale = std::min(scale, travel / ext);
+    const double m = 2.0 * tool_radius_mm;
+    if (ext > travel) scale = std::min(scale, m > 0.0 && travel > m && ext > m ? (travel - m) / (ext - m) : travel / ext);
   }
   r.scale = scale;
   // box is in machine coordinates under (offset, scale 1): program q = p - offset.

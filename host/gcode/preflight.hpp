@@ -79,7 +79,10 @@ struct FitResult {
   Vec3 offset{};
   double scale = 1.0;
 };
-FitResult fit_to_travel(const Box& box, const Vec3& offset, const MachineConfig& config);
+/// `tool_radius_mm` > 0: the box was measured on a cutter-compensated path at scale 1, which
+/// lies that far beside the contour; the scale leaves it unscaled (--fit scales the path, never
+/// the tool): s = (travel - 2r) / (extent - 2r).
+FitResult fit_to_travel(const Box& box, const Vec3& offset, const MachineConfig& config, double tool_radius_mm = 0.0);
 
 /// Path length of a move (line: distance; arc: helix length; NURBS: arc length).
 double move_length(const Move& m);

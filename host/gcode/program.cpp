@@ -111,7 +111,8 @@ Transform fit_transform(const Input& in, const std::string& name, const MachineC
   DiagnosticSink scratch(name);
   Pipeline measure(in.open(), config, make_frame(config, options, t), scratch, false);
   measure.drain();
-  const FitResult f = fit_to_travel(measure.preflight().fit_extents(), t.offset, config);
+  const FitResult f =
+      fit_to_travel(measure.preflight().fit_extents(), t.offset, config, measure.comp_figures().max_radius_mm);
   t.offset = f.offset;
   t.scale = f.scale;
   return t;
@@ -144,6 +145,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.plan = plan.finish();
     if (pipeline.failed()) pipeline.drain();  // the rest of the program's diagnostics
     const Preflight& pre = pipeline.preflight();
+    result.comp = pipeline.comp_figures();
     result.transform = t;
     result.lines = pipeline.lines();
     result.moves = pre.moves();

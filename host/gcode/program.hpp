@@ -17,6 +17,7 @@
 #include "ipc/block.hpp"
 #include "config/config.hpp"
 #include "config/work_state.hpp"
+#include "gcode/cutter_comp.hpp"
 #include "gcode/diagnostics.hpp"
 #include "gcode/move.hpp"
 #include "gcode/move_source.hpp"
@@ -76,6 +77,8 @@ struct CheckResult {
   // What caps each block's speed and how its junctions are passed, per run of lines (ok
   // only): the run report attributes the trace's time to these causes (gcode/time_cause.hpp).
   std::vector<LinePlan> plan;
+  // What cutter radius compensation did (G41/G42), and the programmed contour it offset.
+  CompFigures comp;
 };
 
 /// Pass 1: reads the whole file through the whole pipeline: parses, interprets, checks soft
@@ -133,7 +136,7 @@ class BlockStream {
 std::string format_block(const Block& b);
 
 /// `pcnc check --print-moves`: the program through the front end only (lexer, control flow,
-/// interpreter and, once it exists, cutter compensation), each move handed to `on_move` and
+/// interpreter and cutter compensation), each move handed to `on_move` and
 /// each message comment to `on_message` in program order. The travel and the blocks are not
 /// checked (that is check_program's), as LinuxCNC's interpreter does not: ok means the
 /// program is valid G-code. The work state after the program (G10, G92, G28.1...) is returned

@@ -10,8 +10,6 @@ namespace {
 constexpr const char* kTapping =
     "tapping and boring cycles with the spindle (G74, G76, G84, G86-G88) are not supported: the machine has no "
     "spindle; expected G73, G81-G83, G85 or G89";
-constexpr const char* kCutterComp =
-    "cutter radius compensation (G41/G42) is not supported; expected a tool path already offset by the CAM system";
 
 // One row per meaning: the codes first, first+step, ..., last (G numbers x10, so G54-G59 is
 // 540 to 590 in steps of 10 and G38.2-G38.5 is 382 to 385 in steps of 1).
@@ -53,9 +51,9 @@ constexpr CodeInfo kGCodes[] = {
     {950, 950, 1, kGFeedMode, "feed per revolution (G95) is not supported: the machine has no spindle; expected G94"},
     {200, 210, 10, kGUnits, nullptr},  // G20 G21
     // cutter compensation, tool length
-    {400, 400, 1, kGCutterComp, nullptr},  // G40: never active (warned)
-    {410, 411, 1, kGCutterComp, kCutterComp},
-    {420, 421, 1, kGCutterComp, kCutterComp},
+    {400, 400, 1, kGCutterComp, nullptr},  // G40 compensation off
+    {410, 411, 1, kGCutterComp, nullptr},  // G41, G41.1 left (host/gcode/cutter_comp.hpp)
+    {420, 421, 1, kGCutterComp, nullptr},  // G42, G42.1 right
     {430, 430, 1, kGToolLength, nullptr},  // G43: the offset stays 0 (warned)
     {431, 431, 1, kGToolLength, nullptr},  // G43.1 dynamic tool length
     {432, 432, 1, kGToolLength, "adding a second tool length offset (G43.2) is not supported; expected G43 H or G43.1"},

@@ -297,6 +297,23 @@ std::string render_top_view_svg(const ReportPage& page) {
     << "<text x=\"12\" y=\"" << T + 8 << "\">Y, mm</text>\n</g>\n";
   o << "<g clip-path=\"url(#top-clip)\" fill=\"none\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n"
     << path_strokes(path, feed_speed_max(path), project, 1.3) << "</g>\n";
+  if (!s.comp_contour.empty()) {  // G41/G42: the contour as programmed, over the tool path the trace shows
+    o << "<g class=\"comp-contour\" clip-path=\"url(#top-clip)\" fill=\"none\" stroke=\"#ffffff\" stroke-opacity=\"0.8\" "
+         "stroke-width=\"1\" stroke-dasharray=\"5 3\">\n";
+    for (const std::vector<Vec3>& line : s.comp_contour) {
+      if (line.size() < 2) continue;
+      o << "<polyline points=\"";
+      for (const Vec3& p : line) {
+        const P2 q = project(p);
+        o << f1(q.x) << "," << f1(q.y) << " ";
+      }
+      o << "\"/>\n";
+    }
+    o << "</g>\n";
+    o << "<text class=\"comp-legend\" x=\"" << L << "\" y=\"" << f1(H - 4) << "\" font-size=\"11\" fill=\"#c9d0de\">"
+      << "dashed: programmed contour; coloured: the compensated tool centre path (tool diameter "
+      << fixed(s.comp_tool_diameter_mm, 3) << " mm)</text>\n";
+  }
   o << end_markers(project(s.last_point), project(s.final_status.actual), "");
   o << "</svg>\n";
   return o.str();
@@ -438,6 +455,18 @@ std::string render_report_html(const ReportPage& page) {
                                 " µm: under M21 corners are passed at the junction-deviation speed and runs of collinear "
                                 "G1 moves are merged into one block"
                           : std::string())});
+    if (s.comp_entries > 0) {
+      r.push_back({"cutter compensation",
+                   "tool diameter " + num("comp-tool-diameter", fixed(s.comp_tool_diameter_mm, 4)) + " mm; " +
+                       num("comp-moves-in", std::to_string(s.comp_moves_in)) + " moves offset (biarcs counted) → " +
+                       num("comp-moves-out", std::to_string(s.comp_moves_out)) + " tool moves",
+                   "G41/G42 in " + std::to_string(s.comp_entries) +
+                       " entr" + (s.comp_entries == 1 ? "y" : "ies") +
+                       (s.comp_biarcs > 0 ? "; " + std::to_string(s.comp_biarcs) + " biarcs replaced " +
+                                                std::to_string(s.comp_moves_replaced) + " programmed moves"
+                                          : std::string()) +
+                       "; the top view draws the programmed contour dashed over the tool centre path"});
+    }
     groups.push_back({"Program", r});
   }
   // accuracy

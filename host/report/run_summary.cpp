@@ -167,6 +167,13 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.feed_length_time_s = r.check.feed_length_time_s;
   s.rapid_lines = r.check.rapid_lines;
   s.plan = r.check.plan;
+  s.comp_entries = r.check.comp.sessions;
+  s.comp_moves_in = r.check.comp.moves_in;
+  s.comp_moves_out = r.check.comp.moves_out;
+  s.comp_biarcs = r.check.comp.biarcs;
+  s.comp_moves_replaced = r.check.comp.moves_replaced;
+  s.comp_tool_diameter_mm = 2.0 * r.check.comp.max_radius_mm;
+  s.comp_contour = r.check.comp.contour;
   s.end = to_string(r.job.end);
   s.message = r.job.message;
   s.blocks_sent = r.job.blocks_sent;
@@ -218,6 +225,15 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"refill_max_us", s.refill_max_us}}},
               {"status", status_json(s.final_status)}};
   if (!s.time_by_cause.empty()) j["time_by_cause"] = s.time_by_cause;
+  if (s.comp_entries > 0) {
+    j["check"]["cutter_comp"] = {{"entries", s.comp_entries},
+                                 {"programmed_moves", s.comp_moves_in},
+                                 {"tool_moves", s.comp_moves_out},
+                                 {"biarcs", s.comp_biarcs},
+                                 {"moves_replaced_by_biarcs", s.comp_moves_replaced},
+                                 {"tool_diameter_mm", s.comp_tool_diameter_mm},
+                                 {"contour", s.comp_contour}};
+  }
   return j;
 }
 
@@ -246,6 +262,16 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.last_point = c.at("last_point").get<Vec3>();
   s.feed_length_time_s = c.at("feed_length_time_s").get<double>();
   if (c.contains("rapid_lines")) s.rapid_lines = rapid_lines_from(c.at("rapid_lines"));  // absent in older summaries
+  if (c.contains("cutter_comp")) {  // absent without G41/G42
+    const json& k = c.at("cutter_comp");
+    s.comp_entries = k.at("entries").get<std::uint64_t>();
+    s.comp_moves_in = k.at("programmed_moves").get<std::uint64_t>();
+    s.comp_moves_out = k.at("tool_moves").get<std::uint64_t>();
+    s.comp_biarcs = k.value("biarcs", std::uint64_t{0});
+    s.comp_moves_replaced = k.value("moves_replaced_by_biarcs", std::uint64_t{0});
+    s.comp_tool_diameter_mm = k.at("tool_diameter_mm").get<double>();
+    if (k.contains("contour")) s.comp_contour = k.at("contour").get<std::vector<std::vector<Vec3>>>();
+  }
   if (c.contains("plan")) {
     for (const json& e : c.at("plan")) s.plan.push_back(plan_entry_from(e.get<std::string>()));
   }

@@ -43,6 +43,12 @@ struct RunSummary {
   // what caps each block's speed and how its junctions pass (gcode/time_cause.hpp): the
   // launcher attributes the trace's time to these causes
   std::vector<LinePlan> plan;
+  // cutter radius compensation (G41/G42): what it did, the largest tool diameter, and the
+  // programmed contour it offset (machine mm, at most 20000 points: the report's top view)
+  std::uint64_t comp_entries = 0, comp_moves_in = 0, comp_moves_out = 0;
+  std::uint64_t comp_biarcs = 0, comp_moves_replaced = 0;  // biarc fits: biarcs, programmed moves they replaced
+  double comp_tool_diameter_mm = 0.0;
+  std::vector<std::vector<Vec3>> comp_contour;
 
   // the job
   std::string end;            // to_string(JobEnd)

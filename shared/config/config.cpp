@@ -325,6 +325,13 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     c.gcode.surface = resolve_beside(c.gcode.surface, origin);
   }
   {
+    Section k(top.subtable("cutter_comp"), "cutter_comp", origin, problems);
+    k.boolean("gouge_check", c.cutter_comp.gouge_check, Need::kOptional);
+    k.number("fit_segment_max_mm", c.cutter_comp.fit_segment_max_mm, 1e-6, 100.0, "mm", Need::kOptional);
+    k.number("fit_tolerance_mm", c.cutter_comp.fit_tolerance_mm, 1e-7, 1.0, "mm", Need::kOptional);
+    k.finish();
+  }
+  {
     Section p(top.subtable("process"), "process", origin, problems);
     if (p.string("shm_name", c.process.shm_name) &&
         (c.process.shm_name.empty() || c.process.shm_name[0] != '/' ||

@@ -90,6 +90,15 @@ struct GcodeConfig {
   bool pause_on_tool_change = false;        // M6 pauses the program for the operator (false: it does not)
 };
 
+// [cutter_comp], every key optional: cutter radius compensation (host/gcode/cutter_comp.hpp).
+struct CutterCompConfig {
+  // The exact gouge test over the look-ahead window (true), or LinuxCNC's local tests alone.
+  bool gouge_check = true;
+  // Biarc fitting under G41/G42: a run of >= 8 G1 moves each shorter than this is one smooth curve.
+  double fit_segment_max_mm = 0.5;
+  double fit_tolerance_mm = 0.001;  // the biarcs' maximum deviation from the curve
+};
+
 struct ProcessConfig {
   std::string shm_name = "/pcnc-desktop-mill";
   // Empty: the default in the machine's runtime directory (config/runtime_paths.hpp); a path
@@ -120,6 +129,7 @@ struct MachineConfig {
   std::array<AxisConfig, kAxes> axes{};
   MotionConfig motion{};
   GcodeConfig gcode{};
+  CutterCompConfig cutter_comp{};
   ProcessConfig process{};
 
   double cycle_period_s() const { return 1.0 / motion.cycle_hz; }

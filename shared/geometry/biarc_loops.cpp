@@ -1,0 +1,128 @@
+// biarc_loops.cpp — exact offsets of arc chains and the seed's twice-offset loop removal
+// (offset by the largest tool radius, cut the loops at the offset's self-intersections,
+// offset back). See offset_chain and remove_loops in biarc.hpp.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geometry/arc_intersect.hpp"
+#include "geometry/biarc.hpp"
+
+namespace pcnc {
+namespace {
+
+constexpr double kGap = 1e-9;    // mm: offsets closer than this meet
+constexpr double kFrac = 1e-9;   // fraction slack along a piece
+
+double turning(Vec2 t_in, Vec2 t_out) { return std::atan2(cross(t_in, t_out), dot(t_in, t_out)); }
+
+bool is_point(const Arc2& a) { return arc_length(a) <= 1e-12; }
+
+struct Box {
+  double x0, y0, x1, y1;
+};
+
+Box box_of(const Arc2& a) {
+  Box b{std::min(a.start.x, a.end.x), std::min(a.start.y, a.end.y), std::max(a.start.x, a.end.x),
+        std::max(a.start.y, a.end.y)};
+  if (!a.line) {  // the whole circle: a loose box is enough for a pre-filter
+    b = {std::min(b.x0, a.centre.x - a.radius), std::min(b.y0, a.centre.y - a.radius),
+         std::max(b.x1, a.centre.x + a.radius), std::max(b.y1, a.centre.y + a.radius)};
+  }
+  return b;
+}
+
+bool overlap(const Box& a, const Box& b) {
+  constexpr double e = 1e-9;
+  return a.x0 <= b.x1 + e && b.x0 <= a.x1 + e && a.y0 <= b.y1 + e && b.y0 <= a.y1 + e;
+}
+
+}  // namespace
+
+std::vector<Arc2> offset_chain(const std::vector<Arc2>& chain, double d) {
+  std::vector<Arc2> out;
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const Arc2 o = offset_arc(chain[i], d).arc;
+    if (!out.empty() && distance(out.back().end, o.start) > kGap) {
+      // a corner of the chain: an arc of radius |d| about it joins the two offsets
+      const double phi = turning(end_tangent(chain[i - 1]), start_tangent(chain[i]));
+      Arc2 corner = make_arc_about(chain[i].start, out.back().end, phi);
+      corner.end = o.start;
+      out.push_back(corner);
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
+LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int side) {
+  LoopRemoval r;
+  if (chain.empty() || !(tool_radius > 0.0)) {
+    r.arcs = chain;
+    return r;
+  }
+  const double d = side >= 0 ? tool_radius : -tool_radius;
+  const std::vector<Arc2> off = offset_chain(chain, d);
+  std::vector<Box> boxes;
+  for (const Arc2& a : off) boxes.push_back(box_of(a));
+
+  // Walk the offset from its start. On piece i from fraction f, the first crossing ahead
+  // with a later piece ends the part kept; the walk resumes on that piece after the
+  // crossing (the loop between is cut). Of crossings at the same place, the furthest wins.
+  std::vector<Arc2> kept;
+  std::size_t i = 0;
+  double f = 0.0;
+  const std::size_t n = off.size();
+  while (i < n) {
+    double best_fa = std::numeric_limits<double>::infinity(), best_fb = 0.0;
+    std::size_t best_j = 0;
+    if (!is_point(off[i])) {
+      for (std::size_t j = i + 1; j < n; ++j) {
+        if (is_point(off[j]) || !overlap(boxes[i], boxes[j])) continue;
+        for (const ArcCrossing& x : intersect(off[i], off[j])) {
+          if (x.fa <= f + kFrac) continue;
+          // the joint two neighbours share (directly, or across points between them) is no loop
+          bool joint = x.fa >= 1.0 - kFrac && x.fb <= kFrac;
+          for (std::size_t k = i + 1; joint && k < j; ++k) joint = is_point(off[k]);
+          if (joint) continue;
+          if (x.fa < best_fa - kFrac || (x.fa <= best_fa + kFrac && (j > best_j || (j == best_j && x.fb > best_fb)))) {
+            best_fa = x.fa, best_fb = x.fb, best_j = j;
+          }
+        }
+      }
+    }
+    if (std::isfinite(best_fa)) {
+      kept.push_back(sub_arc(off[i], f, best_fa));
+      kept.back().end = arc_point(off[best_j], best_fb);  // the same point on both
+      ++r.loops_removed;
+      i = best_j;
+      f = best_fb;
+    } else {
+      kept.push_back(f > 0.0 ? sub_arc(off[i], f, 1.0) : off[i]);
+      ++i;
+      f = 0.0;
+    }
+  }
+  if (r.loops_removed == 0) {
+    r.arcs = chain;
+    return r;
+  }
+  // back: the pieces kept, offset by -d; corner arcs of radius R at the cuts, and the corner
+  // arcs of the first offset shrink to points and go
+  std::vector<Arc2> pieces;
+  for (const Arc2& a : kept)
+    if (!is_point(a)) pieces.push_back(a);
+  for (const Arc2& a : offset_chain(pieces, -d))
+    if (!is_point(a) && !(!a.line && a.radius <= 1e-9)) r.arcs.push_back(a);
+  // the ends where they were: the first and last pieces' ends are offsets of the chain's
+  if (!r.arcs.empty()) {
+    r.arcs.front().start = chain.front().start;
+    r.arcs.back().end = chain.back().end;
+  }
+  for (std::size_t k = 1; k < r.arcs.size(); ++k) r.arcs[k].start = r.arcs[k - 1].end;
+  for (const Arc2& a : r.arcs)
+    for (int s = 0; s <= 16; ++s) r.max_change_mm = std::max(r.max_change_mm, nearest_on_arcs(chain, arc_point(a, s / 16.0)));
+  return r;
+}
+
+}  // namespace pcnc
