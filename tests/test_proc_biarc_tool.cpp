@@ -123,6 +123,15 @@ void expect_passthrough(const std::string& in_text, const ToolRun& r) {
   EXPECT_EQ(range, r.ranges.size());
 }
 
+// Writes `text` to a fresh temporary directory; returns the file's path.
+std::string write_temp(const std::string& tag, const std::string& name, const std::string& text) {
+  const std::string path = test::make_temp_dir(tag) + "/" + name;
+  FILE* f = std::fopen(path.c_str(), "w");
+  std::fwrite(text.data(), 1, text.size(), f);
+  std::fclose(f);
+  return path;
+}
+
 int check_status(const std::string& path) {
   return test::run_process({pcnc_bin(), "check", "--fit", path}, 300).exit_code;
 }
@@ -275,13 +284,7 @@ void expect_nurbs_file(const std::string& rel, int curves) {
   const std::string text = test::read_file(file);
   expect_passthrough(text, r);
   // the output is a program pcnc accepts, as it accepts the input
-  const std::string dir = test::make_temp_dir("biarc_tool");
-  const std::string out_path = dir + "/out.ngc";
-  {
-    FILE* f = std::fopen(out_path.c_str(), "w");
-    std::fwrite(r.out.data(), 1, r.out.size(), f);
-    std::fclose(f);
-  }
+  const std::string out_path = write_temp("biarc_tool", "out.ngc", r.out);
   EXPECT_EQ(check_status(out_path), check_status(file));
   // the arcs against the curves of the project's reader
   const NurbsProgram prog = read_nurbs_program(file);
@@ -318,13 +321,7 @@ TEST(BiarcTool, CamPolylineRunsWithinToleranceOfEveryPoint) {
   ASSERT_GT(r.ranges.size(), 5u);
   const std::string text = test::read_file(file);
   expect_passthrough(text, r);
-  const std::string dir = test::make_temp_dir("biarc_tool_cam");
-  const std::string out_path = dir + "/out.ngc";
-  {
-    FILE* f = std::fopen(out_path.c_str(), "w");
-    std::fwrite(r.out.data(), 1, r.out.size(), f);
-    std::fclose(f);
-  }
+  const std::string out_path = write_temp("biarc_tool_cam", "out.ngc", r.out);
   EXPECT_EQ(check_status(out_path), 0);
   EXPECT_EQ(split_lines(r.out).size() < split_lines(text).size(), true);  // fewer blocks
   const Reading rd = read_ranges(text, r);
@@ -368,11 +365,7 @@ TEST(BiarcTool, RunsBeforeModalLinesEndOnAnExplicitG1) {
     const bool axis_words = w.has('X') || w.has('Y') || w.has('Z');
     EXPECT_FALSE(axis_words && w.g.empty()) << "output line " << i + 1 << " would move as an arc: " << out[i];
   }
-  const std::string dir = test::make_temp_dir("biarc_tool_lh");
-  const std::string out_path = dir + "/out.ngc";
-  FILE* f = std::fopen(out_path.c_str(), "w");
-  std::fwrite(r.out.data(), 1, r.out.size(), f);
-  std::fclose(f);
+  const std::string out_path = write_temp("biarc_tool_lh", "out.ngc", r.out);
   EXPECT_EQ(check_status(out_path), check_status(file));
 }
 
@@ -385,8 +378,6 @@ double moved(const std::string& err) {
 
 TEST(BiarcTool, LoopRemovalOnlyWithATool) {
   // a smooth G1 run around a 1 mm radius: a 2 mm tool inside it tangles
-  const std::string dir = test::make_temp_dir("biarc_tool_loop");
-  const std::string path = dir + "/bend.ngc";
   // an inverted U: a leg up at 8 degrees from the vertical, a half circle of radius 1 about
   // (1, 0), a leg down splaying out the same way; 2 mm wide at the top, 12 mm long legs: the
   // offsets of the legs by 2 mm inside cross where the slot is 4 mm wide
@@ -401,9 +392,7 @@ TEST(BiarcTool, LoopRemovalOnlyWithATool) {
   for (int i = 1; i <= 60; ++i) add(1.0 - std::cos(M_PI * i / 60), std::sin(M_PI * i / 60));
   for (int i = 1; i <= 40; ++i) add(2 + 0.3 * t * i, -0.3 * i);
   prog += "G0 Z5\nM2\n";
-  FILE* f = std::fopen(path.c_str(), "w");
-  std::fwrite(prog.data(), 1, prog.size(), f);
-  std::fclose(f);
+  const std::string path = write_temp("biarc_tool_loop", "bend.ngc", prog);
   const ToolRun plain = biarc(path);
   ASSERT_EQ(plain.code, 0) << plain.err;
   EXPECT_EQ(plain.err.find("removed"), std::string::npos);

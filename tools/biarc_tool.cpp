@@ -10,15 +10,12 @@
 #include <sstream>
 
 #include "config/exit_status.hpp"
+#include "number_format.hpp"
 
 namespace pcnc {
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+std::string fmt(const char* f, double v) { return format_number(f, v); }
 
 }  // namespace
 
