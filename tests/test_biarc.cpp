@@ -401,6 +401,7 @@ TEST(LoopRemoval, NotchNarrowerThanTheToolIsBridged) {
   EXPECT_LT(offset_clearance(chain, R), R - 0.5);
   const LoopRemoval r = remove_loops(chain, R, +1);
   EXPECT_GE(r.loops_removed, 1);
+  EXPECT_EQ(r.unresolved, 0);
   expect_chain(r.arcs, false);
   EXPECT_EQ(r.arcs.front().start.x, 0.0);
   EXPECT_EQ(r.arcs.back().end.x, 20.0);
@@ -438,6 +439,17 @@ TEST(LoopRemoval, SmallConcaveArcBiarcsAreRounded) {
   const LoopRemoval none = remove_loops(fit.arcs, min_r * 0.5, +1);
   EXPECT_EQ(none.loops_removed, 0);
   EXPECT_EQ(none.arcs.size(), fit.arcs.size());
+}
+
+TEST(LoopRemoval, InsideOutWithoutCrossingIsReported) {
+  // up x = 0, a half circle of radius 1 over to x = 2, down: parallel legs 2 mm apart; a tool
+  // of radius 2 inside: the legs' offsets swap sides without crossing
+  const std::vector<Arc2> u = {make_segment({0, -3}, {0, 0}), make_arc_about({1, 0}, {0, 0}, -kPi),
+                               make_segment({2, 0}, {2, -3})};
+  const LoopRemoval r = remove_loops(u, 2.0, -1);
+  EXPECT_GT(r.unresolved, 0);
+  EXPECT_EQ(remove_loops(u, 0.5, -1).unresolved, 0);  // a tool that fits
+  EXPECT_EQ(remove_loops(u, 2.0, +1).unresolved, 0);  // outside
 }
 
 // ---- moves ---------------------------------------------------------------------------------

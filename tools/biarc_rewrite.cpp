@@ -112,6 +112,7 @@ struct Rewriter {
     for (int side : sides) {
       const LoopRemoval r = remove_loops(arcs, opt.max_tool_radius_mm, side);
       item.loops_removed += r.loops_removed;
+      item.unresolved += r.unresolved;
       arcs = r.arcs;
     }
     if (item.loops_removed > 0)

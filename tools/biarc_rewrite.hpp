@@ -43,6 +43,7 @@ struct BiarcRewriteItem {
   double sagitta_mm = 0.0;            // G1: the segments' own sagitta (allowance)
   bool within_tolerance = true;
   int loops_removed = 0;
+  int unresolved = 0;           // pieces the tool still cannot follow (see LoopRemoval)
   double loop_change_mm = 0.0;  // how far the loop removal moved the contour
 };
 

@@ -52,6 +52,9 @@ int run_biarc_tool(const BiarcToolOptions& o, std::ostream& out, std::ostream& e
     if (it.loops_removed > 0)
       err << "; " << it.loops_removed << " loop" << (it.loops_removed == 1 ? "" : "s") << " removed, contour moved up to "
           << fmt("%.4f", it.loop_change_mm) << " mm";
+    if (it.unresolved > 0)
+      err << "; warning: " << it.unresolved << " piece" << (it.unresolved == 1 ? "" : "s")
+          << " the tool cannot follow left (its offset turns inside out without crossing itself)";
     if (!it.within_tolerance) err << "; NOT within the tolerance";
     err << "\n";
     (it.nurbs ? curves : runs) += 1;

@@ -105,6 +105,7 @@ std::vector<Arc2> offset_chain(const std::vector<Arc2>& chain, double d);
 struct LoopRemoval {
   std::vector<Arc2> arcs;
   int loops_removed = 0;
+  int unresolved = 0;          // backwards offset pieces no crossing cut off (the tool still cannot follow them)
   double max_change_mm = 0.0;  // largest distance of the new contour from the old one
 };
 LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int side);

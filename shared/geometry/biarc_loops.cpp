@@ -37,23 +37,29 @@ bool overlap(const Box& a, const Box& b) {
   return a.x0 <= b.x1 + e && b.x0 <= a.x1 + e && a.y0 <= b.y1 + e && b.y0 <= a.y1 + e;
 }
 
-}  // namespace
-
-std::vector<Arc2> offset_chain(const std::vector<Arc2>& chain, double d) {
+// The offset chain, and for each piece whether it runs against the contour (a collapsed
+// piece, or the corner arc of a corner turning toward the offset side).
+std::vector<Arc2> offset_pieces(const std::vector<Arc2>& chain, double d, std::vector<bool>* backwards) {
   std::vector<Arc2> out;
   for (std::size_t i = 0; i < chain.size(); ++i) {
-    const Arc2 o = offset_arc(chain[i], d).arc;
-    if (!out.empty() && distance(out.back().end, o.start) > kGap) {
+    const ArcOffset o = offset_arc(chain[i], d);
+    if (!out.empty() && distance(out.back().end, o.arc.start) > kGap) {
       // a corner of the chain: an arc of radius |d| about it joins the two offsets
       const double phi = turning(end_tangent(chain[i - 1]), start_tangent(chain[i]));
       Arc2 corner = make_arc_about(chain[i].start, out.back().end, phi);
-      corner.end = o.start;
+      corner.end = o.arc.start;
       out.push_back(corner);
+      if (backwards) backwards->push_back(phi * d > 0.0);
     }
-    out.push_back(o);
+    out.push_back(o.arc);
+    if (backwards) backwards->push_back(o.collapsed);
   }
   return out;
 }
+
+}  // namespace
+
+std::vector<Arc2> offset_chain(const std::vector<Arc2>& chain, double d) { return offset_pieces(chain, d, nullptr); }
 
 LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int side) {
   LoopRemoval r;
@@ -62,7 +68,8 @@ LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int
     return r;
   }
   const double d = side >= 0 ? tool_radius : -tool_radius;
-  const std::vector<Arc2> off = offset_chain(chain, d);
+  std::vector<bool> backwards;
+  const std::vector<Arc2> off = offset_pieces(chain, d, &backwards);
   std::vector<Box> boxes;
   for (const Arc2& a : off) boxes.push_back(box_of(a));
 
@@ -92,12 +99,14 @@ LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int
       }
     }
     if (std::isfinite(best_fa)) {
+      if (backwards[i] && best_fa - f > kFrac) ++r.unresolved;
       kept.push_back(sub_arc(off[i], f, best_fa));
       kept.back().end = arc_point(off[best_j], best_fb);  // the same point on both
       ++r.loops_removed;
       i = best_j;
       f = best_fb;
     } else {
+      if (backwards[i] && !is_point(off[i]) && f < 1.0 - kFrac) ++r.unresolved;
       kept.push_back(f > 0.0 ? sub_arc(off[i], f, 1.0) : off[i]);
       ++i;
       f = 0.0;
