@@ -195,6 +195,16 @@ TEST(BiarcFit, FreeFormCurveWithInflectionWithinTolerance) {
   expect_fit(s_curve(), 1e-5);
 }
 
+TEST(BiarcFit, UnreachableToleranceEndsAndSaysSo) {
+  BiarcOptions o;
+  o.tolerance_mm = 1e-13;  // below what doubles can measure on a 40 mm curve
+  o.min_chord_mm = 0.05;
+  const BiarcFit fit = fit_biarcs(s_curve(), 2, o);
+  EXPECT_FALSE(fit.within_tolerance);
+  EXPECT_LT(fit.arcs.size(), 4000u);  // pieces of at least 0.05 mm, not 2^30 of them
+  expect_chain(fit.arcs, true, 1e-6);
+}
+
 TEST(BiarcFit, FinerToleranceNeedsMoreBiarcs) {
   BiarcOptions coarse, fine;
   coarse.tolerance_mm = 0.01, fine.tolerance_mm = 0.0001;

@@ -21,9 +21,10 @@ std::string fmt(const char* f, double v) { return format_number(f, v); }
 
 int run_biarc_tool(const BiarcToolOptions& o, std::ostream& out, std::ostream& err) {
   const BiarcRewriteOptions& r = o.rewrite;
-  if (!(r.tolerance_mm > 0.0) || r.max_tool_radius_mm < 0.0 || r.min_moves < 2 || !(r.max_segment_mm > 0.0) ||
+  if (!(r.tolerance_mm >= 1e-6) || r.max_tool_radius_mm < 0.0 || r.min_moves < 2 || !(r.max_segment_mm > 0.0) ||
       !(r.max_turn_deg > 0.0)) {
-    err << "pcnc biarc: --tolerance, --max-segment and --max-turn must be > 0, --min-moves >= 2, --max-tool-radius >= 0\n";
+    err << "pcnc biarc: --tolerance must be >= 0.000001 mm (the output's resolution), --max-segment and --max-turn > 0, "
+           "--min-moves >= 2, --max-tool-radius >= 0\n";
     return kExitBadInput;
   }
   std::ifstream f(o.file, std::ios::binary);

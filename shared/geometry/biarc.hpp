@@ -53,6 +53,8 @@ double nearest_on_arcs(const std::vector<Arc2>& arcs, Vec2 p, Vec2* q = nullptr)
 struct BiarcOptions {
   double tolerance_mm = 0.001;  // maximum deviation between the curve and its arcs
   int max_depth = 30;           // bisections of one piece before it is accepted as is
+  double min_chord_mm = 1e-4;   // a piece this short is accepted as is (an unreachable tolerance
+                                // must not bisect the whole curve 2^max_depth times)
 };
 
 /// Arcs that replace a curve. Consecutive arcs share end points exactly; they are tangent
@@ -61,7 +63,7 @@ struct BiarcFit {
   std::vector<Arc2> arcs;
   std::size_t biarcs = 0;         // number of biarcs (an arc pair; a degenerate one may be 1 arc)
   double max_deviation_mm = 0.0;  // the largest deviation measured (two-sided, see curve_deviation)
-  bool within_tolerance = true;   // false when a piece reached max_depth above the tolerance
+  bool within_tolerance = true;   // false when a piece reached max_depth or min_chord_mm above the tolerance
 };
 
 /// Fits biarcs to the NURBS curve seen in the plane normal to `normal_axis` (2 = G17 XY,
