@@ -444,6 +444,7 @@ TEST(LoopRemoval, SmallConcaveArcBiarcsAreRounded) {
   const double R = min_r * 1.5;
   const LoopRemoval r = remove_loops(fit.arcs, R, +1);
   EXPECT_GE(r.loops_removed, 1);
+  expect_chain(r.arcs, false);  // every arc whole: its ends on its circle, pieces joined
   EXPECT_GT(offset_clearance(r.arcs, R), R - 1e-3);
   // a tool smaller than every radius: nothing to remove, the chain is returned as is
   const LoopRemoval none = remove_loops(fit.arcs, min_r * 0.5, +1);

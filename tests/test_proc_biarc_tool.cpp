@@ -310,6 +310,18 @@ void expect_nurbs_file(const std::string& rel, int curves) {
   }
 }
 
+TEST(BiarcTool, LoopRemovalOutputStillChecks) {
+  // every corpus NURBS and CAM program rewritten for a 3 mm tool: the arcs stay whole arcs
+  for (const char* rel : {"/gcode/nurbs/g5.2/leto-xy.ngc", "/gcode/nurbs/g5.2/trident-xy-yz-zx.ngc",
+                          "/gcode/cam/camotics/vcarve.ngc", "/gcode/cam/linuxcnc-tp/LHchips4.ngc"}) {
+    const std::string file = test::shared_dir() + rel;
+    const ToolRun r = biarc(file, {"--max-tool-radius", "3"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find(" removed,"), std::string::npos) << rel;
+    EXPECT_EQ(check_status(write_temp("biarc_tool_r3", "out.ngc", r.out)), check_status(file)) << rel;
+  }
+}
+
 TEST(BiarcTool, NurbsXYWithinToleranceAndRestUnchanged) { expect_nurbs_file("/gcode/nurbs/g5.2/nurbs-xy.ngc", 1); }
 TEST(BiarcTool, NurbsZXPlane) { expect_nurbs_file("/gcode/nurbs/g5.2/nurbs-zx.ngc", 1); }
 TEST(BiarcTool, ThreePlanes) { expect_nurbs_file("/gcode/nurbs/g5.2/trident-xy-yz-zx.ngc", 3); }
@@ -402,6 +414,7 @@ TEST(BiarcTool, LoopRemovalOnlyWithATool) {
   EXPECT_NE(tool.err.find("removed"), std::string::npos) << tool.err;
   EXPECT_NE(tool.out, plain.out);
   EXPECT_GT(moved(tool.err), 1.0) << tool.err;  // the slot is bridged where it is 4 mm wide
+  EXPECT_EQ(check_status(write_temp("biarc_tool_loop_out", "out.ngc", tool.out)), 0);
   // outside (left) the contour is convex: at most the fit's own micrometre wiggles where the
   // legs meet the half circle are touched
   const ToolRun left = biarc(path, {"--max-tool-radius", "2", "--side", "left"});

@@ -102,8 +102,9 @@ std::vector<Arc2> offset_chain(const std::vector<Arc2>& chain, double d);
 /// The seed's twice-offset step: the contour a tool of radius R on `side` (+1 left = G41,
 /// -1 right = G42) can follow without its offset tangling. The chain is offset by R to that
 /// side, the offset's self-intersections found (exact arc/arc, arc/line, line/line), the loops
-/// between them cut, and the result offset back; the corners left by the cuts become arcs of
-/// radius R (the tool's own rounding). Chains without loops come back unchanged.
+/// between them cut, and the result offset back (a kept part of a piece's offset is the same
+/// fraction range of the piece); the corners left by the cuts become arcs of radius R about
+/// the crossings (the tool's own rounding). Chains without loops come back unchanged.
 struct LoopRemoval {
   std::vector<Arc2> arcs;
   int loops_removed = 0;

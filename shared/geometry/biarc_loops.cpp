@@ -37,9 +37,11 @@ bool overlap(const Box& a, const Box& b) {
   return a.x0 <= b.x1 + e && b.x0 <= a.x1 + e && a.y0 <= b.y1 + e && b.y0 <= a.y1 + e;
 }
 
-// The offset chain, and for each piece whether it runs against the contour (a collapsed
-// piece, or the corner arc of a corner turning toward the offset side).
-std::vector<Arc2> offset_pieces(const std::vector<Arc2>& chain, double d, std::vector<bool>* backwards) {
+// The offset chain, for each piece whether it runs against the contour (a collapsed piece,
+// or the corner arc of a corner turning toward the offset side), and the chain piece it is
+// the offset of (-1: a corner arc).
+std::vector<Arc2> offset_pieces(const std::vector<Arc2>& chain, double d, std::vector<bool>* backwards,
+                                std::vector<int>* origin = nullptr) {
   std::vector<Arc2> out;
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const ArcOffset o = offset_arc(chain[i], d);
@@ -50,9 +52,11 @@ std::vector<Arc2> offset_pieces(const std::vector<Arc2>& chain, double d, std::v
       corner.end = o.arc.start;
       out.push_back(corner);
       if (backwards) backwards->push_back(phi * d > 0.0);
+      if (origin) origin->push_back(-1);
     }
     out.push_back(o.arc);
     if (backwards) backwards->push_back(o.collapsed);
+    if (origin) origin->push_back(static_cast<int>(i));
   }
   return out;
 }
@@ -69,14 +73,19 @@ LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int
   }
   const double d = side >= 0 ? tool_radius : -tool_radius;
   std::vector<bool> backwards;
-  const std::vector<Arc2> off = offset_pieces(chain, d, &backwards);
+  std::vector<int> origin;
+  const std::vector<Arc2> off = offset_pieces(chain, d, &backwards, &origin);
   std::vector<Box> boxes;
   for (const Arc2& a : off) boxes.push_back(box_of(a));
 
   // Walk the offset from its start. On piece i from fraction f, the first crossing ahead
   // with a later piece ends the part kept; the walk resumes on that piece after the
   // crossing (the loop between is cut). Of crossings at the same place, the furthest wins.
-  std::vector<Arc2> kept;
+  struct Kept {
+    std::size_t piece;
+    double f0, f1;
+  };
+  std::vector<Kept> kept;
   std::size_t i = 0;
   double f = 0.0;
   const std::size_t n = off.size();
@@ -100,14 +109,13 @@ LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int
     }
     if (std::isfinite(best_fa)) {
       if (backwards[i] && best_fa - f > kFrac) ++r.unresolved;
-      kept.push_back(sub_arc(off[i], f, best_fa));
-      kept.back().end = arc_point(off[best_j], best_fb);  // the same point on both
+      kept.push_back({i, f, best_fa});
       ++r.loops_removed;
       i = best_j;
       f = best_fb;
     } else {
       if (backwards[i] && !is_point(off[i]) && f < 1.0 - kFrac) ++r.unresolved;
-      kept.push_back(f > 0.0 ? sub_arc(off[i], f, 1.0) : off[i]);
+      kept.push_back({i, f, 1.0});
       ++i;
       f = 0.0;
     }
@@ -116,19 +124,33 @@ LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int
     r.arcs = chain;
     return r;
   }
-  // back: the pieces kept, offset by -d; corner arcs of radius R at the cuts, and the corner
-  // arcs of the first offset shrink to points and go
-  std::vector<Arc2> pieces;
-  for (const Arc2& a : kept)
-    if (!is_point(a)) pieces.push_back(a);
-  for (const Arc2& a : offset_chain(pieces, -d))
-    if (!is_point(a) && !(!a.line && a.radius <= 1e-9)) r.arcs.push_back(a);
-  // the ends where they were: the first and last pieces' ends are offsets of the chain's
-  if (!r.arcs.empty()) {
-    r.arcs.front().start = chain.front().start;
-    r.arcs.back().end = chain.back().end;
+  // back: an offset keeps the fractions of its piece, so the part of a chain piece whose offset
+  // was kept is the same fraction range of the chain piece (exact, collapsed pieces too);
+  // corner arcs of the offset shrink to their corners and go; where a cut joins two parts, an
+  // arc of radius R about the crossing (the largest tool's own rounding) joins their originals
+  const Kept* prev = nullptr;  // the previous part, in offset space
+  Vec2 back_end{};             // where the result ends so far
+  for (const Kept& k : kept) {
+    if (!(k.f1 - k.f0 > kFrac) && origin[k.piece] >= 0) continue;
+    // a corner arc's part goes back to its corner, a point; a piece's part to the same
+    // fraction range of the chain piece
+    const bool corner_part = origin[k.piece] < 0;
+    Arc2 part;
+    if (!corner_part) part = sub_arc(chain[static_cast<std::size_t>(origin[k.piece])], k.f0, k.f1);
+    const Vec2 start = corner_part ? off[k.piece].centre : part.start;
+    if (prev && distance(back_end, start) > kGap) {
+      // a cut: the offset turns by phi at the crossing x; its back offset is an arc of radius
+      // R about x turning the same way (the rule of a corner in offset_chain)
+      const Vec2 x = arc_point(off[k.piece], k.f0);
+      const double phi = turning(arc_tangent(off[prev->piece], prev->f1), arc_tangent(off[k.piece], k.f0));
+      Arc2 corner = make_arc_about(x, back_end, phi);
+      corner.end = start;
+      r.arcs.push_back(corner);
+    }
+    if (!corner_part) r.arcs.push_back(part);
+    back_end = corner_part ? start : part.end;
+    prev = &k;
   }
-  for (std::size_t k = 1; k < r.arcs.size(); ++k) r.arcs[k].start = r.arcs[k - 1].end;
   for (const Arc2& a : r.arcs)
     for (int s = 0; s <= 16; ++s) r.max_change_mm = std::max(r.max_change_mm, nearest_on_arcs(chain, arc_point(a, s / 16.0)));
   return r;
