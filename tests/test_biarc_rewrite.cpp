@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "biarc_rewrite.hpp"
+#include "text_lines.hpp"
 
 namespace pcnc {
 namespace {
@@ -35,17 +36,6 @@ std::string circle_run(int count, double r, bool inch, bool incremental, const s
   return p;
 }
 
-std::vector<std::string> lines_of(const std::string& s) {
-  std::vector<std::string> out;
-  std::size_t at = 0;
-  while (at < s.size()) {
-    std::size_t nl = s.find('\n', at);
-    if (nl == std::string::npos) nl = s.size();
-    out.push_back(s.substr(at, nl - at));
-    at = nl + 1;
-  }
-  return out;
-}
 
 double word(const std::string& line, char letter) {
   const std::size_t at = line.find(letter);
@@ -58,7 +48,7 @@ TEST(BiarcRewrite, AbsoluteRunBecomesArcsOnTheCircle) {
   const std::string out = rewrite_biarcs(in, {}, rep);
   ASSERT_EQ(rep.items.size(), 1u);
   EXPECT_LE(rep.items[0].moves_out, 3);
-  const std::vector<std::string> l = lines_of(out);
+  const std::vector<std::string> l = test::split_lines(out);
   EXPECT_EQ(l[0], "G21 G90 G17");
   EXPECT_EQ(l[1], "G0 X0 Y0");
   ASSERT_EQ(l[2].rfind("G3 ", 0), 0u) << l[2];
@@ -77,7 +67,7 @@ TEST(BiarcRewrite, AbsoluteRunBecomesArcsOnTheCircle) {
     arcs.push_back(a);
     x = a.x1, y = a.y1;
   }
-  for (const std::string& s : lines_of(in)) {
+  for (const std::string& s : test::split_lines(in)) {
     if (s.find('X') == std::string::npos || s.rfind("G0", 0) == 0) continue;
     const double px = word(s, 'X'), py = word(s, 'Y');
     double best = 1e9;
@@ -99,7 +89,7 @@ TEST(BiarcRewrite, IncrementalInchRunKeepsItsEndAndLineEndings) {
   BiarcRewriteReport rep;
   const std::string out = rewrite_biarcs(in, {}, rep);
   ASSERT_EQ(rep.items.size(), 1u);
-  const std::vector<std::string> l = lines_of(out);
+  const std::vector<std::string> l = test::split_lines(out);
   double sx = 0, sy = 0;  // the increments add up to the programmed end
   for (const std::string& s : l) {
     ASSERT_FALSE(s.empty());
@@ -107,7 +97,7 @@ TEST(BiarcRewrite, IncrementalInchRunKeepsItsEndAndLineEndings) {
     if (s.rfind("G3 ", 0) == 0 || s.rfind("G2 ", 0) == 0 || s.rfind("G1 ", 0) == 0) sx += word(s, 'X'), sy += word(s, 'Y');
   }
   double ix = 0, iy = 0;
-  for (const std::string& s : lines_of(in))
+  for (const std::string& s : test::split_lines(in))
     if (s.find('X') != std::string::npos && s.rfind("G0", 0) != 0) ix += word(s, 'X'), iy += word(s, 'Y');
   EXPECT_NEAR(sx, ix, 2e-6 * rep.items[0].moves_out);
   EXPECT_NEAR(sy, iy, 2e-6 * rep.items[0].moves_out);
@@ -161,7 +151,7 @@ TEST(BiarcRewrite, G18RunUsesXZAndIK) {
   BiarcRewriteReport rep;
   const std::string out = rewrite_biarcs(in, {}, rep);
   ASSERT_EQ(rep.items.size(), 1u);
-  const std::vector<std::string> l = lines_of(out);
+  const std::vector<std::string> l = test::split_lines(out);
   // plane axes Z (first) -> X: moving +Z and turning toward +X is a positive angle: G3
   ASSERT_EQ(l[3].rfind("G3 X", 0), 0u) << l[3];
   EXPECT_NE(l[3].find(" Z"), std::string::npos);

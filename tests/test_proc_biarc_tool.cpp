@@ -17,6 +17,7 @@
 #include "geometry/nurbs.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "text_lines.hpp"
 
 namespace pcnc {
 namespace {
@@ -26,17 +27,7 @@ constexpr double kRounding = 2e-6;  // the output's 6 decimals
 
 std::string pcnc_bin() { return test::bin_dir() + "/tools/pcnc"; }
 
-std::vector<std::string> split_lines(const std::string& s) {
-  std::vector<std::string> out;
-  std::size_t at = 0;
-  while (at < s.size()) {
-    std::size_t nl = s.find('\n', at);
-    if (nl == std::string::npos) nl = s.size();
-    out.push_back(s.substr(at, nl - at));
-    at = nl + 1;
-  }
-  return out;
-}
+using test::split_lines;
 
 // The words of a line (comments removed), letter -> value; G words listed apart.
 struct Words {
