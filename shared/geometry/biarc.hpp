@@ -104,7 +104,10 @@ std::vector<Arc2> offset_chain(const std::vector<Arc2>& chain, double d);
 /// side, the offset's self-intersections found (exact arc/arc, arc/line, line/line), the loops
 /// between them cut, and the result offset back (a kept part of a piece's offset is the same
 /// fraction range of the piece); the corners left by the cuts become arcs of radius R about
-/// the crossings (the tool's own rounding). Chains without loops come back unchanged.
+/// the crossings (the tool's own rounding). Chains without loops come back unchanged. A closed
+/// chain (its end at its start) is walked round, so loops across its closing point are cut
+/// too, and comes back closed, starting at its start point; when that point is cut off (in a
+/// loop, or a concave corner rounded) the chain comes back unchanged with `unresolved` set.
 struct LoopRemoval {
   std::vector<Arc2> arcs;
   int loops_removed = 0;
