@@ -55,7 +55,7 @@ int run_biarc_tool(const BiarcToolOptions& o, std::ostream& out, std::ostream& e
           << fmt("%.4f", it.loop_change_mm) << " mm";
     if (it.unresolved > 0)
       err << "; warning: " << it.unresolved << " piece" << (it.unresolved == 1 ? "" : "s")
-          << " the tool cannot follow left (its offset turns inside out without crossing itself)";
+          << " this tool cannot follow left (a start cut off, or walls closer than its diameter; docs/biarc-fit.md)";
     if (!it.within_tolerance) err << "; NOT within the tolerance";
     err << "\n";
     (it.nurbs ? curves : runs) += 1;

@@ -111,7 +111,9 @@ std::vector<Arc2> offset_chain(const std::vector<Arc2>& chain, double d);
 struct LoopRemoval {
   std::vector<Arc2> arcs;
   int loops_removed = 0;
-  int unresolved = 0;          // backwards offset pieces no crossing cut off (the tool still cannot follow them)
+  int unresolved = 0;          // > 0: parts the tool still cannot follow (backwards offset pieces no crossing
+                               // cut off), or the chain came back unchanged because its start was cut off
+                               // or what the walk kept was not a valid offset
   double max_change_mm = 0.0;  // largest distance of the new contour from the old one
 };
 LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int side);
