@@ -29,36 +29,18 @@ std::string pcnc_bin() { return test::bin_dir() + "/tools/pcnc"; }
 
 using test::split_lines;
 
-// The words of a line (comments removed), letter -> value; G words listed apart.
+// The words of a line, read by the project's G5.2 reader (not the tool's lexer); a line it
+// cannot read has none.
 struct Words {
   std::map<char, double> v;
   std::vector<double> g;
   bool has(char c) const { return v.count(c) != 0; }
 };
 Words words(const std::string& line) {
-  Words w;
-  std::string s;
-  int depth = 0;
-  for (char c : line) {
-    if (c == ';' && depth == 0) break;
-    if (c == '(') ++depth;
-    if (depth == 0 && !std::isspace(static_cast<unsigned char>(c))) s += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    if (c == ')' && depth > 0) --depth;
-  }
-  std::size_t i = 0;
-  while (i < s.size()) {
-    const char letter = s[i++];
-    // a plain decimal number (strtod would read "0X10" as a hexadecimal float)
-    std::size_t j = i;
-    if (j < s.size() && (s[j] == '+' || s[j] == '-')) ++j;
-    while (j < s.size() && (std::isdigit(static_cast<unsigned char>(s[j])) || s[j] == '.')) ++j;
-    if (j == i) continue;
-    const double value = std::atof(s.substr(i, j - i).c_str());
-    i = j;
-    if (letter == 'G') w.g.push_back(value);
-    else w.v[letter] = value;
-  }
-  return w;
+  GcodeWords w;
+  std::string err;
+  if (!split_gcode_words(line, w, err)) return {};
+  return {w.value, w.g};
 }
 
 struct ToolRun {
