@@ -5,7 +5,6 @@
 // NURBS from the project's G5.2 reader (not the tool's), both densely sampled.
 #include <gtest/gtest.h>
 
-#include <cctype>
 #include <cmath>
 #include <map>
 #include <set>
