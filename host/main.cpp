@@ -20,6 +20,7 @@
 #include "config/output_path.hpp"
 #include "config/process_start.hpp"
 #include "service/job_runner.hpp"
+#include "config/surface_file.hpp"
 #include "gcode/program.hpp"
 #include "service/progress_update.hpp"
 #include "report/run_report.hpp"
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
                "feeds) before anything moves, preprocesses each move into a block and feeds pcnc-rt through the "
                "4-slot shared-memory ring. pcnc-rt must be running with the same config."};
   std::string config_path = pcnc::default_config_path();
-  std::string run_file, contouring, offset, summary_path, tool_table, log_level = "warn";
+  std::string run_file, contouring, offset, summary_path, tool_table, surface, log_level = "warn";
   int progress_fd = -1;
   bool fit = false, serve = false, quiet = false;
   double wait_rt_s = 5.0;
@@ -68,6 +69,8 @@ int main(int argc, char** argv) {
   app.add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   app.add_flag("--fit", fit, "scale the program down uniformly so it fits the travel");
   app.add_option("--tool-table", tool_table, "tool table (LinuxCNC format, mm); default: the config's gcode.tool_table");
+  app.add_option("--surface", surface,
+                 "correct Z of every move by this measured surface file (docs/surface.md); default: the config's gcode.surface");
   app.add_option("--summary", summary_path,
                  "after the run, write its machine-readable summary (JSON: check, transform, job, final status) to this "
                  "file; `pcnc run --report` builds the HTML page from it and the trace");
@@ -104,6 +107,15 @@ int main(int argc, char** argv) {
     return pcnc::kExitBadInput;
   }
 
+  if (!surface.empty()) {
+    config.gcode.surface = surface;  // the jobs' surface
+    try {
+      (void)pcnc::load_surface_file(surface);  // refused now, not at the first job
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pcnc-host: %s\n", e.what());
+      return pcnc::kExitBadInput;
+    }
+  }
   if (serve) {
     if (app.count("--log-level") == 0) spdlog::set_level(spdlog::level::info);  // a service logs what it does
     if (!tool_table.empty()) config.gcode.tool_table = tool_table;  // the jobs' tool table

@@ -137,6 +137,33 @@ TEST(GcodeTools, LengthOffsetsFromTheTable) {
   EXPECT_TRUE(list_program("G43 H9\nM2\n", wide_config(), o).has_error("not in the tool table"));
 }
 
+TEST(GcodeTools, TheToolAndItsLengthOffsetCarryFromOneProgramToTheNext) {
+  // As in LinuxCNC: the tool stays in the spindle and M2 does not cancel G43.
+  auto table = std::make_shared<ToolTable>();
+  ToolEntry t3;
+  t3.number = 3;
+  t3.pocket = 3;
+  t3.offset = Vec3{0, 0, 7.5};
+  table->set(t3);
+  JobOptions o;
+  o.tools = table;
+  o.work = default_work_state(wide_config());
+  const Listing a = list_program("T3 M6 G43\nG0 Z0\nM2\n", wide_config(), o);
+  ASSERT_TRUE(a.result.ok) << a.first_error();
+  EXPECT_EQ(a.result.work.tool, 3);
+  EXPECT_TRUE(a.result.work.tool_offset_applied);
+  EXPECT_NEAR(a.result.work.tool_offset[2], 7.5, 1e-12);
+  o.work = a.result.work;
+  const Listing b = list_program("G0 Z0\n#1=#5400\nG0 X#1\nG49\nG0 Z0\nM2\n", wide_config(), o);
+  ASSERT_TRUE(b.result.ok) << b.first_error();
+  ASSERT_EQ(b.moves.size(), 3u);
+  EXPECT_NEAR(b.moves[0].end[2], a.moves[0].end[2], 1e-12) << "the next program starts with G43 of T3";
+  EXPECT_NEAR(b.moves[1].end[0] - b.moves[0].end[0], 3.0, 1e-12) << "#5400 is still 3";
+  EXPECT_NEAR(b.moves[0].end[2] - b.moves[2].end[2], 7.5, 1e-12) << "G49 takes the length off";
+  EXPECT_FALSE(b.result.work.tool_offset_applied);
+  EXPECT_EQ(b.result.work.tool, 3);
+}
+
 TEST(GcodeTools, M6PausesOnlyWhenTheConfigSaysSo) {
   MachineConfig c = wide_config();
   const RunResult no = run_program("T1 M6\nG0 X1\nM2\n", c);

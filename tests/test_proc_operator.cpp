@@ -120,6 +120,37 @@ TEST(ServiceOperator, MdiRunsThroughThePipelineAndKeepsItsOffsets) {
   EXPECT_NEAR(pos(p.status()["work_position"]["commanded"], 0), 1.0, 1e-9);
 }
 
+TEST(ServiceOperator, TheToolMdiLoadedIsInStatusAndTouchOffMeasuresItsTip) {
+  ServicePair p("op-tool", {{"tool_table = \"\"", "tool_table = \"" + source_dir() + "/configs/desktop-mill.tbl\""}});
+  ASSERT_TRUE(p.start("virtual")) << p.host_log();
+  json s = p.status();
+  EXPECT_EQ(s["work_state"]["tool"], 0) << "no tool at first";
+  EXPECT_FALSE(s["work_state"]["tool_offset_applied"].get<bool>());
+  // T2 (Z +4.25 in the table) with its length offset, by MDI: kept for what follows.
+  s = mdi(p, "T2 M6 G43");
+  ASSERT_EQ(s["last_job"]["end"], "completed") << s.dump();
+  EXPECT_EQ(s["work_state"]["tool"], 2) << s.dump();
+  EXPECT_TRUE(s["work_state"]["tool_offset_applied"].get<bool>());
+  EXPECT_NEAR(pos(s["work_state"]["tool_offset"], 2), 4.25, 1e-9);
+  const double machine_z = pos(s["commanded"], 2);
+  EXPECT_NEAR(pos(s["work_position"]["commanded"], 2), machine_z - 25.0 - 4.25, 1e-9) << "the tip, not the spindle";
+  // Touch-off Z 0 with T2 in: G54 Z = machine - 4.25, and Z0 then brings the same tip back there.
+  const json t = p.call("touch_off", {{"axis", "Z"}, {"value", 0.0}});
+  ASSERT_TRUE(t.contains("result")) << t.dump();
+  EXPECT_NEAR(t["result"]["z"].get<double>(), machine_z - 4.25, 1e-9);
+  EXPECT_NEAR(pos(t["result"]["work_position"], 2), 0.0, 1e-9);
+  s = mdi(p, "G91 G1 Z-1 F300\nG90 G1 Z0\n");
+  ASSERT_EQ(s["last_job"]["end"], "completed") << s.dump();
+  EXPECT_NEAR(pos(s["commanded"], 2), machine_z, 1e-6) << "a program's Z0 is the touched-off tip";
+  // G49 by MDI: the offset is off, the tool stays in the spindle.
+  s = mdi(p, "G49");
+  EXPECT_EQ(s["work_state"]["tool"], 2);
+  EXPECT_FALSE(s["work_state"]["tool_offset_applied"].get<bool>());
+  const WorkState saved = load_work_state(load_config(p.config()), p.dir() + "/state/work_state.json");
+  EXPECT_EQ(saved.tool, 2);
+  EXPECT_FALSE(saved.tool_offset_applied);
+}
+
 TEST(ServiceOperator, MdiAndTouchOffAreRefusedWhileAProgramRunsAndStatusHasThePlan) {
   ServicePair p("op-busy");
   ASSERT_TRUE(p.start("real")) << p.host_log();

@@ -63,6 +63,9 @@ WorkState sample() {
   s.g92_applied = true;
   s.g28 = {0.0, 25.0, 25.0};
   s.g30 = {-1e6, 1e6, 0.001};
+  s.tool = 12;
+  s.tool_offset_applied = true;
+  s.tool_offset = {0.0, 0.0, 41.25};
   return s;
 }
 
@@ -164,6 +167,30 @@ TEST(WorkState, CorruptFileIsRefusedNamingTheFile) {
   nlohmann::json j = nlohmann::json::parse(good);
   j.erase("G30");
   refused_for(j.dump(), "missing key 'G30'");
+  // The tool: its three keys, each checked.
+  j = nlohmann::json::parse(good);
+  j["tool"]["number"] = -1;
+  refused_for(j.dump(), "tool.number");
+  j = nlohmann::json::parse(good);
+  j["tool"].erase("offset_applied");
+  refused_for(j.dump(), "missing key 'tool.offset_applied'");
+  j = nlohmann::json::parse(good);
+  j["tool"]["length"] = 3;
+  refused_for(j.dump(), "unknown key 'tool.length'");
+}
+
+TEST(WorkState, AFileWithoutTheToolHasNoToolAndNoOffset) {
+  // Files written before the tool was kept: no tool in the spindle, no length offset.
+  nlohmann::json j = nlohmann::json::parse(format_work_state(sample()));
+  ASSERT_TRUE(j.contains("tool"));
+  EXPECT_EQ(j["tool"]["number"], 12);
+  EXPECT_EQ(j["tool"]["offset"]["z"], 41.25);
+  j.erase("tool");
+  const WorkState w = parse_work_state(j.dump(), "old.json");
+  EXPECT_EQ(w.tool, 0);
+  EXPECT_FALSE(w.tool_offset_applied);
+  EXPECT_EQ(w.tool_offset, Vec3{});
+  EXPECT_EQ(w.g5x, sample().g5x);
 }
 
 TEST(WorkState, SymlinkAndNonRegularFilesAreRefused) {

@@ -31,9 +31,20 @@ TEST(WorkStore, TouchOffSetsTheActiveSystemSoThePositionReadsTheValue) {
   ASSERT_FALSE(w.touch_off(1, -1.0, at));
   EXPECT_DOUBLE_EQ(work_position(w.state(), at)[1], -1.0);
   EXPECT_EQ(w.state().g5x[0][0], c.gcode.work_offsets[0][0]) << "G54 untouched";
-  // A tool length (a job's G43) is taken off Z only.
-  ASSERT_FALSE(w.touch_off(2, 0.0, at, 4.0));
+  // The tool length offset in effect (G43, left by the last program) is taken off: the tool
+  // tip reads the value.
+  s = w.state();
+  s.tool = 3;
+  s.tool_offset_applied = true;
+  s.tool_offset = {0.0, 0.0, 4.0};
+  ASSERT_FALSE(w.replace(s));
+  ASSERT_FALSE(w.touch_off(2, 0.0, at));
   EXPECT_DOUBLE_EQ(w.state().g5x[2][2], 23.5 - 0.5 - 4.0);
+  EXPECT_DOUBLE_EQ(work_position(w.state(), at)[2], 0.0);
+  s = w.state();
+  s.tool_offset_applied = false;  // G49: the same position reads the tool length higher
+  ASSERT_FALSE(w.replace(s));
+  EXPECT_DOUBLE_EQ(work_position(w.state(), at)[2], 4.0);
   EXPECT_TRUE(w.touch_off(3, 0.0, at)) << "no axis 3";
 }
 

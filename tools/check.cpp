@@ -71,6 +71,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
     return 2;
   }
 
+  if (!o.surface.empty()) config.gcode.surface = o.surface;
   if (const std::string why = load_job_state(config, o.tool_table, job); !why.empty()) {
     err << "pcnc check: " << why << "\n";
     return 2;
@@ -154,6 +155,8 @@ void add_check_subcommand(CLI::App& app, int& exit_code) {
                 "print the moves as they leave the interpreter (L<line> <kind> (x,y,z)->(x,y,z), machine mm) and "
                 "the MSG/DEBUG messages, in program order; checks the program as G-code only (not the travel)");
   sub->add_option("--tool-table", opts->tool_table, "tool table (LinuxCNC format, mm); default: the config's gcode.tool_table");
+  sub->add_option("--surface", opts->surface,
+                  "correct Z of every move by this measured surface (`pcnc surface fit`'s file; docs/surface.md)");
   sub->add_flag("-q,--quiet", opts->quiet, "print only errors and the verdict");
   sub->callback([opts, &exit_code] { exit_code = run_check_command(*opts, std::cout, std::cerr); });
 }

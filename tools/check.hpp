@@ -29,6 +29,7 @@ struct CheckCommandOptions {
   bool print_blocks = false;
   bool print_moves = false;
   std::string tool_table;  // empty: the config's gcode.tool_table
+  std::string surface;     // --surface S.json: the measured surface Z is corrected by; empty: the config's gcode.surface
   bool quiet = false;  // only errors and the verdict
 };
 

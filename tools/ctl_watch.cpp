@@ -77,10 +77,16 @@ std::vector<std::string> format_watch(const json& s) {
   const json g92 = ws.value("G92", json::object());
   std::string g92_text = ws.value("G92_applied", false) ? fmt("G92 X %.4f Y %.4f Z %.4f", axis(g92, "x"), axis(g92, "y"), axis(g92, "z"))
                                                         : std::string("G92 off");
-  // The tool (T, G43) lives inside the running program's interpreter; the service does not
-  // report it yet, so the view says so rather than guess.
-  out.push_back(fmt("%-10s %s %s  %s  tool -", "offset", active.c_str(), pos3(offsets.value(active, json())).c_str(),
-                    g92_text.c_str()));
+  // The tool in the spindle and its length offset, as the last program or MDI left them.
+  const int tool = ws.value("tool", 0);
+  std::string tool_text = tool > 0 ? fmt("T%d", tool) : std::string("no tool");
+  if (ws.value("tool_offset_applied", false)) {
+    tool_text += fmt(" G43 Z %+.4f", axis(ws.value("tool_offset", json::object()), "z"));
+  } else {
+    tool_text += " G49";
+  }
+  out.push_back(fmt("%-10s %s %s  %s  %s", "offset", active.c_str(), pos3(offsets.value(active, json())).c_str(),
+                    g92_text.c_str(), tool_text.c_str()));
   out.push_back(fmt("%-10s %.2f mm/s  override %.0f %%  ring %d/4  underruns %llu", "speed", s.value("path_speed", 0.0),
                     s.value("feed_override_percent", 100.0), s.value("ring_fill", 0),
                     static_cast<unsigned long long>(s.value("underruns", 0ull))));

@@ -21,6 +21,7 @@
 #include "report/run_outputs.hpp"
 #include "serve.hpp"
 #include "soak.hpp"
+#include "surface_tool.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"pcnc: an open PC-based NC controller for a 3-axis desktop mill.\n"
@@ -30,7 +31,7 @@ int main(int argc, char** argv) {
 
   // ---- run ----
   auto* run = app.add_subcommand("run", "start pcnc-rt and pcnc-host, run FILE to the end, print a run report");
-  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table;
+  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table, surface;
   bool fit = false, quiet = false, verbose = false;
   run->add_option("FILE", file, "G-code program")->required()->check(CLI::ExistingFile);
   run->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"on", "off"}));
   run->add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   run->add_option("--tool-table", tool_table, "tool table (LinuxCNC format, mm); default: the config's gcode.tool_table");
+  run->add_option("--surface", surface, "correct Z of every move by this measured surface (`pcnc surface fit`; docs/surface.md)");
   run->add_flag("--fit", fit, "scale the program down uniformly (never up) so it fits the travel; the report states the scale");
   run->add_option("--trace", trace, "write the per-cycle trace (CSV) to this file");
   run->add_option("--report", report,
@@ -103,6 +105,7 @@ int main(int argc, char** argv) {
     if (!offset.empty()) lo.host_args.insert(lo.host_args.end(), {"--offset", offset});
     if (fit) lo.host_args.push_back("--fit");
     if (!tool_table.empty()) lo.host_args.insert(lo.host_args.end(), {"--tool-table", tool_table});
+    if (!surface.empty()) lo.host_args.insert(lo.host_args.end(), {"--surface", surface});
     if (!summary_file.empty()) {
       std::filesystem::remove(summary_file);  // a stale summary must not make a report of an earlier run
       lo.host_args.insert(lo.host_args.end(), {"--summary", summary_file});
@@ -149,6 +152,7 @@ int main(int argc, char** argv) {
   pcnc::add_serve_subcommand(app, exit_code);
   pcnc::add_soak_subcommand(app, exit_code);
   pcnc::add_nurbs_subcommand(app, exit_code);
+  pcnc::add_surface_subcommand(app, exit_code);
   pcnc::add_biarc_subcommand(app, exit_code);
 
   pcnc::add_exit_status_help(app);

@@ -18,7 +18,7 @@ namespace pcnc {
 void add_serve_subcommand(CLI::App& app, int& exit_code) {
   auto* serve = app.add_subcommand("serve", "start pcnc-rt and pcnc-host --serve, then serve the control socket until Ctrl-C "
                                             "(use `pcnc ctl ...` from another terminal)");
-  static std::string config_path = default_config_path(), clock = "real", trace, tool_table;
+  static std::string config_path = default_config_path(), clock = "real", trace, tool_table, surface;
   serve->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
   serve->add_option("--clock", clock, "real: 2 kHz in real time; virtual: as fast as possible, same cycles")
       ->check(CLI::IsMember({"real", "virtual"}))
@@ -26,6 +26,8 @@ void add_serve_subcommand(CLI::App& app, int& exit_code) {
   serve->add_option("--trace", trace, "pcnc-rt writes the per-cycle trace (CSV) to this file");
   serve->add_option("--tool-table", tool_table,
                     "tool table for the service's programs (LinuxCNC format, mm); default: the config's gcode.tool_table");
+  serve->add_option("--surface", surface,
+                    "correct Z of the service's programs by this measured surface (docs/surface.md); default: the config's gcode.surface");
   serve->callback([&exit_code] {
     // a bad config or trace path: exit 2 before either process starts
     try {
@@ -53,6 +55,11 @@ void add_serve_subcommand(CLI::App& app, int& exit_code) {
       std::error_code ec;
       const std::string abs = std::filesystem::absolute(tool_table, ec).string();
       lo.host_args.insert(lo.host_args.end(), {"--tool-table", ec ? tool_table : abs});
+    }
+    if (!surface.empty()) {
+      std::error_code ec;
+      const std::string abs = std::filesystem::absolute(surface, ec).string();
+      lo.host_args.insert(lo.host_args.end(), {"--surface", ec ? surface : abs});
     }
     lo.supervise = true;  // a process that dies on its own is started again; the other stays up
     exit_code = launch_pair(lo);

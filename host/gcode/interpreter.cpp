@@ -39,6 +39,10 @@ Interpreter::Interpreter(const MachineConfig& config, const JobFrame& frame, Dia
   params_.at(5210) = w.g92_applied ? 1.0 : 0.0;
   if (w.g92_applied) g92_ = w.g92;
   base_ = w.g5x[0];
+  // The tool in the spindle and its length offset, as the last program or MDI left them.
+  tool_ = w.tool;
+  tool_offset_on_ = w.tool_offset_applied;
+  tlo_ = w.tool_offset_applied ? w.tool_offset : Vec3{};
   if (frame_.tools) {
     tools_ = *frame_.tools;
     have_tools_ = true;

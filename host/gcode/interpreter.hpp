@@ -28,6 +28,7 @@
 #include "gcode/parameters.hpp"
 #include "gcode/parser.hpp"
 #include "gcode/tool_table.hpp"
+#include "geometry/bspline_surface.hpp"
 
 namespace pcnc {
 
@@ -44,6 +45,9 @@ struct JobFrame {
   // the G54 that `offset` was made from). Unset: the config's defaults.
   std::optional<WorkState> work;
   std::shared_ptr<const ToolTable> tools;  // null: no tool table (tools have length 0)
+  // --surface: the measured surface the pipeline corrects Z by (gcode/surface_correction.hpp);
+  // null: none. The reference is its height at `offset`'s X/Y.
+  std::shared_ptr<const BSplineSurface> surface;
 };
 
 /// The moves one line makes (a canned cycle with repeats makes many); reused line after line.

@@ -53,6 +53,9 @@ WorkState Interpreter::work_state() const {
   w.g92_applied = params_.at(kG92Flag) != 0.0;
   w.g28 = param_vec(kG28);
   w.g30 = param_vec(kG30);
+  w.tool = tool_;
+  w.tool_offset_applied = tool_offset_on_;
+  w.tool_offset = tlo_;
   return w;
 }
 

@@ -17,12 +17,24 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       preflight_(config_, sink_, soft_limits),
       merge_(config_.motion.corner_tolerance_mm),  // tolerance 0: merging off
       validator_(config_, frame.start),
-      to_merge_([this](Move& m) { return checked_move(m); }) {}
+      to_merge_([this](Move& m) { return checked_move(m); }),
+      to_surface_([this](Move& m) { return source_.next(m); }) {
+  if (frame.surface) {
+    // the path tolerance when there is one, else gcode.surface_tolerance_mm
+    const double tol = config_.motion.corner_tolerance_mm > 0.0 ? config_.motion.corner_tolerance_mm
+                                                                : config_.gcode.surface_tolerance_mm;
+    surface_ = std::make_unique<SurfaceCorrection>(
+        frame.surface, SurfaceCorrection::reference_at(*frame.surface, frame.offset), tol, &sink_);
+  }
+}
 
-// The interpreter's moves through the geometry stages, in their order. None exists yet; each
-// will link here as `return <stage>_.next(<pull from the stage before>, m);`:
-//   cutter compensation, then surface correction, then smoothing.
-bool Pipeline::geometry_move(Move& m) { return source_.next(m); }
+// The interpreter's moves through the geometry stages, in their order; each links here as
+// `<stage>_->next(<pull from the stage before>, m)`: cutter compensation, then surface
+// correction, then smoothing.
+bool Pipeline::geometry_move(Move& m) {
+  if (surface_) return surface_->next(to_surface_, m);
+  return source_.next(m);
+}
 
 // ... then the preflight, which sees every move; a move without displacement ends there.
 bool Pipeline::checked_move(Move& m) {

@@ -7,8 +7,8 @@
 //
 //   LineReader   source text, line by line, in fixed memory            (line_reader.hpp)
 //   MoveSource   lexer -> parser -> interpreter: Moves in machine mm   (move_source.hpp)
-//   [geometry stages, each optional, in this order — none yet:
-//      cutter compensation, surface correction, smoothing]
+//   [geometry stages, each optional, in this order:
+//      cutter compensation, surface correction (surface_correction.hpp), smoothing]
 //   Preflight    the whole program: soft limits, extents, feed time    (preflight.hpp)
 //                (sees every programmed move; moves without displacement end here)
 //   SegmentMerger  packing for the ring: collinear G1 runs -> one line  (segment_merge.hpp)
@@ -38,6 +38,7 @@
 #include "gcode/move_source.hpp"
 #include "gcode/preflight.hpp"
 #include "gcode/segment_merge.hpp"
+#include "gcode/surface_correction.hpp"
 #include "ipc/block.hpp"
 
 namespace pcnc {
@@ -88,6 +89,8 @@ class Pipeline {
   SegmentMerger merge_;
   BlockValidator validator_;
   MovePull to_merge_;           // the preflight's output, the merge's input
+  std::unique_ptr<SurfaceCorrection> surface_;  // --surface; null: none
+  MovePull to_surface_;         // the stage before surface correction
   bool source_ended_ = false;   // the End move has passed and the program's end was checked
   std::vector<Block> nurbs_;    // the blocks of the NURBS move being handed out (one curve at a time)
   std::size_t nurbs_next_ = 0;

@@ -14,6 +14,7 @@
 #include "gcode/line_reader.hpp"
 #include "gcode/pipeline.hpp"
 #include "gcode/planned_time.hpp"
+#include "config/surface_file.hpp"
 
 namespace pcnc {
 
@@ -59,6 +60,7 @@ JobFrame make_frame(const MachineConfig& config, const JobOptions& options, cons
   JobFrame f;
   f.work = start_work(config, options);
   f.tools = options.tools;
+  f.surface = options.surface;
   f.offset = t.offset;
   f.scale = t.scale;
   f.work_offset_index = std::clamp(options.work_offset_index, 0, 8);
@@ -248,6 +250,8 @@ std::string load_job_state(const MachineConfig& config, const std::string& tool_
     options.work = load_work_state(config, path);
     const std::string table = tool_table_path.empty() ? config.gcode.tool_table : tool_table_path;
     if (!table.empty()) options.tools = std::make_shared<const ToolTable>(load_tool_table(table));
+    if (!options.surface && !config.gcode.surface.empty())
+      options.surface = std::make_shared<const BSplineSurface>(load_surface_file(config.gcode.surface));
   } catch (const std::exception& e) {
     return e.what();
   }

@@ -21,6 +21,7 @@
 #include "gcode/move.hpp"
 #include "gcode/move_source.hpp"
 #include "gcode/tool_table.hpp"
+#include "geometry/bspline_surface.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -37,13 +38,15 @@ struct JobOptions {
   // config's. --offset replaces its G54.
   std::optional<WorkState> work;
   std::shared_ptr<const ToolTable> tools;  // --tool-table / gcode.tool_table; null: none
+  std::shared_ptr<const BSplineSurface> surface;  // --surface S.json; null: no surface correction
   // (MSG,...), (DEBUG,...), (PRINT,...) as their lines run (in check and in the stream).
   MessageHandler on_message;
 };
 
 /// Completes `options` for a job on this machine: the work state from the state file
-/// (work_state_path; none: the config's offsets) and the tool table (`tool_table_path`, else
-/// the config's gcode.tool_table; empty: none). Returns why it cannot (a corrupt state file, a
+/// (work_state_path; none: the config's offsets), the tool table (`tool_table_path`, else
+/// the config's gcode.tool_table; empty: none) and, unless options.surface is set, the
+/// measured surface of gcode.surface (--surface sets that key; empty: none). Returns why it cannot (a corrupt state file, a
 /// bad tool table: the messages name the file), or an empty string.
 std::string load_job_state(const MachineConfig& config, const std::string& tool_table_path, JobOptions& options);
 

@@ -1,6 +1,7 @@
 // report_html.cpp — rendering the HTML run report: figures table, isometric tool path and
 // time plots as inline SVG (see report_html.hpp).
 #include "report/report_html.hpp"
+#include "report/path_view_3d.hpp"
 #include "report/report_plots.hpp"
 #include "report/svg_text.hpp"
 
@@ -486,7 +487,7 @@ std::string render_report_html(const ReportPage& page) {
   o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
     << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
     << "<title>pcnc run report: " << escape(name) << "</title>\n<style>\n"
-    << css() << "</style>\n</head>\n<body>\n<main>\n";
+    << css() << path_view_3d_css() << "</style>\n</head>\n<body>\n<main>\n";
   o << "<header><h1>" << escape(name) << "</h1><span class=\"badge " << (ok ? "ok" : "bad") << "\" id=\"result\">"
     << escape(s.end) << "</span></header>\n";
   o << "<p class=\"sub\">pcnc run report · " << escape(s.program) << " · machine " << escape(s.machine) << " ("
@@ -494,13 +495,19 @@ std::string render_report_html(const ReportPage& page) {
   if (!s.message.empty()) o << "<br><strong>" << escape(s.message) << "</strong>";
   o << "</p>\n";
 
-  o << "<div class=\"grid\">\n<div>\n<section class=\"card dark\"><h2>Tool path (measured), isometric</h2>\n"
-    << "<p>Machine coordinates. Feed moves coloured by commanded path speed, rapids dashed.";
+  o << "<div class=\"grid\">\n<div>\n<section class=\"card dark\"><h2>Tool path (measured)</h2>\n"
+    << "<p>Machine coordinates. Feed moves coloured by commanded path speed, rapids grey.";
   if (page.has_trace) {
     o << " " << page.trace.path.size() << " points, kept " << fixed(page.trace.path_tolerance_mm * 1000.0, 0)
       << " µm apart or more.";
   }
-  o << "</p>\n" << render_toolpath_svg(page) << "</section>\n";
+  o << "</p>\n";
+  std::string no_view;
+  if (page.has_trace && page.view3d) {
+    o << render_path_view_3d(page.trace.path, PathView3dOptions{}, &no_view);
+    if (!no_view.empty()) o << "<p>No interactive view: " << escape(no_view) << ".</p>\n";
+  }
+  o << "<div class=\"toolpath-static\">" << render_toolpath_svg(page) << "</div></section>\n";
   o << "<section class=\"card dark\"><h2>Top view (X–Y)</h2>\n<p>Looking down Z, same colours; grid in machine millimetres.</p>\n"
     << render_top_view_svg(page) << "</section>\n</div>\n";
 
@@ -533,7 +540,9 @@ std::string render_report_html(const ReportPage& page) {
   o << "<footer>Written by pcnc after both processes ended, from the host's run summary";
   if (page.has_trace) o << " and " << page.trace.rows << " trace rows (" << page.trace.program_rows << " in the program)";
   else if (!page.trace_note.empty()) o << "; no trace: " << escape(page.trace_note);
-  o << ". Self-contained: no scripts, nothing loaded from the network.</footer>\n";
+  o << ". Self-contained: one file, nothing loaded from the network"
+    << (page.has_trace && page.view3d && no_view.empty() ? "; the 3D view runs three.js (Debian's libjs-three), inlined" : "")
+    << ".</footer>\n";
   o << "</main>\n</body>\n</html>\n";
   return o.str();
 }

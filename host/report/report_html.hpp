@@ -2,11 +2,14 @@
 //
 // Built after both processes have exited, from the run summary pcnc-host wrote (figures)
 // and the per-cycle trace pcnc-rt wrote (pictures). Which source lines are rapids comes from
-// the summary too (recorded from the blocks the run's check made): no front end runs here. The page holds inline SVG and CSS only: no script, no fonts, nothing
-// fetched from the network, so it opens anywhere with nothing but a browser.
+// the summary too (recorded from the blocks the run's check made): no front end runs here. The
+// page is one file: inline SVG and CSS, and one script, the interactive 3D view
+// (path_view_3d.hpp, three.js inlined); no fonts, nothing fetched from the network, so it opens
+// anywhere with nothing but a browser, and without scripts it shows the static views.
 //
-// Pictures: the tool path as measured, in an isometric view (rapids dashed, feed moves
-// coloured by path speed, the final tool position as a red dot) and from above; the path
+// Pictures: the tool path as measured, in an interactive 3D view with a time slider and as a
+// static isometric SVG (rapids dashed, feed moves coloured by path speed, the final tool
+// position as a red dot; the SVG for printing and browsers without scripts) and from above; the path
 // speed over time;
 // the following error per axis over time (min..max envelopes, so no peak is lost to
 // decimation). Figures: one table, each row with a stable id for scripts and tests.
@@ -27,6 +30,7 @@ struct ReportPage {
   TraceDigest trace;        // valid when has_trace
   std::string trace_note;   // e.g. why there is no trace
   std::vector<SlowStretch> slowest;  // the lines that lost most time, with their cause
+  bool view3d = true;       // the interactive 3D tool path (path_view_3d.hpp) when three.js is there
 };
 
 /// The whole page.

@@ -185,7 +185,7 @@ void TraceDigester::add_to_path(const TraceSample& row) {
     const ToolPathPoint& last = path.back();
     if (rapid == last.rapid && norm(row.actual - last.p) < path_tol_) return;
   }
-  path.push_back(ToolPathPoint{row.actual, row.speed, rapid});
+  path.push_back(ToolPathPoint{row.actual, row.speed, rapid, row.t - t_start_, row.line, row.following_error});
   if (path.size() > o_.max_path_points) thin_path();
 }
 
@@ -203,7 +203,8 @@ void TraceDigester::thin_path() {
 TraceDigest TraceDigester::finish() {
   // the final position: the last row of the window, also when the path thinned it away
   if (d_.program_rows > 0 && (d_.path.empty() || norm(d_.path.back().p - d_.last.actual) > 0.0)) {
-    d_.path.push_back(ToolPathPoint{d_.last.actual, d_.last.speed, o_.is_rapid_line && o_.is_rapid_line(d_.last.line)});
+    d_.path.push_back(ToolPathPoint{d_.last.actual, d_.last.speed, o_.is_rapid_line && o_.is_rapid_line(d_.last.line),
+                                    d_.last.t - t_start_, d_.last.line, d_.last.following_error});
   }
   d_.path_tolerance_mm = path_tol_;
   d_.classified = static_cast<bool>(o_.cause_of);

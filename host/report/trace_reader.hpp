@@ -74,6 +74,9 @@ struct ToolPathPoint {
   Vec3 p{};
   double speed = 0.0;  // commanded path speed there, mm/s
   bool rapid = false;  // the block in execution was a rapid (G00)
+  double t = 0.0;          // program time of the row, s (the 3D view's time slider)
+  std::uint32_t line = 0;  // source line in execution
+  Vec3 ferr{};             // following error there, mm
 };
 
 struct DigestOptions {

@@ -235,9 +235,13 @@ json status_object(const ServiceParts& parts) {
                          {"G92_applied", w.g92_applied},
                          {"G28", rpc::vec3_to_json(w.g28)},
                          {"G30", rpc::vec3_to_json(w.g30)},
+                         {"tool", w.tool},
+                         {"tool_offset_applied", w.tool_offset_applied},
+                         {"tool_offset", rpc::vec3_to_json(w.tool_offset)},
                          {"file", parts.work.path().empty() ? json(nullptr) : json(parts.work.path())}};
-  // Work coordinates of the positions (machine - the active G5x - the applied G92): what a
-  // program started now would read (a running program keeps the offsets it started with).
+  // Work coordinates of the positions (machine - the active G5x - the applied G92 - the tool
+  // length offset in effect): what a program started now would read (a running program keeps
+  // the offsets it started with, and its own tool).
   if (st) {
     j["work_position"] = json{{"commanded", rpc::vec3_to_json(work_position(w, st->commanded))},
                               {"actual", rpc::vec3_to_json(work_position(w, st->actual))}};

@@ -17,12 +17,13 @@ std::optional<std::string> WorkStore::set_g5x(int index, const std::optional<dou
   return replace(next);
 }
 
-std::optional<std::string> WorkStore::touch_off(int axis, double value, const Vec3& machine, double tool_length) {
+std::optional<std::string> WorkStore::touch_off(int axis, double value, const Vec3& machine) {
   if (axis < 0 || axis >= kAxes) return "no axis " + std::to_string(axis);
   WorkState next = state_;
   const auto a = static_cast<std::size_t>(axis);
   const double g92 = next.g92_applied ? next.g92[a] : 0.0;
-  next.g5x[static_cast<std::size_t>(next.active)][a] = machine[a] - g92 - (axis == 2 ? tool_length : 0.0) - value;
+  const double tlo = next.tool_offset_applied ? next.tool_offset[a] : 0.0;
+  next.g5x[static_cast<std::size_t>(next.active)][a] = machine[a] - g92 - tlo - value;
   return replace(next);
 }
 
@@ -50,12 +51,19 @@ WorkState merge_work_change(const WorkState& current, const WorkState& before, c
   }
   if (after.g28 != before.g28) out.g28 = after.g28;
   if (after.g30 != before.g30) out.g30 = after.g30;
+  if (after.tool != before.tool || after.tool_offset_applied != before.tool_offset_applied ||
+      after.tool_offset != before.tool_offset) {
+    out.tool = after.tool;
+    out.tool_offset_applied = after.tool_offset_applied;
+    out.tool_offset = after.tool_offset;
+  }
   return out;
 }
 
 Vec3 work_position(const WorkState& w, const Vec3& machine) {
   Vec3 p = machine - w.g5x[static_cast<std::size_t>(w.active)];
   if (w.g92_applied) p = p - w.g92;
+  if (w.tool_offset_applied) p = p - w.tool_offset;
   return p;
 }
 

@@ -31,9 +31,10 @@ class WorkStore {
   /// it was and the error returned.
   std::optional<std::string> set_g5x(int index, const std::optional<double> (&xyz)[kAxes]);
   /// G10 L20's meaning for one axis of the active system: its offset := `machine` (the
-  /// position now, machine mm) - the applied G92 offset - `tool_length` - `value`, so that
-  /// the position reads `value` in work coordinates; then saved. Same failure rule.
-  std::optional<std::string> touch_off(int axis, double value, const Vec3& machine, double tool_length = 0.0);
+  /// position now, machine mm) - the applied G92 offset - the tool length offset in effect
+  /// (G43) - `value`, so that the tool tip reads `value` in work coordinates; then saved.
+  /// Same failure rule.
+  std::optional<std::string> touch_off(int axis, double value, const Vec3& machine);
   /// The whole state (what a program or MDI left: G10, G92, G28.1...), then saved. Same rule.
   std::optional<std::string> replace(const WorkState& next);
 
@@ -43,12 +44,12 @@ class WorkStore {
 };
 
 /// `current` with what a job changed from `before` to `after`, part by part (each of the nine
-/// systems, the selection, G92 with its flag, G28, G30): a part the job left alone keeps
+/// systems, the selection, G92 with its flag, G28, G30, the tool with its offset): a part the job left alone keeps
 /// `current`'s value, which set_offset may have changed while the job ran.
 WorkState merge_work_change(const WorkState& current, const WorkState& before, const WorkState& after);
 
-/// Work coordinates of a machine position: machine - the active G5x - the applied G92 (the
-/// tool length is the job's: a service between jobs has none).
+/// Work coordinates of a machine position: machine - the active G5x - the applied G92 - the
+/// tool length offset in effect (what the program would read as its position).
 Vec3 work_position(const WorkState& w, const Vec3& machine);
 
 /// G54..G59 of `g5x` in the config's form (gcode.work_offsets, what the interpreter reads).

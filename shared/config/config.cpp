@@ -315,11 +315,14 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     }
     g.integer("nurbs_knots", c.gcode.nurbs_knots, 0, 1, "0 open uniform, 1 chord length", Need::kOptional);
     g.number("nurbs_chord_tolerance_mm", c.gcode.nurbs_chord_tolerance_mm, 1e-7, 1.0, "mm", Need::kOptional);
+    g.number("surface_tolerance_mm", c.gcode.surface_tolerance_mm, 1e-6, 1.0, "mm", Need::kOptional);
     g.number("max_executed_lines", c.gcode.max_executed_lines, 1.0, 1e12, "lines", Need::kOptional);
     g.string("tool_table", c.gcode.tool_table, Need::kOptional);
+    g.string("surface", c.gcode.surface, Need::kOptional);
     g.boolean("pause_on_tool_change", c.gcode.pause_on_tool_change, Need::kOptional);
     g.finish();
     c.gcode.tool_table = resolve_beside(c.gcode.tool_table, origin);
+    c.gcode.surface = resolve_beside(c.gcode.surface, origin);
   }
   {
     Section p(top.subtable("process"), "process", origin, problems);

@@ -73,12 +73,20 @@ struct GcodeConfig {
   std::array<Vec3, 6> work_offsets{};
   int nurbs_knots = 0;                      // 0: open uniform (LinuxCNC); 1: chord length (seed)
   double nurbs_chord_tolerance_mm = 0.001;  // δ of the NURBS feed schedule
+  // --surface: how far a move corrected by the measured surface may leave the corrected path
+  // between its split points while the path tolerance (motion.corner_tolerance_mm) is 0;
+  // a path tolerance > 0 is used instead (host/gcode/surface_correction.hpp).
+  double surface_tolerance_mm = 0.001;
   // Lines a program may execute (loops and subroutine calls count each time they run): a loop
   // that never ends is an error at this count, not a hang. Key: max_executed_lines.
   double max_executed_lines = 50e6;
   // LinuxCNC-format tool table (host/gcode/tool_table.hpp); empty: none. A relative path in
   // the file is made relative to the config file's directory when the config is parsed.
   std::string tool_table;
+  // A measured surface file (config/surface_file.hpp) every program is corrected by
+  // (host/gcode/surface_correction.hpp); empty: none. Relative to the config file, as
+  // tool_table. `--surface S.json` on run, check, serve and pcnc-host sets it.
+  std::string surface;
   bool pause_on_tool_change = false;        // M6 pauses the program for the operator (false: it does not)
 };
 

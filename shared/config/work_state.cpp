@@ -87,8 +87,32 @@ std::string format_work_state(const WorkState& s) {
   doc["G92_applied"] = s.g92_applied;
   doc["G28"] = vec_json(s.g28);
   doc["G30"] = vec_json(s.g30);
+  doc["tool"] = {{"number", s.tool}, {"offset_applied", s.tool_offset_applied}, {"offset", vec_json(s.tool_offset)}};
   return doc.dump(2) + "\n";
 }
+
+namespace {
+
+// "tool": {"number": N, "offset_applied": bool, "offset": {x, y, z}}, all three keys required.
+void read_tool(const json& t, const std::string& origin, WorkState& s) {
+  if (!t.is_object()) refuse(origin, "key 'tool' must be an object with number, offset_applied and offset");
+  for (const auto& [key, value] : t.items()) {
+    if (key != "number" && key != "offset_applied" && key != "offset") refuse(origin, "unknown key 'tool." + key + "'");
+  }
+  for (const char* key : {"number", "offset_applied", "offset"}) {
+    if (!t.contains(key)) refuse(origin, std::string("missing key 'tool.") + key + "'");
+  }
+  const json& n = t["number"];
+  if (!n.is_number_integer() || n.get<long long>() < 0 || n.get<long long>() > 99999) {
+    refuse(origin, "key 'tool.number' must be a tool number 0..99999, got " + n.dump());
+  }
+  s.tool = static_cast<int>(n.get<long long>());
+  if (!t["offset_applied"].is_boolean()) refuse(origin, "key 'tool.offset_applied' must be true or false");
+  s.tool_offset_applied = t["offset_applied"].get<bool>();
+  s.tool_offset = read_vec(t, "offset", origin);
+}
+
+}  // namespace
 
 WorkState parse_work_state(const std::string& text, const std::string& origin) {
   json doc;
@@ -101,7 +125,7 @@ WorkState parse_work_state(const std::string& text, const std::string& origin) {
   std::set<std::string> expected = {"version", "units", "active", "G92", "G92_applied", "G28", "G30"};
   for (int i = 0; i < kWorkSystems; ++i) expected.insert(work_system_name(i));
   for (const auto& [key, value] : doc.items()) {
-    if (!expected.count(key)) refuse(origin, "unknown key '" + key + "'");
+    if (!expected.count(key) && key != "tool") refuse(origin, "unknown key '" + key + "'");
   }
   for (const auto& key : expected) {
     if (!doc.contains(key)) refuse(origin, "missing key '" + key + "'");
@@ -121,6 +145,7 @@ WorkState parse_work_state(const std::string& text, const std::string& origin) {
   s.g92_applied = doc["G92_applied"].get<bool>();
   s.g28 = read_vec(doc, "G28", origin);
   s.g30 = read_vec(doc, "G30", origin);
+  if (doc.contains("tool")) read_tool(doc["tool"], origin, s);
   return s;
 }
 

@@ -7,9 +7,12 @@
 //
 //   {"version": 1, "units": "mm", "active": "G54",
 //    "G54": {"x": 12.5, "y": 12.5, "z": 25.0}, ..., "G59.3": {...},
-//    "G92": {...}, "G92_applied": false, "G28": {...}, "G30": {...}}
+//    "G92": {...}, "G92_applied": false, "G28": {...}, "G30": {...},
+//    "tool": {"number": 3, "offset_applied": true, "offset": {"x": 0, "y": 0, "z": 41.2}}}
 //
-// Every key is required and no other is accepted; every value is finite and within ±1e6 mm.
+// The tool in the spindle and its length offset (G43) persist across programs as in LinuxCNC
+// (M2 does not cancel G43). "tool" may be absent (files written before it existed: no tool,
+// no offset); every other key is required and no other is accepted; every value is finite and within ±1e6 mm.
 // A file that breaks a rule is refused (WorkStateError naming the file and the key), never
 // read as zeros: a wrong program zero crashes the tool into the part.
 //
@@ -36,6 +39,9 @@ struct WorkState {
   Vec3 g92{};                            // G92/G52 axis offset, mm
   bool g92_applied = false;              // LinuxCNC #5210
   Vec3 g28{}, g30{};                     // G28/G30 stored positions, machine mm
+  int tool = 0;                          // in the spindle (M6, M61); 0: none
+  bool tool_offset_applied = false;      // G43/G43.1 in effect (G49: off)
+  Vec3 tool_offset{};                    // the tool length offset in effect, mm
 
   bool operator==(const WorkState&) const = default;
 };

@@ -1,0 +1,174 @@
+// bench_surface.cpp — figures for the measured surface (issue 15, items 4-5; never pass/fail):
+//  1. accuracy: a travel-sized freeform design surface (20 x 20 mm, X/Y 2.5..22.5, heights of
+//     +-0.6 mm) plus the seed's symmetrised Wiener surface (eq. 16) as machining error, scaled to
+//     --error-um RMS; probed on a 7 x 7 grid (exact points, or with --noise-um of normal
+//     noise); the RMS and maximum distance (Z) to the true surface over 201 x 201 points of the
+//     fitted B-spline surface (e = 1 and faired), bilinear (bCNC, CNCjs) and Catmull–Rom
+//     (Candle) interpolation of the same probes; the mean over --seeds error surfaces, for
+//     errors of several lattice sizes (the error's shortest wavelength: 20 mm / cells);
+//  2. fairing (the seed's Fig. 5-6): F and the fitted-minus-design mean and std before (e = 1)
+//     and after fairing, on the uniform grid and on an unevenly spaced one;
+//  3. the cost of one evaluation: point, point with derivatives, and the height at an X/Y (what
+//     the surface-correction stage calls).
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "geometry/bspline_surface.hpp"
+#include "geometry/surface_fit.hpp"
+#include "geometry/surface_interp.hpp"
+#include "geometry/wiener_surface.hpp"
+
+using namespace pcnc;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr double kX0 = 2.5, kSpan = 20.0;
+
+double design(double x, double y) { return 0.6 * std::sin(0.25 * x) * std::cos(0.2 * y); }
+
+struct Truth {
+  WienerSurface error;
+  double operator()(double x, double y) const {
+    return design(x, y) + error.smooth_value((x - kX0) / kSpan, (y - kX0) / kSpan);
+  }
+};
+
+std::vector<double> positions(bool uneven) {
+  static const double even[7] = {0, 1.0 / 6, 2.0 / 6, 3.0 / 6, 4.0 / 6, 5.0 / 6, 1};
+  static const double odd[7] = {0, 0.08, 0.3, 0.42, 0.7, 0.78, 1};
+  std::vector<double> v;
+  for (int i = 0; i < 7; ++i) v.push_back(kX0 + kSpan * (uneven ? odd[i] : even[i]));
+  return v;
+}
+
+template <class F>
+PointGrid probe(const std::vector<double>& at, F z, double noise_mm, std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  PointGrid g;
+  g.cols = g.rows = static_cast<int>(at.size());
+  for (double y : at)
+    for (double x : at) g.points.push_back({x, y, z(x, y) + (noise_mm > 0 ? noise_mm * n(rng) : 0.0)});
+  return g;
+}
+
+struct Stats {
+  double rms = 0, max = 0, mean = 0, std = 0;
+};
+
+template <class Model, class Ref>
+Stats compare(const Model& model, const Ref& ref) {
+  constexpr int n = 201;
+  double sum = 0, sq = 0, mx = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = kX0 + kSpan * i / (n - 1), y = kX0 + kSpan * j / (n - 1);
+      const double e = model(x, y) - ref(x, y);
+      sum += e;
+      sq += e * e;
+      mx = std::max(mx, std::fabs(e));
+    }
+  Stats s;
+  s.mean = sum / (n * n);
+  s.rms = std::sqrt(sq / (n * n));
+  s.max = mx;
+  s.std = std::sqrt(std::max(0.0, s.rms * s.rms - s.mean * s.mean));
+  return s;
+}
+
+double um(double mm) { return mm * 1000.0; }
+
+template <class F>
+double ns_per_call(F f, int calls) {
+  const auto t0 = Clock::now();
+  double sink = 0;
+  for (int i = 0; i < calls; ++i) sink += f(i);
+  const double ns = std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / calls;
+  if (sink == 12345.678) std::printf(" ");
+  return ns;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"bench_surface: the measured B-spline surface against bilinear and Catmull-Rom probe interpolation"};
+  double error_um = 20.0, noise_um = 0.0;
+  int seeds = 10;
+  app.add_option("--error-um", error_um, "RMS of the injected Wiener error, µm")->capture_default_str();
+  app.add_option("--noise-um", noise_um, "probe noise (normal, standard deviation), µm")->capture_default_str();
+  app.add_option("--seeds", seeds, "error surfaces per row (seeds 1..N), figures are their mean")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  std::mt19937_64 rng(7);
+
+  std::printf("1. accuracy: 20 x 20 mm design surface (+-0.6 mm) + Wiener error %.1f µm RMS, 7 x 7 probes, noise %.1f µm,"
+              " mean of %d seeds; distance (Z) to the true surface over 201 x 201 points, µm\n",
+              error_um, noise_um, seeds);
+  std::printf("  %-6s %-18s %9s %9s   %s\n", "cells", "method", "RMS", "max", "RMS vs B-spline");
+  for (int cells : {2, 3, 4, 6, 8, 16}) {
+    Stats acc[4] = {};
+    for (int s = 1; s <= seeds; ++s) {
+      const Truth truth{WienerSurface(static_cast<std::uint64_t>(s), cells, error_um / 1000.0)};
+      const PointGrid g = probe(positions(false), truth, noise_um / 1000.0, rng);
+      const SurfaceFit fit = interpolate_grid(g, 3, 1.0);
+      const FairFit fair = fair_fit(g, 3);
+      const GridHeights base(g);
+      const Stats st[4] = {
+          compare([&](double x, double y) { return surface_height(fit.surface, x, y).z; }, truth),
+          compare([&](double x, double y) { return surface_height(fair.fit.surface, x, y).z; }, truth),
+          compare([&](double x, double y) { return base.bilinear(x, y); }, truth),
+          compare([&](double x, double y) { return base.catmull_rom(x, y); }, truth)};
+      for (int k = 0; k < 4; ++k) acc[k].rms += st[k].rms / seeds, acc[k].max += st[k].max / seeds;
+    }
+    const char* names[4] = {"B-spline e=1", "B-spline faired", "bilinear", "Catmull-Rom"};
+    for (int k = 0; k < 4; ++k)
+      std::printf("  %-6d %-18s %9.3f %9.3f   %.2fx\n", cells, names[k], um(acc[k].rms), um(acc[k].max),
+                  acc[k].rms / acc[0].rms);
+  }
+
+  std::printf("\n2. fairing (seed Fig. 5-6): F and the fitted-minus-design error before (e = 1) and after, "
+              "Wiener error %.1f µm RMS over 4 cells, seeds 1..%d (mean)\n",
+              error_um, seeds);
+  for (bool uneven : {false, true}) {
+    double f0 = 0, f1 = 0, e1 = 0, m0 = 0, s0 = 0, m1 = 0, s1 = 0, t0 = 0, t1 = 0;
+    for (int s = 1; s <= seeds; ++s) {
+      const Truth truth{WienerSurface(static_cast<std::uint64_t>(s), 4, error_um / 1000.0)};
+      const PointGrid g = probe(positions(uneven), truth, noise_um / 1000.0, rng);
+      const SurfaceFit fit = interpolate_grid(g, 3, 1.0);
+      const FairFit fair = fair_fit(g, 3);
+      auto h0 = [&](double x, double y) { return surface_height(fit.surface, x, y).z; };
+      auto h1 = [&](double x, double y) { return surface_height(fair.fit.surface, x, y).z; };
+      const Stats d0 = compare(h0, design), d1 = compare(h1, design);
+      const Stats r0 = compare(h0, truth), r1 = compare(h1, truth);
+      f0 += fairness(fit) / seeds, f1 += fair.fairness / seeds, e1 += fair.e / seeds;
+      m0 += d0.mean / seeds, s0 += d0.std / seeds, m1 += d1.mean / seeds, s1 += d1.std / seeds;
+      t0 += r0.rms / seeds, t1 += r1.rms / seeds;
+      if (std::getenv("BENCH_SURFACE_SEEDS"))
+        std::printf("    seed %d: e %.4f, F %.5g -> %.5g, RMS to true %.3f -> %.3f µm\n", s, fair.e, fairness(fit), fair.fairness, um(r0.rms), um(r1.rms));
+    }
+    std::printf("  %s grid: F %.5g -> %.5g (%+.2f %%, mean e %.3f); fitted - design: mean %.3f -> %.3f µm, std %.3f -> "
+                "%.3f µm; RMS to the true surface %.3f -> %.3f µm\n",
+                uneven ? "uneven " : "uniform", f0, f1, 100 * (f1 - f0) / f0, e1, um(m0), um(m1), um(s0), um(s1),
+                um(t0), um(t1));
+  }
+
+  std::printf("\n3. cost of one evaluation (degree 3, 7 x 7 control points), ns per call:\n");
+  const Truth truth{WienerSurface(1, 4, error_um / 1000.0)};
+  const SurfaceFit fit = interpolate_grid(probe(positions(false), truth, 0.0, rng), 3, 1.0);
+  std::vector<double> us(4096), vs(4096);
+  std::uniform_real_distribution<double> d(0.0, 1.0);
+  for (std::size_t i = 0; i < us.size(); ++i) us[i] = d(rng), vs[i] = d(rng);
+  const int calls = 2000000;
+  const double p = ns_per_call([&](int i) { return surface_point(fit.surface, us[i & 4095], vs[i & 4095])[2]; }, calls);
+  const double e = ns_per_call([&](int i) { return surface_eval(fit.surface, us[i & 4095], vs[i & 4095]).svv[2]; }, calls);
+  const double h = ns_per_call(
+      [&](int i) { return surface_height(fit.surface, kX0 + kSpan * us[i & 4095], kX0 + kSpan * vs[i & 4095]).z; },
+      calls / 4);
+  std::printf("  point %.0f ns, point + 1st and 2nd derivatives %.0f ns, height at an X/Y (Newton) %.0f ns\n", p, e, h);
+  return 0;
+}
