@@ -195,6 +195,16 @@ TEST(BiarcFit, FreeFormCurveWithInflectionWithinTolerance) {
   expect_fit(s_curve(), 1e-5);
 }
 
+TEST(BiarcFit, UnreachableToleranceEndsAndSaysSo) {
+  BiarcOptions o;
+  o.tolerance_mm = 1e-13;  // below what doubles can measure on a 40 mm curve
+  o.min_chord_mm = 0.05;
+  const BiarcFit fit = fit_biarcs(s_curve(), 2, o);
+  EXPECT_FALSE(fit.within_tolerance);
+  EXPECT_LT(fit.arcs.size(), 4000u);  // pieces of at least 0.05 mm, not 2^30 of them
+  expect_chain(fit.arcs, true, 1e-6);
+}
+
 TEST(BiarcFit, FinerToleranceNeedsMoreBiarcs) {
   BiarcOptions coarse, fine;
   coarse.tolerance_mm = 0.01, fine.tolerance_mm = 0.0001;
@@ -401,6 +411,7 @@ TEST(LoopRemoval, NotchNarrowerThanTheToolIsBridged) {
   EXPECT_LT(offset_clearance(chain, R), R - 0.5);
   const LoopRemoval r = remove_loops(chain, R, +1);
   EXPECT_GE(r.loops_removed, 1);
+  EXPECT_EQ(r.unresolved, 0);
   expect_chain(r.arcs, false);
   EXPECT_EQ(r.arcs.front().start.x, 0.0);
   EXPECT_EQ(r.arcs.back().end.x, 20.0);
@@ -433,11 +444,54 @@ TEST(LoopRemoval, SmallConcaveArcBiarcsAreRounded) {
   const double R = min_r * 1.5;
   const LoopRemoval r = remove_loops(fit.arcs, R, +1);
   EXPECT_GE(r.loops_removed, 1);
+  expect_chain(r.arcs, false);  // every arc whole: its ends on its circle, pieces joined
   EXPECT_GT(offset_clearance(r.arcs, R), R - 1e-3);
   // a tool smaller than every radius: nothing to remove, the chain is returned as is
   const LoopRemoval none = remove_loops(fit.arcs, min_r * 0.5, +1);
   EXPECT_EQ(none.loops_removed, 0);
   EXPECT_EQ(none.arcs.size(), fit.arcs.size());
+}
+
+TEST(LoopRemoval, ClosedContourComesBackClosedFromItsStart) {
+  // a 20 x 10 rectangle, counter-clockwise from the middle of its top edge, with a slot 2 mm
+  // wide and 3 mm deep in its bottom edge; a tool of radius 3 outside (on the right)
+  const std::vector<Arc2> box = {
+      make_segment({10, 10}, {0, 10}), make_segment({0, 10}, {0, 0}),  make_segment({0, 0}, {9, 0}),
+      make_segment({9, 0}, {9, 3}),    make_segment({9, 3}, {11, 3}),  make_segment({11, 3}, {11, 0}),
+      make_segment({11, 0}, {20, 0}),  make_segment({20, 0}, {20, 10}), make_segment({20, 10}, {10, 10})};
+  const double R = 3.0;
+  EXPECT_LT(offset_clearance(box, -R), R - 0.5);  // the raw offset dives into the slot
+  const LoopRemoval r = remove_loops(box, R, -1);
+  EXPECT_GE(r.loops_removed, 1);
+  EXPECT_EQ(r.unresolved, 0);
+  expect_chain(r.arcs, false);
+  EXPECT_EQ(r.arcs.front().start.x, 10.0);  // closed, from where it started
+  EXPECT_EQ(r.arcs.front().start.y, 10.0);
+  EXPECT_EQ(r.arcs.back().end.x, 10.0);
+  EXPECT_EQ(r.arcs.back().end.y, 10.0);
+  EXPECT_GT(offset_clearance(r.arcs, -R), R - 1e-3);
+  double highest = 0;  // the slot (up to y = 3) is bridged below y = 1
+  for (const Vec2& p : dense_chain(r.arcs, 50))
+    if (p.x > 9.5 && p.x < 10.5 && p.y < 5) highest = std::max(highest, p.y);
+  EXPECT_LT(highest, 1.0);
+  // the same contour started inside the slot: its start is cut off, it comes back as it was
+  std::vector<Arc2> from_slot(box.begin() + 4, box.end());
+  from_slot.insert(from_slot.end(), box.begin(), box.begin() + 4);
+  const LoopRemoval s = remove_loops(from_slot, R, -1);
+  EXPECT_EQ(s.loops_removed, 0);
+  EXPECT_GT(s.unresolved, 0);
+  EXPECT_EQ(s.arcs.size(), from_slot.size());
+}
+
+TEST(LoopRemoval, InsideOutWithoutCrossingIsReported) {
+  // up x = 0, a half circle of radius 1 over to x = 2, down: parallel legs 2 mm apart; a tool
+  // of radius 2 inside: the legs' offsets swap sides without crossing
+  const std::vector<Arc2> u = {make_segment({0, -3}, {0, 0}), make_arc_about({1, 0}, {0, 0}, -kPi),
+                               make_segment({2, 0}, {2, -3})};
+  const LoopRemoval r = remove_loops(u, 2.0, -1);
+  EXPECT_GT(r.unresolved, 0);
+  EXPECT_EQ(remove_loops(u, 0.5, -1).unresolved, 0);  // a tool that fits
+  EXPECT_EQ(remove_loops(u, 2.0, +1).unresolved, 0);  // outside
 }
 
 // ---- moves ---------------------------------------------------------------------------------

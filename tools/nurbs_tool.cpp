@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "config/config.hpp"
+#include "number_format.hpp"
 #include "geometry/nurbs.hpp"
 #include "ipc/block_nurbs.hpp"
 #include "gcode/nurbs_reader.hpp"
@@ -17,11 +18,7 @@
 namespace pcnc {
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+std::string fmt(const char* f, double v) { return format_number(f, v); }
 
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "biarc_tool.hpp"
 #include "check.hpp"
 #include "config_check.hpp"
 #include "ctl.hpp"
@@ -152,6 +153,7 @@ int main(int argc, char** argv) {
   pcnc::add_soak_subcommand(app, exit_code);
   pcnc::add_nurbs_subcommand(app, exit_code);
   pcnc::add_surface_subcommand(app, exit_code);
+  pcnc::add_biarc_subcommand(app, exit_code);
 
   pcnc::add_exit_status_help(app);
   if (const int parse_status = pcnc::parse_command_line(app, argc, argv); parse_status >= 0) return parse_status;

@@ -11,14 +11,12 @@
 namespace pcnc {
 namespace {
 
-struct Words {
-  std::vector<double> g;
-  std::map<char, double> value;
-  bool has(char c) const { return value.count(c) != 0; }
-};
+bool is_g(double g, double want) { return std::fabs(g - want) < 1e-6; }
+
+}  // namespace
 
 // Letter-number words of one line, comments in () and after ; removed.
-bool split_words(const std::string& raw, Words& w, std::string& err) {
+bool split_gcode_words(const std::string& raw, GcodeWords& w, std::string& err) {
   std::string s;
   int depth = 0;
   for (char c : raw) {
@@ -56,10 +54,6 @@ bool split_words(const std::string& raw, Words& w, std::string& err) {
   return true;
 }
 
-bool is_g(double g, double want) { return std::fabs(g - want) < 1e-6; }
-
-}  // namespace
-
 NurbsProgram parse_nurbs_program(const std::string& text, KnotRule rule) {
   NurbsProgram out;
   std::istringstream in(text);
@@ -79,9 +73,9 @@ NurbsProgram parse_nurbs_program(const std::string& text, KnotRule rule) {
   };
   while (std::getline(in, raw)) {
     ++line_no;
-    Words w;
+    GcodeWords w;
     std::string err;
-    if (!split_words(raw, w, err)) return fail(err);
+    if (!split_gcode_words(raw, w, err)) return fail(err);
     bool g52 = false, g53 = false;
     for (const double g : w.g) {
       if (is_g(g, 17)) plane[0] = 0, plane[1] = 1;

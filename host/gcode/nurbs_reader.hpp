@@ -9,6 +9,7 @@
 // Knots: LinuxCNC's open uniform vector (or the seed's chord length when asked).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,16 @@ struct NurbsProgram {
   std::vector<ProgramCurve> curves;
   std::string error;  // "line N: ..." when the file could not be read; curves read so far stay
 };
+
+/// The words of one line as this reader sees them: G numbers in order, every other letter's
+/// value (upper case), comments in () and after ; removed; plain decimal numbers only.
+struct GcodeWords {
+  std::vector<double> g;
+  std::map<char, double> value;
+  bool has(char c) const { return value.count(c) != 0; }
+};
+/// False with `err` set on a letter without a number or a stray character.
+bool split_gcode_words(const std::string& raw, GcodeWords& w, std::string& err);
 
 NurbsProgram read_nurbs_program(const std::string& path, KnotRule rule = KnotRule::kOpenUniform);
 NurbsProgram parse_nurbs_program(const std::string& text, KnotRule rule = KnotRule::kOpenUniform);

@@ -221,7 +221,7 @@ struct Fitter {
       dev = curve_deviation(curve, normal, ua, ub, arcs);
       if (dev <= opt.tolerance_mm || point) return emit(arcs, dev);
     }
-    if (depth >= opt.max_depth) {
+    if (depth >= opt.max_depth || std::max(distance(pa, pb), distance(pa, pm)) < opt.min_chord_mm) {
       if (arcs.empty()) arcs = {make_segment(pa, pb)}, dev = curve_deviation(curve, normal, ua, ub, arcs);
       out.within_tolerance = false;
       return emit(arcs, dev);

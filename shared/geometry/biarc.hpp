@@ -53,6 +53,8 @@ double nearest_on_arcs(const std::vector<Arc2>& arcs, Vec2 p, Vec2* q = nullptr)
 struct BiarcOptions {
   double tolerance_mm = 0.001;  // maximum deviation between the curve and its arcs
   int max_depth = 30;           // bisections of one piece before it is accepted as is
+  double min_chord_mm = 1e-4;   // a piece this short is accepted as is (an unreachable tolerance
+                                // must not bisect the whole curve 2^max_depth times)
 };
 
 /// Arcs that replace a curve. Consecutive arcs share end points exactly; they are tangent
@@ -61,7 +63,7 @@ struct BiarcFit {
   std::vector<Arc2> arcs;
   std::size_t biarcs = 0;         // number of biarcs (an arc pair; a degenerate one may be 1 arc)
   double max_deviation_mm = 0.0;  // the largest deviation measured (two-sided, see curve_deviation)
-  bool within_tolerance = true;   // false when a piece reached max_depth above the tolerance
+  bool within_tolerance = true;   // false when a piece reached max_depth or min_chord_mm above the tolerance
 };
 
 /// Fits biarcs to the NURBS curve seen in the plane normal to `normal_axis` (2 = G17 XY,
@@ -100,11 +102,18 @@ std::vector<Arc2> offset_chain(const std::vector<Arc2>& chain, double d);
 /// The seed's twice-offset step: the contour a tool of radius R on `side` (+1 left = G41,
 /// -1 right = G42) can follow without its offset tangling. The chain is offset by R to that
 /// side, the offset's self-intersections found (exact arc/arc, arc/line, line/line), the loops
-/// between them cut, and the result offset back; the corners left by the cuts become arcs of
-/// radius R (the tool's own rounding). Chains without loops come back unchanged.
+/// between them cut, and the result offset back (a kept part of a piece's offset is the same
+/// fraction range of the piece); the corners left by the cuts become arcs of radius R about
+/// the crossings (the tool's own rounding). Chains without loops come back unchanged. A closed
+/// chain (its end at its start) is walked round, so loops across its closing point are cut
+/// too, and comes back closed, starting at its start point; when that point is cut off (in a
+/// loop, or a concave corner rounded) the chain comes back unchanged with `unresolved` set.
 struct LoopRemoval {
   std::vector<Arc2> arcs;
   int loops_removed = 0;
+  int unresolved = 0;          // > 0: parts the tool still cannot follow (backwards offset pieces no crossing
+                               // cut off), or the chain came back unchanged because its start was cut off
+                               // or what the walk kept was not a valid offset
   double max_change_mm = 0.0;  // largest distance of the new contour from the old one
 };
 LoopRemoval remove_loops(const std::vector<Arc2>& chain, double tool_radius, int side);

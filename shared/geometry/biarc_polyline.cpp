@@ -9,42 +9,54 @@
 namespace pcnc {
 namespace {
 
-constexpr int kHalfWindow = 4;  // points each side of the tangent estimate
+constexpr int kMaxHalfWindow = 4;  // points each side of the tangent estimate, at most
 
 // Unit tangent at points[i]: slope at x = 0 of y = a + b x + c x^2 fitted by least squares to
-// the neighbouring points in a frame along the neighbours' chord. Exact for a parabola, the
-// 0.5 um rounding of CAM output averaged out over the window.
-Vec2 local_tangent(const std::vector<Vec2>& p, std::size_t i) {
+// the neighbouring points in a frame along the neighbours' chord. The widest window (up to
+// kMaxHalfWindow points each side) whose fit leaves no point further than `max_residual`
+// wins: wide where the curve is smooth (the 0.5 um rounding of CAM output averages out),
+// narrow where its curvature changes fast (a parabola no longer fits).
+Vec2 local_tangent(const std::vector<Vec2>& p, std::size_t i, double max_residual) {
   const std::size_t n = p.size();
-  const std::size_t lo = i >= kHalfWindow ? i - kHalfWindow : 0;
-  const std::size_t hi = std::min(n - 1, i + kHalfWindow);
   const Vec2 d = normalized(p[std::min(i + 1, n - 1)] - p[i > 0 ? i - 1 : 0]);
-  if (hi - lo < 2) return d;
   const Vec2 nrm = perp(d);
-  // normal equations of the 3-parameter fit
-  double s[5] = {0, 0, 0, 0, 0}, t[3] = {0, 0, 0};
-  for (std::size_t k = lo; k <= hi; ++k) {
-    const double x = dot(p[k] - p[i], d), y = dot(p[k] - p[i], nrm);
-    double xp = 1.0;
-    for (int e = 0; e < 5; ++e) {
-      s[e] += xp;
-      if (e < 3) t[e] += xp * y;
-      xp *= x;
+  for (int h = kMaxHalfWindow; h >= 1; --h) {
+    const std::size_t lo = i >= static_cast<std::size_t>(h) ? i - h : 0;
+    const std::size_t hi = std::min(n - 1, i + h);
+    if (hi - lo < 2) return d;
+    double s[5] = {0, 0, 0, 0, 0}, t[3] = {0, 0, 0};  // normal equations of the 3-parameter fit
+    for (std::size_t k = lo; k <= hi; ++k) {
+      const double x = dot(p[k] - p[i], d), y = dot(p[k] - p[i], nrm);
+      double xp = 1.0;
+      for (int e = 0; e < 5; ++e) {
+        s[e] += xp;
+        if (e < 3) t[e] += xp * y;
+        xp *= x;
+      }
     }
+    const double m[3][3] = {{s[0], s[1], s[2]}, {s[1], s[2], s[3]}, {s[2], s[3], s[4]}};
+    auto det3 = [](const double a[3][3]) {
+      return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    };
+    const double det = det3(m);
+    if (!(std::abs(det) > 1e-30)) continue;
+    double coef[3];
+    for (int col = 0; col < 3; ++col) {  // Cramer's rule
+      double mc[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) mc[r][c] = c == col ? t[r] : m[r][c];
+      coef[col] = det3(mc) / det;
+    }
+    if (!std::isfinite(coef[1])) continue;
+    double worst = 0.0;
+    for (std::size_t k = lo; k <= hi; ++k) {
+      const double x = dot(p[k] - p[i], d), y = dot(p[k] - p[i], nrm);
+      worst = std::max(worst, std::abs(y - (coef[0] + coef[1] * x + coef[2] * x * x)));
+    }
+    if (worst <= max_residual || hi - lo == 2) return normalized(d + coef[1] * nrm);
   }
-  const double m[3][3] = {{s[0], s[1], s[2]}, {s[1], s[2], s[3]}, {s[2], s[3], s[4]}};
-  auto det3 = [](const double a[3][3]) {
-    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-  };
-  const double det = det3(m);
-  if (!(std::abs(det) > 1e-30)) return d;
-  double mb[3][3];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) mb[r][c] = c == 1 ? t[r] : m[r][c];
-  const double b = det3(mb) / det;  // Cramer's rule for the slope
-  if (!std::isfinite(b)) return d;
-  return normalized(d + b * nrm);
+  return d;
 }
 
 // Distance from q to the segment a-b.
@@ -98,7 +110,7 @@ PolylineFit fit_biarcs_polyline(const std::vector<Vec2>& input, const BiarcOptio
   if (!input.empty() && !p.empty()) p.back() = input.back();
   if (p.size() < 2) return out;
   PolyFitter f{p, {}, {}, options.tolerance_mm};
-  for (std::size_t i = 0; i < p.size(); ++i) f.t.push_back(local_tangent(p, i));
+  for (std::size_t i = 0; i < p.size(); ++i) f.t.push_back(local_tangent(p, i, 0.5 * options.tolerance_mm));
   for (std::size_t k = 0; k + 1 < p.size(); ++k) {
     const double phi = std::abs(std::atan2(cross(f.t[k], f.t[k + 1]), dot(f.t[k], f.t[k + 1])));
     f.sag.push_back(0.5 * distance(p[k], p[k + 1]) * std::tan(std::min(phi, 3.0) / 4.0));
