@@ -33,8 +33,8 @@ void print_machine(const MachineConfig& c, std::ostream& out) {
   out << "  contouring   angle " << num(c.motion.contouring_angle_deg) << " deg, at program start "
       << (c.motion.contouring_default ? "on (M21)" : "off (M22)") << ", junction velocity step "
       << num(c.motion.junction_velocity_step_fraction) << " x a_max x period, corner tolerance "
-      << num(c.motion.corner_tolerance_mm) << " mm"
-      << (c.motion.corner_tolerance_mm > 0.0 ? "" : " (off: corners sharper than the angle stop)") << "\n";
+      << num(c.motion.path_tolerance_mm) << " mm"
+      << (c.motion.path_tolerance_mm > 0.0 ? "" : " (off: corners sharper than the angle stop)") << "\n";
   out << "  speeds       rapids "
       << (c.motion.rapid_speed_mm_s > 0.0 ? num(c.motion.rapid_speed_mm_s) + " mm/s" : std::string("each axis's max velocity"))
       << "; max feed "

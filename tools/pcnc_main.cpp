@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
 
   // ---- run ----
   auto* run = app.add_subcommand("run", "start pcnc-rt and pcnc-host, run FILE to the end, print a run report");
-  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table;
+  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table,
+      tolerance;
   bool fit = false, quiet = false, verbose = false;
   run->add_option("FILE", file, "G-code program")->required()->check(CLI::ExistingFile);
   run->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
@@ -38,6 +39,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run->add_option("--contouring", contouring, "contouring at program start (default: the config's); M21/M22 override")
       ->check(CLI::IsMember({"on", "off"}));
+  run->add_option("--tolerance", tolerance,
+                  "path tolerance in mm for the whole program (smoothing, merging, corner speed); default: the "
+                  "config's motion.path_tolerance_mm, changed by G64 P")
+      ->check(CLI::Range(0.0, 1.0));
   run->add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   run->add_option("--tool-table", tool_table, "tool table (LinuxCNC format, mm); default: the config's gcode.tool_table");
   run->add_flag("--fit", fit, "scale the program down uniformly (never up) so it fits the travel; the report states the scale");
@@ -101,6 +106,7 @@ int main(int argc, char** argv) {
     if (!contouring.empty()) lo.host_args.insert(lo.host_args.end(), {"--contouring", contouring});
     if (!offset.empty()) lo.host_args.insert(lo.host_args.end(), {"--offset", offset});
     if (fit) lo.host_args.push_back("--fit");
+    if (!tolerance.empty()) lo.host_args.insert(lo.host_args.end(), {"--tolerance", tolerance});
     if (!tool_table.empty()) lo.host_args.insert(lo.host_args.end(), {"--tool-table", tool_table});
     if (!summary_file.empty()) {
       std::filesystem::remove(summary_file);  // a stale summary must not make a report of an earlier run

@@ -15,14 +15,15 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       reader_(std::move(reader)),
       source_(*reader_, config_, frame, sink_),
       preflight_(config_, sink_, soft_limits),
-      merge_(config_.motion.corner_tolerance_mm),  // tolerance 0: merging off
+      smoother_(config_),
+      to_smoother_([this](Move& m) { return source_.next(m); }),
       validator_(config_, frame.start),
       to_merge_([this](Move& m) { return checked_move(m); }) {}
 
-// The interpreter's moves through the geometry stages, in their order. None exists yet; each
-// will link here as `return <stage>_.next(<pull from the stage before>, m);`:
-//   cutter compensation, then surface correction, then smoothing.
-bool Pipeline::geometry_move(Move& m) { return source_.next(m); }
+// The interpreter's moves through the geometry stages, in their order; each links as
+// `<stage>_.next(<pull from the stage before>, m)`: cutter compensation, then surface
+// correction (not yet), then smoothing.
+bool Pipeline::geometry_move(Move& m) { return smoother_.next(to_smoother_, m); }
 
 // ... then the preflight, which sees every move; a move without displacement ends there.
 bool Pipeline::checked_move(Move& m) {
@@ -62,6 +63,7 @@ bool Pipeline::next(Block& out) {
                   "NURBS curve could not be planned: " + (nb.error.empty() ? std::string("no blocks") : nb.error));
       return false;
     }
+    if (m.smoothed) smoothed_blocks_ += nb.blocks.size();
     nurbs_ = std::move(nb.blocks);
     nurbs_next_ = 1;
     out = nurbs_.front();

@@ -7,8 +7,9 @@
 //
 //   LineReader   source text, line by line, in fixed memory            (line_reader.hpp)
 //   MoveSource   lexer -> parser -> interpreter: Moves in machine mm   (move_source.hpp)
-//   [geometry stages, each optional, in this order — none yet:
-//      cutter compensation, surface correction, smoothing]
+//   [geometry stages, each optional, in this order:
+//      cutter compensation, surface correction (not yet),
+//      Smoother: runs of G1 moves -> curves within the path tolerance  (smoothing.hpp)]
 //   Preflight    the whole program: soft limits, extents, feed time    (preflight.hpp)
 //                (sees every programmed move; moves without displacement end here)
 //   SegmentMerger  packing for the ring: collinear G1 runs -> one line  (segment_merge.hpp)
@@ -38,6 +39,7 @@
 #include "gcode/move_source.hpp"
 #include "gcode/preflight.hpp"
 #include "gcode/segment_merge.hpp"
+#include "gcode/smoothing.hpp"
 #include "ipc/block.hpp"
 
 namespace pcnc {
@@ -72,6 +74,9 @@ class Pipeline {
 
   bool failed() const { return sink_.has_errors(); }
   const Preflight& preflight() const { return preflight_; }
+  /// What smoothing did so far; `blocks` counts the ring blocks its curves became.
+  const SmoothingStats& smoothing() const { return smoother_.stats(); }
+  std::uint64_t smoothed_blocks() const { return smoothed_blocks_; }
   const LineReader& reader() const { return *reader_; }
   std::uint64_t lines() const { return source_.lines(); }
 
@@ -85,12 +90,15 @@ class Pipeline {
   std::unique_ptr<LineReader> reader_;
   MoveSource source_;
   Preflight preflight_;
+  Smoother smoother_;
+  MovePull to_smoother_;        // the source's output, the smoother's input
   SegmentMerger merge_;
   BlockValidator validator_;
   MovePull to_merge_;           // the preflight's output, the merge's input
   bool source_ended_ = false;   // the End move has passed and the program's end was checked
   std::vector<Block> nurbs_;    // the blocks of the NURBS move being handed out (one curve at a time)
   std::size_t nurbs_next_ = 0;
+  std::uint64_t smoothed_blocks_ = 0;
 };
 
 }  // namespace pcnc

@@ -40,7 +40,7 @@ bool SegmentMerger::next(const std::function<bool(Move&)>& pull, Move& out) {
   Move n;
   while (pull(n)) {
     if (points_.size() <= kMaxRun && mergeable(n) && n.feed_mm_s == m.feed_mm_s && n.machine_frame == m.machine_frame &&
-        fits(points_, n.end, tolerance_)) {
+        n.path_tolerance_mm == m.path_tolerance_mm && fits(points_, n.end, m.path_tolerance_mm)) {
       points_.push_back(n.end);
       m.end = n.end;
       m.line = n.line;
