@@ -148,7 +148,8 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     const Preflight& pre = pipeline.preflight();
     result.transform = t;
     result.lines = pipeline.lines();
-    result.moves = pre.moves();
+    // the programmed moves: a smoothed curve counts for the G1 moves it replaced
+    result.moves = pre.moves() + pipeline.smoothing().moves - pipeline.smoothing().curves;
     result.last_point = pre.moves() > 0 ? pre.last_point() : frame.start;
     if (pre.moves() > 0) {
       result.min_point = pre.extents().min;
