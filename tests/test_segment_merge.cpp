@@ -12,21 +12,12 @@
 
 #include "gcode/program.hpp"
 #include "gcode/segment_merge.hpp"
-#include "test_paths.hpp"
+#include "gcode_test_util.hpp"
 
 namespace pcnc {
 namespace {
 
-Move line_move(const Vec3& a, const Vec3& b, int line, double feed = 10.0, bool contouring = true) {
-  Move m;
-  m.kind = MoveKind::kLine;
-  m.start = a;
-  m.end = b;
-  m.line = line;
-  m.feed_mm_s = feed;
-  m.contouring = contouring;
-  return m;
-}
+using test::line_move;
 
 std::vector<Move> merge_all(const std::vector<Move>& in, double tol) {
   SegmentMerger merger;

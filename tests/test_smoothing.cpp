@@ -8,21 +8,13 @@
 
 #include "gcode/smoothing.hpp"
 #include "geometry/nurbs.hpp"
-#include "test_paths.hpp"
+#include "gcode_test_util.hpp"
 
 namespace pcnc {
 namespace {
 
-Move line(const Vec3& a, const Vec3& b, int n, double tol = 0.005, bool m21 = true, double feed = 10.0) {
-  Move m;
-  m.kind = MoveKind::kLine;
-  m.start = a;
-  m.end = b;
-  m.line = n;
-  m.feed_mm_s = feed;
-  m.contouring = m21;
-  m.path_tolerance_mm = tol;
-  return m;
+Move line(const Vec3& a, const Vec3& b, int n, double tol = 0.005, bool m21 = true) {
+  return test::line_move(a, b, n, 10.0, m21, tol);
 }
 
 // 20 chords of a gentle bend from `from`, heading along `dir` (unit, in XY), turning left 2° each.
