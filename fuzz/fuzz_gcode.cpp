@@ -40,7 +40,7 @@ pcnc::MachineConfig make_config() {
 
 pcnc::MachineConfig make_merging_config() {
   pcnc::MachineConfig c = make_config();
-  c.motion.corner_tolerance_mm = 0.01;
+  c.motion.path_tolerance_mm = 0.01;
   return c;
 }
 

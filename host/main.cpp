@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   std::string run_file, contouring, offset, summary_path, tool_table, surface, log_level = "warn";
   int progress_fd = -1;
   bool fit = false, serve = false, quiet = false;
+  double tolerance = -1.0;
   double wait_rt_s = 5.0;
   app.add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
   app.add_option("--run", run_file, "check and run this G-code program, then exit")->check(CLI::ExistingFile);
@@ -68,6 +69,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   app.add_flag("--fit", fit, "scale the program down uniformly so it fits the travel");
+  app.add_option("--tolerance", tolerance,
+                 "path tolerance in mm for every program (smoothing, merging, corner speed; G64 P then ignored); "
+                 "default: the config's motion.path_tolerance_mm")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--tool-table", tool_table, "tool table (LinuxCNC format, mm); default: the config's gcode.tool_table");
   app.add_option("--surface", surface,
                  "correct Z of every move by this measured surface file (docs/surface.md); default: the config's gcode.surface");
@@ -95,6 +100,7 @@ int main(int argc, char** argv) {
   pcnc::MachineConfig config;
   try {
     config = pcnc::load_config(config_path);
+    if (tolerance >= 0.0) pcnc::set_operator_tolerance(config.motion, tolerance);
   } catch (const pcnc::ConfigError& e) {
     for (const auto& p : e.problems) std::fprintf(stderr, "pcnc-host: %s\n", p.c_str());
     return pcnc::kExitBadInput;
@@ -180,7 +186,7 @@ int main(int argc, char** argv) {
     pcnc::JobRunner runner(*link, config);
     pcnc::RunReport report;
     report.program = run_file;
-    report.corner_tolerance_mm = config.motion.corner_tolerance_mm;
+    report.path_tolerance_mm = config.motion.path_tolerance_mm;
     std::function<void(const pcnc::JobProgress&)> on_progress;
     if (progress_fd >= 0) {
       signal(SIGPIPE, SIG_IGN);  // the progress reader may go away before we do

@@ -6,10 +6,25 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "gcode/move.hpp"
 #include "gcode/program.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc::test {
+
+/// A G1 move from a to b as the interpreter makes it (machine mm), for the move stages' tests.
+inline Move line_move(const Vec3& a, const Vec3& b, int line, double feed = 10.0, bool contouring = true,
+                      double path_tolerance_mm = 0.0) {
+  Move m;
+  m.kind = MoveKind::kLine;
+  m.start = a;
+  m.end = b;
+  m.line = line;
+  m.feed_mm_s = feed;
+  m.contouring = contouring;
+  m.path_tolerance_mm = path_tolerance_mm;
+  return m;
+}
 
 /// The default desktop mill, loaded from configs/desktop-mill.toml.
 inline MachineConfig mill_config() { return load_config(default_config()); }

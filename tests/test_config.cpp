@@ -22,7 +22,7 @@ const std::string kOrigin = "variant.toml";
 
 // The keys a config may leave out (docs/configuration.md lists their defaults).
 const std::set<std::string> kOptionalKeys = {
-    "corner_tolerance_mm", "rapid_speed_mm_s", "max_feed_mm_min", "g55",          "g56",
+    "path_tolerance_mm", "smoothing_angle_deg", "rapid_speed_mm_s", "max_feed_mm_min", "g55", "g56",
     "g57",                 "g58",              "g59",             "nurbs_knots",  "nurbs_chord_tolerance_mm",
     "socket_path",         "socket_mode",      "socket_group",    "state_dir",    "client_idle_timeout_s",
     "rt_priority",         "rt_spin_us",       "on_trace_failure", "max_executed_lines", "tool_table",
@@ -274,6 +274,17 @@ TEST(Config, OnTraceFailureIsStopOrContinueAndStopByDefault) {
   EXPECT_FALSE(parse_config(with(line, "on_trace_failure = \"continue\""), "t").process.trace_failure_stops);
   EXPECT_THROW(parse_config(with(line, "on_trace_failure = \"pause\""), "t"), ConfigError);
   EXPECT_THROW(parse_config(with(line, "on_trace_failure = true"), "t"), ConfigError);
+}
+
+// Issue 14: corner_tolerance_mm became path_tolerance_mm; the old name is refused naming the new.
+TEST(Config, TheOldCornerToleranceIsRefusedNamingThePathTolerance) {
+  std::string text = shipped_text();
+  const std::string key = "path_tolerance_mm = 0.005";
+  ASSERT_NE(text.find(key), std::string::npos);
+  text.replace(text.find(key), key.size(), "corner_tolerance_mm = 0.005");
+  const std::string message = refusal(text);
+  EXPECT_TRUE(has(message, "corner_tolerance_mm: renamed to path_tolerance_mm")) << message;
+  EXPECT_EQ(parse_config(shipped_text(), kOrigin).motion.path_tolerance_mm, 0.005);
 }
 
 TEST(Config, AMissingFileIsNamed) {

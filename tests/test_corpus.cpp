@@ -198,7 +198,10 @@ TEST(Corpus, EveryCamProgramCheckedOrRejectedForAReason) {
       {"linuxcnc-tp/Cereal.ngc", "Z -10.0000 mm (machine) is below the travel minimum"},
       {"linuxcnc-tp/Pasta.ngc", "Z -10.0000 mm (machine) is below the travel minimum"},
   };
-  const MachineConfig c = test::mill_config();
+  // tolerance 0: one block per programmed move at least (smoothing and merging have their own
+  // tests: test_pipeline, test_segment_merge)
+  MachineConfig c = test::mill_config();
+  set_operator_tolerance(c.motion, 0.0);
   JobOptions o;
   o.fit = true;  // most parts are larger than the 25 mm travel
   int checked = 0;

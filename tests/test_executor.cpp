@@ -128,7 +128,7 @@ TEST(Junction, CornerSpeedTakesTheLargerOfTheTwoRules) {
   EXPECT_DOUBLE_EQ(corner_speed(true, x, small, r), junction_speed_cap(x, small, r.axis_accel, r.dt, 0.5));
   EXPECT_EQ(corner_speed(true, x, y, r), 0.0);
   // with a corner tolerance both flow, each at the larger cap
-  r.corner_tolerance_mm = 0.01;
+  r.path_tolerance_mm = 0.01;
   EXPECT_DOUBLE_EQ(corner_speed(true, x, y, r), junction_deviation_speed(x, y, r.axis_accel, 0.01));
   EXPECT_DOUBLE_EQ(corner_speed(true, x, small, r), std::max(junction_speed_cap(x, small, r.axis_accel, r.dt, 0.5),
                                                             junction_deviation_speed(x, small, r.axis_accel, 0.01)));

@@ -180,7 +180,9 @@ TEST(Interpreter, PauseAndOptionalStop) {
 TEST(Interpreter, ContouringModalState) {
   JobOptions o;
   o.contouring = false;
-  const auto r = run_program("G1 X1 F60\nM21 X2\nX3\nM22 X4\nG64 X5\nG61 X6\nM2\n", wide_config(), o);
+  MachineConfig c = wide_config();
+  c.motion.path_tolerance_mm = 0.0;  // no smoothing: one block per move
+  const auto r = run_program("G1 X1 F60\nM21 X2\nX3\nM22 X4\nG64 X5\nG61 X6\nM2\n", c, o);
   ASSERT_TRUE(r.check.ok);
   const auto m = r.motion();
   ASSERT_EQ(m.size(), 6u);
@@ -397,11 +399,12 @@ TEST(Interpreter, ArcToleranceRuleFollowsLinuxCnc) {
   // Above 100 x the absolute tolerance: rejected whatever the radius.
   EXPECT_FALSE(run_program("G0 X0 Y0\nG2 X20002 Y0 I10000 F100\nM2\n", c).check.ok);
   // Inch programs: the interpreter's absolute threshold is 2.54 times the metric one (as in
-  // LinuxCNC), but the rt's block check knows no units and holds the metric one, so check,
-  // which runs to the blocks and validates them as the rt does, refuses the block instead.
+  // LinuxCNC). The rt's block check knows no units and holds the metric one against the
+  // block's radius, which is the mean of the start and end radii (issue 14): each is within
+  // half the difference of it, so the block the interpreter accepts passes the rt's check.
   const auto inch = run_program("G20 G0 X0 Y0\nG2 X0.2009 Y0 I0.1 F10\nM2\n", c);  // 0.0229 mm
   EXPECT_FALSE(inch.has_error("radius to end of arc differs"));
-  EXPECT_TRUE(inch.has_error("refused by the rt's block check: arc: end point is not on the radius"));
+  EXPECT_TRUE(inch.check.ok);
   EXPECT_FALSE(run_program("G21 G0 X0 Y0\nG2 X5.1029 Y0 I2.54 F10\nM2\n", c).check.ok);  // same in mm
 }
 

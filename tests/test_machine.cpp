@@ -103,7 +103,7 @@ TEST(Machine, SquareWithM21StillStopsAt90Degrees) {
 // no higher than the rule allows, the square ends where it began, and it takes less time.
 TEST(Machine, SquareWithACornerTolerancePassesTheCornersAtTheDeviationSpeed) {
   MachineConfig c = cfg();
-  c.motion.corner_tolerance_mm = 0.01;
+  c.motion.path_tolerance_mm = 0.01;
   MachineRunner run(c);
   run.start(test::square_program(c, {5, 5, 20}, 10.0, 25.0, true));
   const std::size_t cycles = run.run_until_done();

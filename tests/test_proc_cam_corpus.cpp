@@ -102,7 +102,9 @@ TEST_P(CamCorpus, ReplaysToTheEndWithinBounds) {
   std::string tag = "cam" + std::to_string(std::hash<std::string>{}(rel) % 100000);
   const std::string dir = make_temp_dir(tag);
   const std::string config_path = write_test_config(dir, tag);
-  const MachineConfig config = load_config(config_path);
+  // the seed's contouring rule (the run below passes --tolerance 0): the figures are counted for it
+  MachineConfig config = load_config(config_path);
+  set_operator_tolerance(config.motion, 0.0);
 
   // --fit only where the part does not fit the travel as it is
   JobOptions options;
@@ -113,8 +115,10 @@ TEST_P(CamCorpus, ReplaysToTheEndWithinBounds) {
   options.fit = needs_fit;
 
   const std::string html_path = dir + "/report.html", json_path = dir + "/summary.json";
+  // --tolerance 0: the seed's contouring rule, which the junction counts below are checked against
   std::vector<std::string> argv = {pcnc_exe(), "run",    path,      "--clock",  "virtual", "--contouring", "on",
-                                   "--config", config_path, "--report", html_path, "--summary", json_path};
+                                   "--config", config_path, "--report", html_path, "--summary", json_path,
+                                   "--tolerance", "0"};
   if (needs_fit) argv.push_back("--fit");
   const ProcessResult r = run_process(argv, 600);
 

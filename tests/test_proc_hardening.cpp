@@ -451,7 +451,7 @@ TEST(Journal, RecordsTheProgramsHashAndOptions) {
   j.file_sha256 = std::string(64, 'a');
   j.transform_offset = {1, 2, 3};
   j.transform_scale = 0.5;
-  j.corner_tolerance_mm = 0.01;
+  j.path_tolerance_mm = 0.01;
   j.contouring = 1;
   j.fit = true;
   j.work_offset = 2;
@@ -462,7 +462,7 @@ TEST(Journal, RecordsTheProgramsHashAndOptions) {
   EXPECT_EQ(b->file_sha256, j.file_sha256);
   EXPECT_EQ(b->transform_offset, j.transform_offset);
   EXPECT_EQ(b->transform_scale, 0.5);
-  EXPECT_EQ(b->corner_tolerance_mm, 0.01);
+  EXPECT_EQ(b->path_tolerance_mm, 0.01);
   EXPECT_EQ(b->contouring, 1);
   EXPECT_TRUE(b->fit);
   EXPECT_EQ(b->work_offset, 2);

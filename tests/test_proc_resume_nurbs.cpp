@@ -28,7 +28,7 @@ bool idle_after_job(const json& s) { return s["state"] == "IDLE" && !s["job"]["a
 
 
 // Lines 1-3 lead in; the curve is lines 4-8 (G5.2 .. G5.3); line 9 leads out.
-constexpr int kCurveFirst = 4, kCurveLast = 9;
+constexpr int kCurveFirst = 4, kNurbsLast = 9;
 const char* kProgram =
     "G21 G90 G17 G54\n"
     "G00 X-8 Y0 Z-1\n"
@@ -42,18 +42,20 @@ const char* kProgram =
     "G01 X9\n"
     "M30\n";
 
-TEST(KillHostInNurbs, ANewHostResumesInsideTheCurveAndTheProgramCompletesWithoutAJump) {
-  const std::string tag = "khost-nurbs";
+// Runs `program` (its curve on lines kCurveFirst..curve_last, ending at X9 Y0 Z-1), kills the
+// host inside the curve, resumes with a new host and checks the run completes without a jump.
+void kill_host_inside_the_curve_and_resume(const std::string& tag, const char* program, int curve_last) {
+  const int kCurveLast = curve_last;
   ServicePair p(tag);
   const std::string trace = p.dir() + "/trace.csv";
   ASSERT_TRUE(p.start("virtual", {"--trace", trace})) << p.host_log();
   const MachineConfig m = load_config(default_config());
-  const std::string prog = write_program(p.dir(), "curve.ngc", kProgram);
+  const std::string prog = write_program(p.dir(), "curve.ngc", program);
   const json run = p.call("run", {{"file", prog}});
   ASSERT_TRUE(run.contains("result")) << run.dump();
   // Inside the curve, some way along it.
   const json inside = p.wait_status(
-      [](const json& s) {
+      [&](const json& s) {
         const int line = s["line"].get<int>();
         return s["state"] == "RUNNING" && line >= kCurveFirst && line <= kCurveLast && s["program_time_s"].get<double>() > 8.0;
       },
@@ -114,8 +116,34 @@ TEST(KillHostInNurbs, ANewHostResumesInsideTheCurveAndTheProgramCompletesWithout
   EXPECT_GT(lost_rows, 0u);
   EXPECT_GT(curve_rows_after, 100u) << "the rest of the curve was cut after the resume";
   EXPECT_LE(worst, 1.0 + 1e-6) << "a setpoint step beyond the axis's max velocity: a jump";
-  std::cout << "[ figures  ] kill host inside a NURBS curve: trace rows " << rows << ", curve cycles after resume "
+  std::cout << "[ figures  ] kill host inside a curve (" << tag << "): trace rows " << rows << ", curve cycles after resume "
             << curve_rows_after << ", max setpoint step " << worst << " x vmax*dt\n";
+}
+
+TEST(KillHostInNurbs, ANewHostResumesInsideTheCurveAndTheProgramCompletesWithoutAJump) {
+  kill_host_inside_the_curve_and_resume("khost-nurbs", kProgram, kNurbsLast);
+}
+
+// A smoothed run (issue 14): 60 short G1 moves under M21 with the desktop mill's path tolerance
+// become one curve (host/gcode/smoothing.hpp); a host lost inside it resumes there. Square
+// corners follow, each its own block, and the program ends at X9 Y0 as the NURBS one does.
+std::string smoothed_program() {
+  std::ostringstream o;
+  o.precision(4);
+  o << std::fixed << "G21 G90 G17 G54 M21\nG00 X-8 Y0 Z-1\nG01 X-7 F15\n";
+  for (int i = 1; i <= 60; ++i) {
+    const double x = -7.0 + 0.25 * i;
+    o << "X" << x << " Y" << 2.0 * std::sin((x + 7.0) * 2.0 * M_PI / 15.0) << "\n";
+  }
+  // square corners after the curve (not smoothed): more blocks than the ring holds, so that the
+  // host is still needed when it is killed inside the curve
+  o << "G01 X9 Y0\nY1\nX8\nY0\nX9\nY1\nX8\nY0\nX9\nM30\n";
+  return o.str();
+}
+
+TEST(KillHostInNurbs, ANewHostResumesInsideASmoothedRun) {
+  const std::string program = smoothed_program();
+  kill_host_inside_the_curve_and_resume("khost-smooth", program.c_str(), kCurveFirst + 59);
 }
 
 }  // namespace

@@ -55,13 +55,21 @@ int wait_for_rt_pid(const std::string& tag) {
 TEST(PcncRun, BundledExampleRunsToItsLastPoint) {
   const std::string dir = make_temp_dir("run");
   const std::string config = write_test_config(dir, "run");
+  // --tolerance 0: the seed's rule, as the demo's comments describe it
   const ProcessResult r = run_process(
-      {pcnc_exe(), "run", source_dir() + "/examples/demo.ngc", "--clock", "virtual", "--config", config}, 300);
+      {pcnc_exe(), "run", source_dir() + "/examples/demo.ngc", "--clock", "virtual", "--config", config, "--tolerance", "0"},
+      300);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("result            completed"), std::string::npos) << r.out;
   // what its comments and the README say: under M21 the circle (2) and the contour's 18
   // segments turning by 5 degrees flow through; the square's corners and the rapids stop
   EXPECT_NE(r.out.find("junctions         20 passed without stopping, 11 stops"), std::string::npos) << r.out;
+  // with the config's path tolerance (0.005 mm) the contour's 18 segments (and the move onto it) are one curve
+  const ProcessResult smooth = run_process(
+      {pcnc_exe(), "run", source_dir() + "/examples/demo.ngc", "--clock", "virtual", "--config", config}, 300);
+  ASSERT_EQ(smooth.exit_code, 0) << smooth.out << smooth.err;
+  EXPECT_NE(smooth.out.find("smoothing         tolerance 5.0 um: 19 G1 moves smoothed into 1 blocks"), std::string::npos)
+      << smooth.out;
   // demo.ngc ends at program X0 Y0 Z-1; G54 is (12.5, 12.5, 25) on the default machine.
   const Vec3 expected{12.5, 12.5, 24.0};
   Vec3 commanded{}, actual{};

@@ -229,10 +229,10 @@ TEST(RunReport, TerminalReportNamesACornerTolerance) {
   r.job.final_status.junction_stops = 3;
   const std::string plain = format_run_report(r);
   EXPECT_NE(plain.find("12 passed without stopping, 3 stops\n"), std::string::npos) << plain;
-  EXPECT_EQ(plain.find("corner tolerance"), std::string::npos);
-  r.corner_tolerance_mm = 0.01;
+  EXPECT_EQ(plain.find("path tolerance"), std::string::npos);
+  r.path_tolerance_mm = 0.01;
   const std::string merged = format_run_report(r);
-  EXPECT_NE(merged.find("3 stops (corner tolerance 10.0 um"), std::string::npos) << merged;
+  EXPECT_NE(merged.find("3 stops (path tolerance 10.0 um"), std::string::npos) << merged;
 }
 
 TEST(RunSummary, JsonRoundTrip) {
@@ -244,9 +244,9 @@ TEST(RunSummary, JsonRoundTrip) {
   EXPECT_DOUBLE_EQ(b.final_status.program_time_s, 47.8915);
   EXPECT_DOUBLE_EQ(b.transform.scale, 0.25);
   nlohmann::json broken = to_json(a);
-  nlohmann::json older = to_json(a);  // a summary written before corner_tolerance_mm existed
-  older.erase("corner_tolerance_mm");
-  EXPECT_EQ(run_summary_from_json(older).corner_tolerance_mm, 0.0);
+  nlohmann::json older = to_json(a);  // a summary written before path_tolerance_mm existed
+  older.erase("path_tolerance_mm");
+  EXPECT_EQ(run_summary_from_json(older).path_tolerance_mm, 0.0);
   broken["status"].erase("underruns");
   EXPECT_THROW(run_summary_from_json(broken), nlohmann::json::exception);
   const Vec3 rms = rms_following_error(a.final_status);
@@ -294,10 +294,10 @@ TEST(ReportHtml, FiguresEqualTheSummary) {
   EXPECT_EQ(span(html, "scale"), "0.250000");
   EXPECT_EQ(span(html, "offset-z"), "20.0000");
   // no corner tolerance in the sample: the page says nothing of one
-  EXPECT_EQ(html.find("id=\"corner-tolerance\""), std::string::npos);
+  EXPECT_EQ(html.find("id=\"path-tolerance\""), std::string::npos);
   ReportPage merging = sample_page();
-  merging.summary.corner_tolerance_mm = 0.01;
-  EXPECT_EQ(span(render_report_html(merging), "corner-tolerance"), "10.0");
+  merging.summary.path_tolerance_mm = 0.01;
+  EXPECT_EQ(span(render_report_html(merging), "path-tolerance"), "10.0");
   EXPECT_EQ(span(html, "final-x"), "12.5001");
   EXPECT_EQ(span(html, "last-point-z"), "20.5000");
   EXPECT_EQ(span(html, "result"), "completed");

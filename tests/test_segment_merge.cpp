@@ -12,28 +12,20 @@
 
 #include "gcode/program.hpp"
 #include "gcode/segment_merge.hpp"
-#include "test_paths.hpp"
+#include "gcode_test_util.hpp"
 
 namespace pcnc {
 namespace {
 
-Move line_move(const Vec3& a, const Vec3& b, int line, double feed = 10.0, bool contouring = true) {
-  Move m;
-  m.kind = MoveKind::kLine;
-  m.start = a;
-  m.end = b;
-  m.line = line;
-  m.feed_mm_s = feed;
-  m.contouring = contouring;
-  return m;
-}
+using test::line_move;
 
 std::vector<Move> merge_all(const std::vector<Move>& in, double tol) {
-  SegmentMerger merger(tol);
+  SegmentMerger merger;
   std::size_t next = 0;
   auto pull = [&](Move& m) {
     if (next >= in.size()) return false;
     m = in[next++];
+    m.path_tolerance_mm = tol;  // what the interpreter gives each move (G64 P, --tolerance, config)
     return true;
   };
   std::vector<Move> out;
@@ -122,7 +114,7 @@ TEST(SegmentMerge, LongStraightRunsAreCutAtTheRunLimit) {
   EXPECT_EQ(out[3].end, in.back().end);
 }
 
-// Through the block stream: the corner tolerance in the config turns merging on.
+// Through the block stream: the path tolerance in the config turns smoothing (and merging) on.
 TEST(SegmentMerge, BlockStreamCarriesFewerLongerBlocksToTheSameEnd) {
   std::string text = "G21 G90 G17 M21\nG0 X20 Y0 Z-1\nG1 F1000\n";
   for (int i = 1; i <= 2000; ++i) {
@@ -135,7 +127,7 @@ TEST(SegmentMerge, BlockStreamCarriesFewerLongerBlocksToTheSameEnd) {
   MachineConfig c = load_config(test::source_dir() + "/configs/bench-peers.toml");
   JobOptions o;
   auto count = [&](double tol, Vec3* last) {
-    c.motion.corner_tolerance_mm = tol;
+    c.motion.path_tolerance_mm = tol;
     const CheckResult chk = check_program_text(text, "tiny.ngc", c, o);
     EXPECT_TRUE(chk.ok);
     BlockStream s(BlockStream::FromText{}, text, "tiny.ngc", c, o, chk.transform);
@@ -143,7 +135,7 @@ TEST(SegmentMerge, BlockStreamCarriesFewerLongerBlocksToTheSameEnd) {
     std::size_t n = 0;
     while (s.next(b)) {
       ++n;
-      if (b.kind == BlockKind::kLine) *last = b.end;
+      if (b.kind == BlockKind::kLine || b.kind == BlockKind::kNurbs) *last = b.end;
     }
     return n;
   };

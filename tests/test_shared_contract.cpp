@@ -68,12 +68,13 @@ TEST(Seqlock, ReaderNeverSeesATornSnapshot) {
   EXPECT_GT(reads, 0u);
 }
 
-// Layout version 4 (issue 20): the segment ends with the scope's ring (3, issue 19: Status
-// carries trace_failed). Any change of Block, Command, Status or the segment bumps
+// Layout version 5 (issue 14): a block carries its path tolerance; 4 (issue 20): the segment
+// ends with the scope's ring (3, issue 19: Status carries trace_failed). Any change of Block, Command, Status or the segment bumps
 // kLayoutVersion, so that a host and an rt of different builds refuse each other, and a
 // restarted rt takes no position from a segment it cannot read.
-TEST(SharedContract, LayoutVersionFourCarriesTheScopeRing) {
-  EXPECT_EQ(kLayoutVersion, 4u);
+TEST(SharedContract, LayoutVersionFiveCarriesThePathTolerance) {
+  EXPECT_EQ(kLayoutVersion, 5u);
+  EXPECT_EQ(Block{}.path_tolerance_mm, 0.0f);
   Status s{};
   EXPECT_EQ(s.trace_failed, 0);
   EXPECT_LT(offsetof(Status, trace_failed), offsetof(Status, line));

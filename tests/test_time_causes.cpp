@@ -65,7 +65,8 @@ TEST(TimeCausePlan, CruiseCausesFromThePreprocessorsRules) {
 }
 
 TEST(TimeCausePlan, JunctionKindsAndMergedRuns) {
-  const MachineConfig c = wide_config();
+  MachineConfig c = wide_config();
+  c.motion.path_tolerance_mm = 0.0;  // the seed's rule: the G1 runs stay lines (no smoothing)
   auto plan = plan_of("G21 G90 M21\nG1 X1 F600\nG1 X2\nG1 X3\nG1 X4 Y0.05\nM22\nG1 X5 Y0.05\nM30\n", c);
   // lines 2-4 are collinear with one plan: one entry
   const LinePlan* a = entry(plan, 2);

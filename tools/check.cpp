@@ -48,6 +48,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
   MachineConfig config;
   try {
     config = load_config(o.config_path.empty() ? default_config_path() : o.config_path);
+    if (o.tolerance >= 0.0) set_operator_tolerance(config.motion, o.tolerance);
   } catch (const ConfigError& e) {
     for (const auto& p : e.problems) err << "pcnc check: " << p << "\n";
     return kExitBadInput;
@@ -162,6 +163,10 @@ void add_check_subcommand(CLI::App& app, int& exit_code) {
   sub->add_flag("--fit", opts->fit, "scale the program down uniformly (never up) and centre it so it fits the travel");
   sub->add_option("--offset", opts->offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   sub->add_option("--contouring", opts->contouring, "contouring at program start: on|off (default: the config's)");
+  sub->add_option("--tolerance", opts->tolerance,
+                  "path tolerance in mm for the whole program (smoothing, merging, corner speed); default: the "
+                  "config's motion.path_tolerance_mm, changed by G64 P")
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_flag("--print-blocks", opts->print_blocks, "print the preprocessed ring blocks, one per line");
   sub->add_flag("--print-moves", opts->print_moves,
                 "print the moves as they leave the interpreter (L<line> <kind> (x,y,z)->(x,y,z), machine mm) and "

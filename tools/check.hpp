@@ -24,6 +24,7 @@ struct CheckCommandOptions {
   std::string file;
   std::string config_path;  // empty: default_config_path()
   bool fit = false;
+  double tolerance = -1.0;  // --tolerance MM; < 0: the config's (and the program's G64 P)
   std::string offset;      // "X,Y,Z" mm, empty: the config's G54
   std::string contouring;  // "on" | "off" | empty (config default)
   bool print_blocks = false;

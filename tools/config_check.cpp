@@ -32,9 +32,13 @@ void print_machine(const MachineConfig& c, std::ostream& out) {
       << " us); plant sub-steps " << num(c.motion.subsample_steps) << "; shared memory " << c.process.shm_name << "\n";
   out << "  contouring   angle " << num(c.motion.contouring_angle_deg) << " deg, at program start "
       << (c.motion.contouring_default ? "on (M21)" : "off (M22)") << ", junction velocity step "
-      << num(c.motion.junction_velocity_step_fraction) << " x a_max x period, corner tolerance "
-      << num(c.motion.corner_tolerance_mm) << " mm"
-      << (c.motion.corner_tolerance_mm > 0.0 ? "" : " (off: corners sharper than the angle stop)") << "\n";
+      << num(c.motion.junction_velocity_step_fraction) << " x a_max x period, path tolerance "
+      << num(c.motion.path_tolerance_mm) << " mm"
+      << (c.motion.path_tolerance_mm > 0.0
+              ? " (G1 runs smoothed, real corners over " + num(c.motion.smoothing_angle_deg) +
+                    " deg passed at the junction-deviation speed)"
+              : std::string(" (off: corners sharper than the angle stop)"))
+      << "\n";
   out << "  speeds       rapids "
       << (c.motion.rapid_speed_mm_s > 0.0 ? num(c.motion.rapid_speed_mm_s) + " mm/s" : std::string("each axis's max velocity"))
       << "; max feed "

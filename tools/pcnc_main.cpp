@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
 
   // ---- run ----
   auto* run = app.add_subcommand("run", "start pcnc-rt and pcnc-host, run FILE to the end, print a run report");
-  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table, surface;
+  std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table,
+      surface, tolerance;
   bool fit = false, quiet = false, verbose = false;
   run->add_option("FILE", file, "G-code program")->required()->check(CLI::ExistingFile);
   run->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
@@ -40,6 +41,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run->add_option("--contouring", contouring, "contouring at program start (default: the config's); M21/M22 override")
       ->check(CLI::IsMember({"on", "off"}));
+  run->add_option("--tolerance", tolerance,
+                  "path tolerance in mm for the whole program (smoothing, merging, corner speed); default: the "
+                  "config's motion.path_tolerance_mm, changed by G64 P")
+      ->check(CLI::Range(0.0, 1.0));
   run->add_option("--offset", offset, "program zero in machine coordinates X,Y,Z mm (default: the config's G54)");
   run->add_option("--tool-table", tool_table, "tool table (LinuxCNC format, mm); default: the config's gcode.tool_table");
   run->add_option("--surface", surface, "correct Z of every move by this measured surface (`pcnc surface fit`; docs/surface.md)");
@@ -104,6 +109,7 @@ int main(int argc, char** argv) {
     if (!contouring.empty()) lo.host_args.insert(lo.host_args.end(), {"--contouring", contouring});
     if (!offset.empty()) lo.host_args.insert(lo.host_args.end(), {"--offset", offset});
     if (fit) lo.host_args.push_back("--fit");
+    if (!tolerance.empty()) lo.host_args.insert(lo.host_args.end(), {"--tolerance", tolerance});
     if (!tool_table.empty()) lo.host_args.insert(lo.host_args.end(), {"--tool-table", tool_table});
     if (!surface.empty()) lo.host_args.insert(lo.host_args.end(), {"--surface", surface});
     if (!summary_file.empty()) {

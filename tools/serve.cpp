@@ -18,7 +18,7 @@ namespace pcnc {
 void add_serve_subcommand(CLI::App& app, int& exit_code) {
   auto* serve = app.add_subcommand("serve", "start pcnc-rt and pcnc-host --serve, then serve the control socket until Ctrl-C "
                                             "(use `pcnc ctl ...` from another terminal)");
-  static std::string config_path = default_config_path(), clock = "real", trace, tool_table, surface;
+  static std::string config_path = default_config_path(), clock = "real", trace, tool_table, surface, tolerance;
   serve->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
   serve->add_option("--clock", clock, "real: 2 kHz in real time; virtual: as fast as possible, same cycles")
       ->check(CLI::IsMember({"real", "virtual"}))
@@ -28,6 +28,10 @@ void add_serve_subcommand(CLI::App& app, int& exit_code) {
                     "tool table for the service's programs (LinuxCNC format, mm); default: the config's gcode.tool_table");
   serve->add_option("--surface", surface,
                     "correct Z of the service's programs by this measured surface (docs/surface.md); default: the config's gcode.surface");
+  serve->add_option("--tolerance", tolerance,
+                    "path tolerance in mm for the service's programs (smoothing, merging, corner speed); default: the "
+                    "config's motion.path_tolerance_mm, changed by G64 P")
+      ->check(CLI::Range(0.0, 1.0));
   serve->callback([&exit_code] {
     // a bad config or trace path: exit 2 before either process starts
     try {
@@ -61,6 +65,7 @@ void add_serve_subcommand(CLI::App& app, int& exit_code) {
       const std::string abs = std::filesystem::absolute(surface, ec).string();
       lo.host_args.insert(lo.host_args.end(), {"--surface", ec ? surface : abs});
     }
+    if (!tolerance.empty()) lo.host_args.insert(lo.host_args.end(), {"--tolerance", tolerance});
     lo.supervise = true;  // a process that dies on its own is started again; the other stays up
     exit_code = launch_pair(lo);
   });

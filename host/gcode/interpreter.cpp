@@ -25,6 +25,7 @@ Interpreter::Interpreter(const MachineConfig& config, const JobFrame& frame, Dia
   }
   q_ = to_job(frame_.start);
   contouring_ = frame_.contouring;
+  path_tolerance_ = config_.motion.path_tolerance_mm;
   // The offsets' parameters (mm), as the state file left them.
   const WorkState w = frame_.work ? *frame_.work : default_work_state(config);
   for (int k = 0; k < 9; ++k) {
@@ -58,9 +59,31 @@ Move Interpreter::base_move(MoveKind kind, const ParsedLine& l, int column) cons
   m.column = column;
   m.start = m.end = to_machine(q_);
   m.contouring = contouring_;
+  m.path_tolerance_mm = path_tolerance_;
   m.known = known_;
   m.comp = comp_;
   return m;
+}
+
+// G64 [P]: P sets the path tolerance in the program's units (LinuxCNC), not scaled by --fit;
+// G64 alone takes the config's. An operator's --tolerance holds: P is then ignored, with a warning.
+bool Interpreter::path_tolerance(const ParsedLine& l) {
+  if (!l.has('P')) {
+    path_tolerance_ = config_.motion.path_tolerance_mm;
+    return true;
+  }
+  const double p = l.get('P');
+  if (!(p >= 0.0)) return fail(l, l.column('P'), "negative G64 P; expected the path tolerance >= 0");
+  const double mm = inches_ ? p * 25.4 : p;
+  if (mm > 1.0) return fail(l, l.column('P'), "G64 P above 1 mm; expected a path tolerance of 0 .. 1 mm");
+  if (config_.motion.path_tolerance_fixed) {
+    warn(l, l.column('P'), "G64 P", [&] {
+      return "G64 P" + num(p) + " ignored: --tolerance " + num(config_.motion.path_tolerance_mm) + " mm holds";
+    });
+    return true;
+  }
+  path_tolerance_ = mm;
+  return true;
 }
 
 Move Interpreter::end_move(int line) const {
@@ -69,6 +92,7 @@ Move Interpreter::end_move(int line) const {
   m.line = line;
   m.start = m.end = to_machine(q_);
   m.contouring = contouring_;
+  m.path_tolerance_mm = path_tolerance_;
   m.known = known_;
   m.comp = comp_;
   return m;
@@ -232,12 +256,11 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     const int c = l.g[kGPathControl];
     const bool on = c == 640;
     contouring_ = on;
+    if (on && !path_tolerance(l)) return false;
     warn(l, l.g_col[kGPathControl], on ? "G64" : "G61", [&] {
       return std::string(
-          on ? std::string("G64 maps to M21: contouring on") +
-                   (l.has('P') || l.has('Q')
-                        ? " (its P/Q tolerances are not used: the contouring angle in the config decides)"
-                        : "")
+          on ? std::string("G64 maps to M21: contouring on, path tolerance ") + num(path_tolerance_) + " mm" +
+                   (l.has('Q') ? " (its Q tolerance is not used: P is the one path tolerance)" : "")
              : g_name(c) + " maps to M22: contouring off (stop at every junction)");
     });
   }

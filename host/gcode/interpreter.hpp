@@ -107,6 +107,7 @@ class Interpreter : public SystemParameters {
   bool straight(const ParsedLine& l, int motion, bool g53, MoveList& out);
   bool arc(const ParsedLine& l, int motion, MoveList& out);
   bool home(const ParsedLine& l, MoveList& out);  // G28/G30 and their .1 forms
+  bool path_tolerance(const ParsedLine& l);       // G64 [P]
   bool set_offsets(const ParsedLine& l);   // G10 L1/L2/L10/L11/L20
   bool axis_offset(const ParsedLine& l);   // G52, G92, G92.1-G92.3
   bool tool_words(const ParsedLine& l);    // T, M6, M61, G43/G43.1/G49
@@ -171,6 +172,7 @@ class Interpreter : public SystemParameters {
   int work_index_ = 0;
   double feed_ = 0.0;  // F as written, current units per minute
   bool contouring_ = false;
+  double path_tolerance_ = 0.0;  // mm: G64 P, else the config's (an operator's --tolerance in it)
   bool ended_ = false;
   MoveComp comp_{};  // cutter radius compensation, carried on every move
 

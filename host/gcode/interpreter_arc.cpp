@@ -78,7 +78,11 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
                                    "%); expected them to agree within " + num(tol_abs) + " mm or " +
                                    num(100.0 * tol_rel) + "% of the radius (config gcode.arc_radius_tolerance_*)");
     }
-    r = r1;
+    // The rt runs the arc as a spiral from the start radius to the end one and checks both
+    // against the block's radius (ipc/block_check.cpp): the mean keeps each within half the
+    // difference accepted here, inside the rt's tolerance (bad-block-z.ngc: r_start and r_end
+    // 3.5 µm apart in G20, accepted here, refused by the rt against r_start).
+    r = 0.5 * (r1 + r2);
     full = chord < 1e-7;
   } else {
     const double rr = l.get('R') * u;

@@ -307,6 +307,7 @@ bool Interpreter::nurbs_close(const ParsedLine& l, MoveList& out) {
   m.end = c.points.back();
   m.feed_mm_s = g.feed_mm_s;
   m.contouring = contouring_;
+  m.path_tolerance_mm = path_tolerance_;
   m.known = g.known;
   m.comp = comp_;  // under G41/G42 the compensation fits it with biarcs
   m.nurbs = std::make_shared<const NurbsCurve>(std::move(c));

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "geometry/plane.hpp"
 #include "geometry/vec3.hpp"
@@ -28,6 +29,11 @@ struct MoveComp {
   bool inch = false;             // G20 when it went on (LinuxCNC's arc tolerance is in program units)
   std::uint32_t serial = 0;      // counts the G41/G42 that turned it on: a new one is a new entry
   double radius_mm = 0.0;        // the real tool radius, never scaled by --fit
+/// Where a smoothed curve passes from one programmed move to the next: from parameter u on,
+/// the curve stands for source line `line`.
+struct LineMark {
+  double u = 0.0;
+  int line = 0;
 };
 
 struct Move {
@@ -42,6 +48,8 @@ struct Move {
   bool machine_frame = false;  // G53 or G28: given in machine coordinates, not moved by --fit
   std::uint8_t known = 7;      // axes whose end coordinate the program has set so far (bit per axis)
   double dwell_s = 0.0;        // kDwell
+  double path_tolerance_mm = 0.0;  // G64 P / --tolerance / motion.path_tolerance_mm when it was made (mm)
+  bool smoothed = false;       // kNurbs made by the smoothing stage from a run of G1 moves
 
   // kArc: center on the start point's level along the normal axis, radius (start radius),
   // signed sweep (> 0 counter-clockwise seen from +normal), normal axis 2 = Z (G17),
@@ -56,6 +64,8 @@ struct Move {
   std::shared_ptr<const NurbsCurve> nurbs;
 
   MoveComp comp;
+  // kNurbs made by smoothing (`smoothed`): the programmed moves' lines along the curve.
+  std::shared_ptr<const std::vector<LineMark>> line_marks;
 };
 
 /// A straight move without displacement: checked (it may move under another transform) but

@@ -22,6 +22,18 @@ bool outside(const Vec3& p, const MachineConfig& c, double tol) {
   return false;
 }
 
+// The source line of the curve at parameter u: a smoothed run's blocks carry the line of the
+// programmed move each starts in; a programmed curve its own line.
+int line_at(const Move& m, double u) {
+  int line = m.line;
+  if (m.line_marks) {
+    for (const LineMark& k : *m.line_marks) {
+      if (k.u > u) break;
+      line = k.line;
+    }
+  }
+  return line > 0 ? line : 0;
+}
 }  // namespace
 
 void nurbs_extreme_points(const NurbsCurve& curve, std::vector<Vec3>& out) {
@@ -114,7 +126,8 @@ NurbsMoveBlocks plan_nurbs_move(const Move& m, const MachineConfig& config) {
   for (std::size_t i = 0; i < n; ++i) {
     Block& b = nb.blocks[i];
     b.seq = 0;
-    b.line = static_cast<std::uint32_t>(m.line > 0 ? m.line : 0);
+    b.line = static_cast<std::uint32_t>(line_at(m, b.nurbs.knots[b.nurbs.degree]));
+    b.path_tolerance_mm = m.contouring ? static_cast<float>(m.path_tolerance_mm) : 0.0f;
     // Pieces of one curve join with its own continuity: they flow unless the curve has a
     // corner there; the last piece joins the next move under the program's M21/M22.
     const bool inner_smooth = i + 1 < n && !nb.corner_after[i];

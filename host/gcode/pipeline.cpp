@@ -28,26 +28,24 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       comp_(sink_, comp_options(config_)),
       from_source_([this](Move& m) { return source_.next(m); }),
       preflight_(config_, sink_, soft_limits),
-      merge_(config_.motion.corner_tolerance_mm),  // tolerance 0: merging off
+      smoother_(config_),
+      to_smoother_([this](Move& m) { return surface_ ? surface_->next(to_surface_, m) : comp_.next(from_source_, m); }),
       validator_(config_, frame.start),
       to_merge_([this](Move& m) { return checked_move(m); }),
       to_surface_([this](Move& m) { return comp_.next(from_source_, m); }) {
   if (frame.surface) {
     // the path tolerance when there is one, else gcode.surface_tolerance_mm
-    const double tol = config_.motion.corner_tolerance_mm > 0.0 ? config_.motion.corner_tolerance_mm
-                                                                : config_.gcode.surface_tolerance_mm;
+    const double tol = config_.motion.path_tolerance_mm > 0.0 ? config_.motion.path_tolerance_mm
+                                                              : config_.gcode.surface_tolerance_mm;
     surface_ = std::make_unique<SurfaceCorrection>(
         frame.surface, SurfaceCorrection::reference_at(*frame.surface, frame.offset), tol, &sink_);
   }
 }
 
-// The interpreter's moves through the geometry stages, in their order; each links here as
-// `<stage>_->next(<pull from the stage before>, m)`: cutter compensation, then surface
-// correction, then smoothing.
-bool Pipeline::geometry_move(Move& m) {
-  if (surface_) return surface_->next(to_surface_, m);
-  return comp_.next(from_source_, m);
-}
+// The interpreter's moves through the geometry stages, in their order; each links as
+// `<stage>.next(<pull from the stage before>, m)`: cutter compensation, then surface
+// correction (with --surface), then smoothing.
+bool Pipeline::geometry_move(Move& m) { return smoother_.next(to_smoother_, m); }
 
 // ... then the preflight, which sees every move; a move without displacement ends there.
 bool Pipeline::checked_move(Move& m) {
@@ -87,6 +85,7 @@ bool Pipeline::next(Block& out) {
                   "NURBS curve could not be planned: " + (nb.error.empty() ? std::string("no blocks") : nb.error));
       return false;
     }
+    if (m.smoothed) smoothed_blocks_ += nb.blocks.size();
     nurbs_ = std::move(nb.blocks);
     nurbs_next_ = 1;
     out = nurbs_.front();

@@ -8,8 +8,8 @@
 //   LineReader   source text, line by line, in fixed memory            (line_reader.hpp)
 //   MoveSource   lexer -> parser -> interpreter: Moves in machine mm   (move_source.hpp)
 //   CutterComp   G41/G42: the tool centre's path (LinuxCNC's moves)   (cutter_comp.hpp)
-//   [geometry stages, each optional, in this order:
-//      surface correction (surface_correction.hpp), smoothing]
+//   SurfaceCorrection  --surface: Z by a measured surface, optional    (surface_correction.hpp)
+//   Smoother     runs of G1 moves -> curves within the path tolerance  (smoothing.hpp)
 //   Preflight    the whole program: soft limits, extents, feed time    (preflight.hpp)
 //                (sees every programmed move; moves without displacement end here)
 //   SegmentMerger  packing for the ring: collinear G1 runs -> one line  (segment_merge.hpp)
@@ -41,6 +41,7 @@
 #include "gcode/preflight.hpp"
 #include "gcode/segment_merge.hpp"
 #include "gcode/surface_correction.hpp"
+#include "gcode/smoothing.hpp"
 #include "ipc/block.hpp"
 
 namespace pcnc {
@@ -76,6 +77,9 @@ class Pipeline {
   bool failed() const { return sink_.has_errors(); }
   const Preflight& preflight() const { return preflight_; }
   const CompFigures& comp_figures() const { return comp_.figures(); }
+  /// What smoothing did so far; `blocks` counts the ring blocks its curves became.
+  const SmoothingStats& smoothing() const { return smoother_.stats(); }
+  std::uint64_t smoothed_blocks() const { return smoothed_blocks_; }
   const LineReader& reader() const { return *reader_; }
   std::uint64_t lines() const { return source_.lines(); }
 
@@ -91,6 +95,8 @@ class Pipeline {
   CutterComp comp_;
   MovePull from_source_;        // the interpreter's output, the compensation's input
   Preflight preflight_;
+  Smoother smoother_;
+  MovePull to_smoother_;        // the source's output, the smoother's input
   SegmentMerger merge_;
   BlockValidator validator_;
   MovePull to_merge_;           // the preflight's output, the merge's input
@@ -99,6 +105,7 @@ class Pipeline {
   bool source_ended_ = false;   // the End move has passed and the program's end was checked
   std::vector<Block> nurbs_;    // the blocks of the NURBS move being handed out (one curve at a time)
   std::size_t nurbs_next_ = 0;
+  std::uint64_t smoothed_blocks_ = 0;
 };
 
 }  // namespace pcnc

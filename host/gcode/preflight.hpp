@@ -102,7 +102,8 @@ void for_each_extreme(const Move& m, F&& f) {
   const double hi = std::max(t0, t0 + m.sweep);
   const double helix = m.end[nk] - m.start[nk];
   const double r_end = std::hypot(m.end[a0] - m.center[a0], m.end[a1] - m.center[a1]);
-  const double r = std::max(m.radius, r_end);
+  const double r_start = std::hypot(m.start[a0] - m.center[a0], m.start[a1] - m.center[a1]);
+  const double r = std::max({m.radius, r_start, r_end});  // the rt's spiral reaches the larger
   for (double k = std::ceil(lo / kHalfPi); k * kHalfPi <= hi; k += 1.0) {
     const double t = k * kHalfPi;
     Vec3 p = m.center;

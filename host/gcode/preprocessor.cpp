@@ -160,6 +160,7 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
   b.driving_axis = 0;
   b.driving_dir = 1;
   for (auto& p : b.pad0_) p = 0;
+  b.path_tolerance_mm = m.contouring ? static_cast<float>(m.path_tolerance_mm) : 0.0f;
   b.driving_speed = b.driving_accel = b.decel_start = 0.0;
   b.dir_start = b.dir_end = Vec3{0.0, 0.0, 0.0};
   b.dwell_s = 0.0;

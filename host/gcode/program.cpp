@@ -106,10 +106,14 @@ void tidy(std::vector<LineRange>& runs) {
 
 // --fit: the transform that brings the program's own points into the travel, measured by a
 // pass of the pipeline up to the preflight (no soft limits, no blocks, diagnostics dropped).
+// It measures the programmed moves (no smoothing: tolerance 0 whatever G64 P says), so that the
+// transform does not depend on the path tolerance and runs at any tolerance compare.
 Transform fit_transform(const Input& in, const std::string& name, const MachineConfig& config,
                         const JobOptions& options, Transform t) {
   DiagnosticSink scratch(name);
-  Pipeline measure(in.open(), config, make_frame(config, options, t), scratch, false);
+  MachineConfig programmed = config;
+  set_operator_tolerance(programmed.motion, 0.0);
+  Pipeline measure(in.open(), programmed, make_frame(programmed, options, t), scratch, false);
   measure.drain();
   const FitResult f =
       fit_to_travel(measure.preflight().fit_extents(), t.offset, config, measure.comp_figures().max_radius_mm);
@@ -148,7 +152,8 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.comp = pipeline.comp_figures();
     result.transform = t;
     result.lines = pipeline.lines();
-    result.moves = pre.moves();
+    // the programmed moves: a smoothed curve counts for the G1 moves it replaced
+    result.moves = pre.moves() + pipeline.smoothing().moves - pipeline.smoothing().curves;
     result.last_point = pre.moves() > 0 ? pre.last_point() : frame.start;
     if (pre.moves() > 0) {
       result.min_point = pre.extents().min;
@@ -157,6 +162,10 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
       result.min_point = result.max_point = result.last_point;
     }
     result.feed_length_time_s = pre.feed_time_s();
+    result.smoothed_moves = pipeline.smoothing().moves;
+    result.smoothed_curves = pipeline.smoothing().curves;
+    result.smoothed_blocks = pipeline.smoothed_blocks();
+    result.max_path_deviation_mm = pipeline.smoothing().max_deviation_mm;
   } catch (const std::exception& e) {
     sink.error(0, 0, e.what());
   }

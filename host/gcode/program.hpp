@@ -73,6 +73,12 @@ struct CheckResult {
   double feed_length_time_s = 0.0;  // sum of length/F over feed moves
   std::uint64_t blocks = 0;         // blocks made and accepted by the rt's check (what a run sends)
   double planned_time_s = 0.0;      // sum of the blocks' planned times (gcode/planned_time.hpp): the ETA's base
+  // Smoothing (gcode/smoothing.hpp): G1 moves made into curves, the curves and the ring blocks
+  // they became, and the largest measured distance of a curve from its programmed moves.
+  std::uint64_t smoothed_moves = 0;
+  std::uint64_t smoothed_curves = 0;
+  std::uint64_t smoothed_blocks = 0;
+  double max_path_deviation_mm = 0.0;
   std::vector<LineRange> rapid_lines;  // source lines holding a rapid block, ascending runs (ok only)
   // What caps each block's speed and how its junctions are passed, per run of lines (ok
   // only): the run report attributes the trace's time to these causes (gcode/time_cause.hpp).

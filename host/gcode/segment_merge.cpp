@@ -3,21 +3,14 @@
 
 #include <algorithm>
 
-namespace pcnc {
+#include "geometry/spline_fit.hpp"
 
-namespace {
-double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double len2 = dot(ab, ab);
-  const double t = len2 > 0.0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return norm(a + t * ab - p);
-}
-}  // namespace
+namespace pcnc {
 
 bool SegmentMerger::fits(const std::vector<Vec3>& points, const Vec3& end, double tolerance) {
   if (points.empty() || !(norm(end - points.front()) > 1e-9)) return false;
   for (std::size_t i = 1; i < points.size(); ++i) {
-    if (distance_to_segment(points[i], points.front(), end) > tolerance) return false;
+    if (point_segment_distance(points[i], points.front(), end) > tolerance) return false;
   }
   return true;
 }
@@ -40,7 +33,7 @@ bool SegmentMerger::next(const std::function<bool(Move&)>& pull, Move& out) {
   Move n;
   while (pull(n)) {
     if (points_.size() <= kMaxRun && mergeable(n) && n.feed_mm_s == m.feed_mm_s && n.machine_frame == m.machine_frame &&
-        fits(points_, n.end, tolerance_)) {
+        n.path_tolerance_mm == m.path_tolerance_mm && fits(points_, n.end, m.path_tolerance_mm)) {
       points_.push_back(n.end);
       m.end = n.end;
       m.line = n.line;

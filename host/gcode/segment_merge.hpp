@@ -10,11 +10,14 @@
 // and puts more path into each slot. Rules:
 //   * only G1 moves under M21 (contouring): under M22 every programmed point is an exact stop;
 //   * consecutive moves with the same feed, contouring and frame;
-//   * every dropped point stays within `tolerance_mm` of the merged line (LinuxCNC's G64 Q,
-//     which defaults to the P blending tolerance; pcnc uses motion.corner_tolerance_mm);
+//   * every dropped point stays within the moves' path tolerance of the merged line (LinuxCNC's
+//     G64 Q, which defaults to the P blending tolerance; pcnc uses the one path tolerance:
+//     G64 P, --tolerance or motion.path_tolerance_mm, carried by each move);
 //   * at most kMaxRun moves per merged line.
 // The merged move keeps the first move's start, column and feed and the last move's end and
-// line. A tolerance of 0 turns merging off (the default config).
+// line. A tolerance of 0 turns merging off. With a tolerance the smoothing stage before the
+// preflight has already made curves of the runs it could fit; the merger joins what it kept
+// as lines.
 #pragma once
 
 #include <functional>
@@ -28,7 +31,7 @@ class SegmentMerger {
  public:
   static constexpr std::size_t kMaxRun = 256;
 
-  explicit SegmentMerger(double tolerance_mm) : tolerance_(tolerance_mm) {}
+  SegmentMerger() = default;
 
   /// The next move of the merged stream: `pull(Move&)` yields the next input move (null moves
   /// already dropped) and returns false at the end. Returns false at the end of the stream.
@@ -39,9 +42,8 @@ class SegmentMerger {
   static bool fits(const std::vector<Vec3>& points, const Vec3& end, double tolerance);
 
  private:
-  bool mergeable(const Move& m) const { return tolerance_ > 0.0 && m.kind == MoveKind::kLine && m.contouring; }
+  static bool mergeable(const Move& m) { return m.path_tolerance_mm > 0.0 && m.kind == MoveKind::kLine && m.contouring; }
 
-  double tolerance_;
   bool have_stash_ = false;  // a move read past the end of the last run
   Move stash_;
   std::vector<Vec3> points_;  // the run's start and the end of each move in it

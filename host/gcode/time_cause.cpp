@@ -177,7 +177,7 @@ void PlanRecorder::add(const Block& b) {
     const double c = std::clamp(dot(prev_.dir_end, b.dir_start), -1.0, 1.0);
     angle = std::acos(c) * 180.0 / kPi;
     const bool under_angle = angle < config_.motion.contouring_angle_deg;
-    const bool tolerance = config_.motion.corner_tolerance_mm > 0.0 && angle < 179.0;
+    const bool tolerance = prev_.path_tolerance_mm > 0.0f && angle < 179.0;  // the block's (G64 P, --tolerance)
     if (!prev_.contouring) {
       j = JunctionKind::kContouringOff;
     } else if (under_angle || tolerance) {

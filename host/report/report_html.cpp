@@ -450,10 +450,10 @@ std::string render_report_html(const ReportPage& page) {
                                   num("junction-stops", std::to_string(st.junction_stops)) + " stops",
                  std::string("contouring ") + (s.contouring_at_start ? "on (M21)" : "off (M22)") + " at start, angle " +
                      fixed(s.contouring_angle_deg, 1) + "°; M21/M22 in the program override" +
-                     (s.corner_tolerance_mm > 0.0
-                          ? "; corner tolerance " + num("corner-tolerance", fixed(s.corner_tolerance_mm * 1000.0, 1)) +
-                                " µm: under M21 corners are passed at the junction-deviation speed and runs of collinear "
-                                "G1 moves are merged into one block"
+                     (s.path_tolerance_mm > 0.0
+                          ? "; path tolerance " + num("path-tolerance", fixed(s.path_tolerance_mm * 1000.0, 1)) +
+                                " µm: under M21 corners are passed at the junction-deviation speed and runs of short "
+                                "G1 moves are smoothed into curves"
                           : std::string())});
     if (s.comp_entries > 0) {
       r.push_back({"cutter compensation",
@@ -467,6 +467,13 @@ std::string render_report_html(const ReportPage& page) {
                                           : std::string()) +
                        "; the top view draws the programmed contour dashed over the tool centre path"});
     }
+    r.push_back({"smoothing",
+                 num("smoothed-moves", std::to_string(s.smoothed_moves)) + " G1 moves into " +
+                     num("smoothed-blocks", std::to_string(s.smoothed_blocks)) + " blocks (" +
+                     num("smoothed-curves", std::to_string(s.smoothed_curves)) + " curves)",
+                 "the commanded path keeps at most " +
+                     num("path-deviation", fixed(s.max_path_deviation_mm * 1000.0, 2)) +
+                     " µm from the programmed moves (measured on each curve)"});
     groups.push_back({"Program", r});
   }
   // accuracy

@@ -16,12 +16,22 @@ std::string format_run_report(const RunReport& r) {
   const Transform& t = r.check.transform;
   const Vec3 prog = to_program_coordinates(s.actual, t);
   const Vec3 rms = rms_following_error(s);
-  std::string corner;
-  if (r.corner_tolerance_mm > 0.0) {
+  std::string corner, smoothing;
+  if (r.path_tolerance_mm > 0.0) {
     char c[128];
-    std::snprintf(c, sizeof c, " (corner tolerance %.1f um: corners at the junction-deviation speed, G1 runs merged)",
-                  r.corner_tolerance_mm * 1000.0);
+    std::snprintf(c, sizeof c, " (path tolerance %.1f um: corners at the junction-deviation speed)",
+                  r.path_tolerance_mm * 1000.0);
     corner = c;
+  }
+  {
+    char c[256];
+    std::snprintf(c, sizeof c,
+                  "  smoothing         tolerance %.1f um: %llu G1 moves smoothed into %llu blocks (%llu curves), path "
+                  "max %.2f um from the programmed moves\n",
+                  r.path_tolerance_mm * 1000.0, static_cast<unsigned long long>(r.check.smoothed_moves),
+                  static_cast<unsigned long long>(r.check.smoothed_blocks),
+                  static_cast<unsigned long long>(r.check.smoothed_curves), r.check.max_path_deviation_mm * 1000.0);
+    smoothing = c;
   }
   char buf[4096];
   int n = std::snprintf(
@@ -50,7 +60,7 @@ std::string format_run_report(const RunReport& r) {
       rms[2] * 1000.0, s.max_contour_error * 1000.0, rms_contour_error(s) * 1000.0,
       static_cast<unsigned long long>(s.underruns), r.job.refill_latency.quantile(0.99), s.timing.compute_p99_us, s.timing.compute_max_us,
       s.timing.wake_p99_us, s.timing.wake_max_us, static_cast<unsigned long long>(s.timing.overruns));
-  return std::string(buf, static_cast<std::size_t>(n > 0 ? n : 0));
+  return std::string(buf, static_cast<std::size_t>(n > 0 ? n : 0)) + smoothing;
 }
 
 }  // namespace pcnc

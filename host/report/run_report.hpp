@@ -15,7 +15,7 @@ struct RunReport {
   std::string program;
   CheckResult check;
   JobResult job;
-  double corner_tolerance_mm = 0.0;  // motion.corner_tolerance_mm of the run (0: off)
+  double path_tolerance_mm = 0.0;  // motion.path_tolerance_mm of the run (0: off)
 };
 
 /// Plain text for the terminal.

@@ -151,7 +151,7 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.clock = r.job.final_status.clock_virtual ? "virtual" : "real";
   s.contouring_at_start = contouring_at_start;
   s.contouring_angle_deg = config.motion.contouring_angle_deg;
-  s.corner_tolerance_mm = config.motion.corner_tolerance_mm;
+  s.path_tolerance_mm = config.motion.path_tolerance_mm;
   s.cycle_hz = config.motion.cycle_hz;
   s.travel_min = config.travel_min();
   s.travel_max = config.travel_max();
@@ -165,6 +165,10 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.max_point = r.check.max_point;
   s.last_point = r.check.last_point;
   s.feed_length_time_s = r.check.feed_length_time_s;
+  s.smoothed_moves = r.check.smoothed_moves;
+  s.smoothed_curves = r.check.smoothed_curves;
+  s.smoothed_blocks = r.check.smoothed_blocks;
+  s.max_path_deviation_mm = r.check.max_path_deviation_mm;
   s.rapid_lines = r.check.rapid_lines;
   s.plan = r.check.plan;
   s.comp_entries = r.check.comp.sessions;
@@ -197,7 +201,7 @@ nlohmann::json to_json(const RunSummary& s) {
               {"clock", s.clock},
               {"contouring_at_start", s.contouring_at_start},
               {"contouring_angle_deg", s.contouring_angle_deg},
-              {"corner_tolerance_mm", s.corner_tolerance_mm},
+              {"path_tolerance_mm", s.path_tolerance_mm},
               {"cycle_hz", s.cycle_hz},
               {"travel_min", s.travel_min},
               {"travel_max", s.travel_max},
@@ -211,6 +215,10 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"max_point", s.max_point},
                 {"last_point", s.last_point},
                 {"feed_length_time_s", s.feed_length_time_s},
+                {"smoothed_moves", s.smoothed_moves},
+                {"smoothed_curves", s.smoothed_curves},
+                {"smoothed_blocks", s.smoothed_blocks},
+                {"max_path_deviation_mm", s.max_path_deviation_mm},
                 {"rapid_lines", rapid_lines_json(s.rapid_lines)},
                 {"plan", std::move(plan)}}},
               {"job",
@@ -247,7 +255,7 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.clock = j.at("clock").get<std::string>();
   s.contouring_at_start = j.at("contouring_at_start").get<bool>();
   s.contouring_angle_deg = j.at("contouring_angle_deg").get<double>();
-  s.corner_tolerance_mm = j.value("corner_tolerance_mm", 0.0);  // absent in summaries before it existed
+  s.path_tolerance_mm = j.value("path_tolerance_mm", 0.0);  // absent in summaries before it existed
   s.cycle_hz = j.at("cycle_hz").get<double>();
   s.travel_min = j.at("travel_min").get<Vec3>();
   s.travel_max = j.at("travel_max").get<Vec3>();
@@ -261,6 +269,11 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.max_point = c.at("max_point").get<Vec3>();
   s.last_point = c.at("last_point").get<Vec3>();
   s.feed_length_time_s = c.at("feed_length_time_s").get<double>();
+  // absent in summaries written before smoothing existed
+  s.smoothed_moves = c.value("smoothed_moves", std::uint64_t{0});
+  s.smoothed_curves = c.value("smoothed_curves", std::uint64_t{0});
+  s.smoothed_blocks = c.value("smoothed_blocks", std::uint64_t{0});
+  s.max_path_deviation_mm = c.value("max_path_deviation_mm", 0.0);
   if (c.contains("rapid_lines")) s.rapid_lines = rapid_lines_from(c.at("rapid_lines"));  // absent in older summaries
   if (c.contains("cutter_comp")) {  // absent without G41/G42
     const json& k = c.at("cutter_comp");

@@ -26,7 +26,7 @@ struct RunSummary {
   std::string clock;          // "real" | "virtual"
   bool contouring_at_start = false;
   double contouring_angle_deg = 0.0;
-  double corner_tolerance_mm = 0.0;  // motion.corner_tolerance_mm (0: corners stop, nothing merged)
+  double path_tolerance_mm = 0.0;  // the run's path tolerance (config or --tolerance; 0: corners stop, nothing smoothed)
   double cycle_hz = 0.0;
   Vec3 travel_min{}, travel_max{};
 
@@ -37,6 +37,10 @@ struct RunSummary {
   Transform transform{};
   Vec3 min_point{}, max_point{}, last_point{};  // machine coordinates
   double feed_length_time_s = 0.0;
+  // smoothing: G1 moves made into curves, the curves, their ring blocks, and the largest
+  // measured distance of a curve from the programmed moves (mm)
+  std::uint64_t smoothed_moves = 0, smoothed_curves = 0, smoothed_blocks = 0;
+  double max_path_deviation_mm = 0.0;
   // source lines that hold a rapid block, from the blocks check made (what the run sent):
   // the report draws those parts of the path as rapids
   std::vector<LineRange> rapid_lines;

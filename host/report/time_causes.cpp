@@ -69,6 +69,13 @@ RowCause CauseClassifier::classify(const TraceSample& row, double prev_speed) co
     r.cause = TimeCause::kOverride;  // above every limit of the line: an override over 100 %
     return r;
   }
+  if (v > 0.0 && first->cruise == TimeCause::kCurveSchedule && last->cruise == TimeCause::kCurveSchedule) {
+    // a curve's speed follows its feed schedule (curvature, chord error, axis limits) along
+    // the whole curve: below its top speed is the schedule, not a junction (smoothed runs:
+    // most of a surfacing program's time)
+    r.cause = TimeCause::kCurveSchedule;
+    return r;
+  }
   const double dv = v - prev_speed;
   if (v > 0.0 && std::fabs(dv) <= 1e-9 * std::max(1.0, v)) {
     r.cause = TimeCause::kOverride;  // steady below every limit of the line: the override holds it there

@@ -198,7 +198,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   jj.file_sha256 = sha256;
   jj.transform_offset = check.transform.offset;
   jj.transform_scale = check.transform.scale;
-  jj.corner_tolerance_mm = cfg.motion.corner_tolerance_mm;
+  jj.path_tolerance_mm = cfg.motion.path_tolerance_mm;
   jj.config_path = cfg.source_path;
   file_identity(rp.file, jj.file_size, jj.file_mtime_ns);
   std::string jerr;
@@ -393,9 +393,9 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
   opts.fit = jj.fit;
   if (jj.contouring >= 0) opts.contouring = jj.contouring == 1;
   opts.start_position = jj.start_position;
-  if (cfg.motion.corner_tolerance_mm != jj.corner_tolerance_mm) {
-    return fail("the path tolerance changed since the program started (" + std::to_string(jj.corner_tolerance_mm) + " mm, now " +
-                std::to_string(cfg.motion.corner_tolerance_mm) + " mm)");
+  if (cfg.motion.path_tolerance_mm != jj.path_tolerance_mm) {
+    return fail("the path tolerance changed since the program started (" + std::to_string(jj.path_tolerance_mm) + " mm, now " +
+                std::to_string(cfg.motion.path_tolerance_mm) + " mm)");
   }
   const CheckResult check = check_program(jj.file, cfg, opts);
   if (!check.ok) return fail(jj.file + " no longer passes preflight");

@@ -38,7 +38,7 @@ bool write_journal(const std::string& path, const JobJournal& j, std::string* er
                     {"file_sha256", j.file_sha256},
                     {"transform", {{"offset", {j.transform_offset[0], j.transform_offset[1], j.transform_offset[2]}},
                                    {"scale", j.transform_scale}}},
-                    {"corner_tolerance_mm", j.corner_tolerance_mm},
+                    {"path_tolerance_mm", j.path_tolerance_mm},
                     {"config", j.config_path},
                     {"host_pid", j.host_pid},
                     {"seq_base", j.seq_base}};
@@ -82,7 +82,7 @@ std::optional<JobJournal> read_journal(const std::string& path, std::string* err
       for (std::size_t k = 0; k < 3; ++k) j.transform_offset[k] = doc.at("transform").at("offset").at(k).get<double>();
       j.transform_scale = doc.at("transform").at("scale").get<double>();
     }
-    j.corner_tolerance_mm = doc.value("corner_tolerance_mm", 0.0);
+    j.path_tolerance_mm = doc.value("path_tolerance_mm", 0.0);
     j.config_path = doc.value("config", std::string());
     j.seq_base = doc.value("seq_base", std::uint64_t{0});
     if (j.work_offset < 0 || j.work_offset > 5) throw std::runtime_error("work_offset out of range");

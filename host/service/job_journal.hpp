@@ -32,7 +32,7 @@ struct JobJournal {
   std::string file_sha256;         // the program's content: a resumed run is the same program
   Vec3 transform_offset{};         // machine = scale * program + offset, as checked at the start
   double transform_scale = 1.0;
-  double corner_tolerance_mm = 0.0;  // the config's path tolerance the blocks were made with
+  double path_tolerance_mm = 0.0;  // the config's path tolerance the blocks were made with
   std::string config_path;         // the machine config the service ran with (for the record)
   int host_pid = 0;
   // Program blocks before the current run's first block: a resumed run numbers its blocks

@@ -49,6 +49,7 @@ std::optional<Continuation> continue_nurbs(const Block& b, const Vec3& at, doubl
   n.line = b.line;
   n.kind = BlockKind::kNurbs;
   n.contouring = b.contouring;
+  n.path_tolerance_mm = b.path_tolerance_mm;
   if (std::string err = to_geometry(tail, n.nurbs); !err.empty()) {
     return fail(why, "the rest of the interrupted NURBS block cannot be made a block: " + err);
   }
@@ -116,6 +117,7 @@ std::optional<Continuation> continue_block(const Block& b, const Vec3& at, const
   m.end = b.end;
   m.feed_mm_s = b.speed;  // the block's own limit: re-planning a part of it never raises it
   m.contouring = b.contouring != 0;
+  m.path_tolerance_mm = b.path_tolerance_mm;
 
   if (b.kind != BlockKind::kArc) {
     const Vec3 d = b.end - b.start;

@@ -16,7 +16,6 @@ Executor::Executor(const MachineConfig& config) : cfg_(config), dt_(config.cycle
   k_ = 1.0 + 2.0 * f_;
   junction_.cos_limit = std::cos(config.motion.contouring_angle_deg * std::numbers::pi / 180.0);
   junction_.step_fraction = f_;
-  junction_.corner_tolerance_mm = config.motion.corner_tolerance_mm;
   junction_.dt = dt_;
   for (int i = 0; i < kAxes; ++i) junction_.axis_accel[i] = config.axes[i].max_accel_mm_s2;
   Vec3 home{};
@@ -69,7 +68,13 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
     if (prepared_ > 0) {
       const PreparedBlock& p = prep_[prepared_ - 1];
       const PreparedBlock& q = prep_[prepared_];
-      corner_[prepared_ - 1] = p.motion && q.motion ? corner_speed(p.contouring, p.dir_end, q.dir_start, junction_) : 0.0;
+      if (p.motion && q.motion) {
+        JunctionRules rules = junction_;
+        rules.path_tolerance_mm = p.path_tolerance;  // the tolerance the block before the junction was made with
+        corner_[prepared_ - 1] = corner_speed(p.contouring, p.dir_end, q.dir_start, rules);
+      } else {
+        corner_[prepared_ - 1] = 0.0;
+      }
     }
     exit_valid_ = false;
     ++expected_seq_;

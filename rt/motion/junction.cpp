@@ -70,8 +70,8 @@ double corner_speed(bool contouring, const Vec3& dir_end, const Vec3& dir_start,
   if (junction_flows(contouring, dir_end, dir_start, r.cos_limit)) {
     cap = junction_speed_cap(dir_end, dir_start, r.axis_accel, r.dt, r.step_fraction);
   }
-  if (r.corner_tolerance_mm > 0.0) {
-    cap = std::fmax(cap, junction_deviation_speed(dir_end, dir_start, r.axis_accel, r.corner_tolerance_mm));
+  if (r.path_tolerance_mm > 0.0) {
+    cap = std::fmax(cap, junction_deviation_speed(dir_end, dir_start, r.axis_accel, r.path_tolerance_mm));
   }
   return cap;
 }

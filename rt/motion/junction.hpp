@@ -46,7 +46,7 @@ double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std:
 struct JunctionRules {
   double cos_limit = 1.0;             // cos(contouring angle)
   double step_fraction = 0.0;         // junction_velocity_step_fraction, in [0, 1]
-  double corner_tolerance_mm = 0.0;   // 0: off
+  double path_tolerance_mm = 0.0;   // the block's (Block::path_tolerance_mm); 0: off
   double dt = 0.0;                    // cycle period, s
   std::array<double, kAxes> axis_accel{};
 };

@@ -57,6 +57,7 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
   PreparedBlock pb;
   pb.kind = b.kind;
   pb.contouring = b.contouring != 0;
+  pb.path_tolerance = std::isfinite(b.path_tolerance_mm) && b.path_tolerance_mm > 0.0f ? b.path_tolerance_mm : 0.0;
   pb.start = b.start;
   pb.end = b.end;
   pb.length = b.length;

@@ -28,6 +28,7 @@ struct PreparedBlock {
   BlockKind kind = BlockKind::kLine;
   bool motion = false;      // has a path to travel (line, rapid, arc of nonzero length)
   bool contouring = false;  // may pass its end junction without stopping
+  double path_tolerance = 0.0;  // mm, the block's path tolerance (junction-deviation speed at its end)
   double length = 0.0;      // mm
   double speed = 0.0;       // block's path speed limit (before override), mm/s
   double v_machine = 0.0;   // what the axes allow on this curve (override cannot exceed), mm/s

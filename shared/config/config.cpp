@@ -136,6 +136,14 @@ class Section {
     out = v;
     return true;
   }
+  // A key that was renamed: refused with a message naming the new one.
+  void renamed(const char* old_key, const char* new_key) {
+    used_.insert(old_key);
+    const toml::node* n = table_ ? table_->get(old_key) : nullptr;
+    if (!n) return;
+    problems_.push_back(position(origin_, n->source()) + label() + " " + old_key + ": renamed to " + new_key +
+                        " (the one path tolerance: merging, smoothing and the corner speed); rename the key");
+  }
   // A sub-table (`[axis.x]` in `[axis]`); nullptr when absent (its own Section reports that).
   const toml::table* subtable(const char* key) {
     used_.insert(key);
@@ -296,7 +304,9 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     m.boolean("contouring_default", c.motion.contouring_default);
     m.number("junction_velocity_step_fraction", c.motion.junction_velocity_step_fraction, 0.0, 100.0,
              "of a_max x period");
-    m.number("corner_tolerance_mm", c.motion.corner_tolerance_mm, 0.0, 1.0, "mm", Need::kOptional);
+    m.number("path_tolerance_mm", c.motion.path_tolerance_mm, 0.0, 1.0, "mm", Need::kOptional);
+    m.number("smoothing_angle_deg", c.motion.smoothing_angle_deg, 0.0, 180.0, "deg", Need::kOptional);
+    m.renamed("corner_tolerance_mm", "path_tolerance_mm");
     m.number("rapid_speed_mm_s", c.motion.rapid_speed_mm_s, 0.0, 1e5, "mm/s", Need::kOptional);
     m.number("jog_accel_fraction", c.motion.jog_accel_fraction, 0.01, 1.0, "of max_accel_mm_s2");
     m.number("subsample_steps", c.motion.subsample_steps, 1.0, 1000.0, "per cycle");

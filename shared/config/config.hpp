@@ -49,12 +49,18 @@ struct MotionConfig {
   // Junction speed cap under contouring: the velocity vector may jump by at most this
   // fraction of the smallest axis acceleration times one cycle period.
   double junction_velocity_step_fraction = 1.0;
-  // Corner tolerance under M21 (0: off, the seed's rule alone). When > 0, every junction may
-  // also be passed at the junction-deviation speed of a virtual arc that stays within this
-  // distance of the corner (grbl's and Klipper's rule; rt/junction.hpp), corners sharper
-  // than the contouring angle included. The setpoint's velocity then steps at the corner and
-  // the servo rounds it: the run report's contour error shows by how much.
-  double corner_tolerance_mm = 0.0;
+  // Path tolerance under M21 (0: off, the seed's rule alone; G64 P and --tolerance set it for a
+  // program): the largest distance the commanded path may keep from the programmed points and
+  // segments. The host merges collinear runs and smooths runs of short G1 moves within it
+  // (host/gcode/smoothing.hpp), and every junction may also be passed at the junction-deviation
+  // speed of a virtual arc that stays within it of the corner (grbl's and Klipper's rule;
+  // rt/junction.hpp), corners sharper than the contouring angle included.
+  double path_tolerance_mm = 0.0;
+  // Smoothing: a junction of two G1 moves turning more than this is a real corner (kept).
+  double smoothing_angle_deg = 30.0;
+  // Not a TOML key: set with path_tolerance_mm by `--tolerance` (pcnc run, check, serve). The
+  // operator's tolerance then holds for the whole program: G64 P does not change it.
+  bool path_tolerance_fixed = false;
   double rapid_speed_mm_s = 0.0;        // 0: each axis's max velocity (projected on the move)
   double jog_accel_fraction = 1.0;      // jogs use this fraction of each axis's acceleration
   double subsample_steps = 8.0;         // plant integration sub-steps per cycle (if needed)
@@ -62,6 +68,12 @@ struct MotionConfig {
   // stated length from its geometry) before the rt refuses it as corrupt.
   double block_tolerance_mm = 0.001;
 };
+
+/// `--tolerance MM`: the operator's path tolerance for every program (G64 P then ignored).
+inline void set_operator_tolerance(MotionConfig& m, double mm) {
+  m.path_tolerance_mm = mm;
+  m.path_tolerance_fixed = true;
+}
 
 struct GcodeConfig {
   double arc_radius_tolerance_mm = 0.002;   // |r_end - r_start| allowed (absolute part)
@@ -74,7 +86,7 @@ struct GcodeConfig {
   int nurbs_knots = 0;                      // 0: open uniform (LinuxCNC); 1: chord length (seed)
   double nurbs_chord_tolerance_mm = 0.001;  // δ of the NURBS feed schedule
   // --surface: how far a move corrected by the measured surface may leave the corrected path
-  // between its split points while the path tolerance (motion.corner_tolerance_mm) is 0;
+  // between its split points while the path tolerance (motion.path_tolerance_mm) is 0;
   // a path tolerance > 0 is used instead (host/gcode/surface_correction.hpp).
   double surface_tolerance_mm = 0.001;
   // Lines a program may execute (loops and subroutine calls count each time they run): a loop

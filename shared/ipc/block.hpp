@@ -90,7 +90,11 @@ struct Block {
   // control polygon) and its flag; speed, accel and decel_start are 0 (the schedule plans).
   std::uint8_t driving_axis = 0;
   std::int8_t driving_dir = 1;  // +1: the driving coordinate increases toward end
-  std::uint8_t pad0_[6]{};
+  std::uint8_t pad0_[2]{};
+  // The path tolerance this block was made with (G64 P, --tolerance or motion.path_tolerance_mm;
+  // 0: the seed's contouring rule alone). Under M21 the rt passes the junction after this block
+  // at least at the junction-deviation speed for it (rt/motion/junction.hpp).
+  float path_tolerance_mm = 0.0f;
   double driving_speed = 0.0;   // mm/s
   double driving_accel = 0.0;   // mm/s²
   double decel_start = 0.0;     // mm, coordinate of the driving axis

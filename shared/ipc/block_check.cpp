@@ -291,6 +291,9 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
       !std::isfinite(b.accel) || !finite(b.dir_start) || !finite(b.dir_end)) {
     return bad("non-finite number in a motion block");
   }
+  if (!(b.path_tolerance_mm >= 0.0f && b.path_tolerance_mm <= 1.0f)) {
+    return bad("path tolerance outside 0 .. 1 mm", 0, static_cast<double>(b.path_tolerance_mm));
+  }
   for (int i = 0; i < kAxes; ++i) {
     if (std::abs(b.start[i] - expected_start[i]) > tol) {
       return bad("start does not continue from the previous end", i, b.start[i] - expected_start[i]);

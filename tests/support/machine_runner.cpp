@@ -9,7 +9,13 @@
 
 namespace pcnc::test {
 
-MachineConfig default_machine_config() { return load_config(default_config()); }
+// The desktop mill with path tolerance 0 (the seed's contouring rule): the rt tests that want a
+// tolerance set one.
+MachineConfig default_machine_config() {
+  MachineConfig c = load_config(default_config());
+  c.motion.path_tolerance_mm = 0.0;
+  return c;
+}
 
 std::vector<Block> long_line(const MachineConfig& c, double feed) {
   ProgramBuilder p(c, home(c));

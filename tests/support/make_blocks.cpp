@@ -56,6 +56,8 @@ Block ProgramBuilder::next(BlockKind kind) {
   b.line = ++line_;
   b.kind = kind;
   b.contouring = contouring_ ? 1 : 0;
+  // the tolerance the host would make the block with: the config's, under M21
+  b.path_tolerance_mm = contouring_ ? static_cast<float>(cfg_.motion.path_tolerance_mm) : 0.0f;
   b.start = pos_;
   b.end = pos_;
   return b;

@@ -1,0 +1,114 @@
+// bench_path_deviation.cpp — a figure for tools/bench_surfacing.sh (never pass/fail): how far
+// a run's traced path (commanded and measured) stays from the programmed path. The programmed
+// path is the program's own moves (checked with path tolerance 0: no smoothing, no merging),
+// lines as they are, arcs and NURBS curves densely sampled, in machine coordinates with the
+// same --fit transform the run used (the --fit measuring pass ignores the tolerance).
+//
+// Usage: bench_path_deviation PROGRAM TRACE.csv [--config F] [--fit] [--contouring on|off]
+// Prints: "cmd_max_um act_max_um rows" (rows of the trace while a feed move ran).
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "config/config.hpp"
+#include "gcode/program.hpp"
+#include "geometry/nurbs.hpp"
+#include "geometry/plane.hpp"
+#include "geometry/spline_fit.hpp"
+#include "ipc/block_nurbs.hpp"
+
+using namespace pcnc;
+
+namespace {
+
+// Appends the block's path (after its start point) to `pts`, `lines` the source line per point.
+void append_path(const Block& b, std::vector<Vec3>& pts) {
+  if (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid) {
+    pts.push_back(b.end);
+  } else if (b.kind == BlockKind::kArc) {
+    const auto pa = plane_axes(b.arc.normal_axis);
+    const int n = std::max(8, static_cast<int>(std::ceil(std::abs(b.arc.sweep) * b.arc.radius / 0.002)));
+    for (int k = 1; k <= n; ++k) {
+      const double f = static_cast<double>(k) / n;
+      const double a = b.arc.start_angle + f * b.arc.sweep;
+      Vec3 p = b.arc.center;
+      p[static_cast<std::size_t>(pa[0])] += b.arc.radius * std::cos(a);
+      p[static_cast<std::size_t>(pa[1])] += b.arc.radius * std::sin(a);
+      p[static_cast<std::size_t>(b.arc.normal_axis)] = b.start[static_cast<std::size_t>(b.arc.normal_axis)] + f * b.arc.helix;
+      pts.push_back(k == n ? b.end : p);
+    }
+  } else if (b.kind == BlockKind::kNurbs) {
+    const NurbsCurve c = from_geometry(b.nurbs);
+    const int n = std::max(16, static_cast<int>(std::ceil(b.length / 0.002)));
+    for (int k = 1; k <= n; ++k) pts.push_back(nurbs_point(c.view(), c.u_min() + (c.u_max() - c.u_min()) * k / n));
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"distance of a traced path from the programmed path"};
+  std::string program, trace, config_path = default_config_path(), contouring = "on";
+  bool fit = false;
+  app.add_option("PROGRAM", program)->required();
+  app.add_option("TRACE", trace)->required();
+  app.add_option("--config", config_path);
+  app.add_option("--contouring", contouring);
+  app.add_flag("--fit", fit);
+  CLI11_PARSE(app, argc, argv);
+  MachineConfig c = load_config(config_path);
+  set_operator_tolerance(c.motion, 0.0);
+  JobOptions o;
+  o.fit = fit;
+  o.contouring = contouring == "on";
+  Vec3 home{};
+  for (int i = 0; i < kAxes; ++i) home[static_cast<std::size_t>(i)] = c.axes[static_cast<std::size_t>(i)].home_mm;
+  o.start_position = home;  // where pcnc run starts: the machine at its home position
+  std::vector<Vec3> pts;
+  bool first = true;
+  const CheckResult r = check_program(program, c, o, [&](const Block& b) {
+    const bool motion = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc ||
+                        b.kind == BlockKind::kNurbs;
+    if (!motion) return;
+    if (first) pts.push_back(b.start), first = false;
+    append_path(b, pts);
+  });
+  if (!r.ok || pts.size() < 2) {
+    std::fprintf(stderr, "bench_path_deviation: %s does not check\n", program.c_str());
+    return 2;
+  }
+  std::ifstream in(trace);
+  std::string line;
+  std::getline(in, line);
+  double cmd_max = 0.0, act_max = 0.0;
+  std::size_t j = 0, rows = 0;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string f[9];
+    for (auto& x : f) std::getline(ss, x, ',');
+    if (f[2] != "RUNNING") continue;
+    const Vec3 cmd{std::stod(f[3]), std::stod(f[4]), std::stod(f[5])};
+    const Vec3 act{std::stod(f[6]), std::stod(f[7]), std::stod(f[8])};
+    // the nearest segment, searched in a window that moves with the trace
+    double best = 1e300;
+    std::size_t best_i = j;
+    const std::size_t lo = j > 100 ? j - 100 : 0, hi = std::min(pts.size() - 1, j + 400);
+    for (std::size_t i = lo; i < hi; ++i) {
+      const double d = point_segment_distance(cmd, pts[i], pts[i + 1]);
+      if (d < best) best = d, best_i = i;
+    }
+    double best_act = 1e300;
+    for (std::size_t i = lo; i < hi; ++i) best_act = std::min(best_act, point_segment_distance(act, pts[i], pts[i + 1]));
+    j = best_i;
+    cmd_max = std::max(cmd_max, best);
+    act_max = std::max(act_max, best_act);
+    ++rows;
+  }
+  std::printf("%.2f %.2f %zu\n", cmd_max * 1000.0, act_max * 1000.0, rows);
+  return 0;
+}

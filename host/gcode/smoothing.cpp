@@ -1,0 +1,101 @@
+// smoothing.cpp — runs of G1 moves into curves within the path tolerance (see smoothing.hpp).
+#include "gcode/smoothing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "geometry/nurbs.hpp"
+#include "geometry/spline_fit.hpp"
+
+namespace pcnc {
+
+Smoother::Smoother(const MachineConfig& config)
+    : cos_corner_(std::cos(config.motion.smoothing_angle_deg * std::numbers::pi / 180.0)) {}
+
+bool Smoother::smoothable(const Move& m) const {
+  return m.kind == MoveKind::kLine && m.contouring && m.path_tolerance_mm > 0.0;
+}
+
+bool Smoother::continues(const Move& last, const Move& m) const {
+  if (m.feed_mm_s != last.feed_mm_s || m.path_tolerance_mm != last.path_tolerance_mm ||
+      m.machine_frame != last.machine_frame || run_.size() >= kMaxRun) {
+    return false;
+  }
+  const Vec3 a = normalized(last.end - last.start), b = normalized(m.end - m.start);
+  return dot(a, b) >= cos_corner_;  // a turn above the smoothing angle is a real corner
+}
+
+bool Smoother::next(const std::function<bool(Move&)>& pull, Move& out) {
+  while (out_.empty()) {
+    Move m;
+    if (!pull(m)) {
+      flush_run();
+      if (out_.empty()) return false;
+      break;
+    }
+    if (!smoothable(m)) {
+      flush_run();
+      out_.push_back(std::move(m));
+      continue;
+    }
+    if (!(norm(m.end - m.start) > 1e-9)) {  // no displacement: inside a run it adds nothing
+      if (run_.empty()) out_.push_back(std::move(m));
+      continue;
+    }
+    if (!run_.empty() && !continues(run_.back(), m)) flush_run();
+    if (run_.empty()) points_.assign(1, m.start);
+    points_.push_back(m.end);
+    run_.push_back(std::move(m));
+  }
+  out = std::move(out_.front());
+  out_.pop_front();
+  return true;
+}
+
+void Smoother::flush_run() {
+  if (!run_.empty()) fit_range(0, points_.size() - 1);
+  run_.clear();
+  points_.clear();
+}
+
+// Move k of the run goes from points_[k] to points_[k + 1].
+void Smoother::fit_range(std::size_t first, std::size_t last) {
+  if (last - first < 2) {  // a single move stays a line
+    for (std::size_t k = first; k < last; ++k) out_.push_back(run_[k]);
+    return;
+  }
+  const std::vector<Vec3> pts(points_.begin() + static_cast<std::ptrdiff_t>(first),
+                              points_.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+  const double tolerance = run_[first].path_tolerance_mm;
+  SplineFit fit = fit_polyline(pts, tolerance);
+  if (!fit.ok || validate(fit.curve) != "") {
+    // a corner the angle did not see: keep it, fit both sides
+    const std::size_t cut = first + std::clamp<std::size_t>(static_cast<std::size_t>(std::max(fit.worst_point, 0)), 1,
+                                                             pts.size() - 2);
+    fit_range(first, cut);
+    fit_range(cut, last);
+    return;
+  }
+  auto marks = std::make_shared<std::vector<LineMark>>();
+  double u = 0.0;
+  for (std::size_t k = first; k < last; ++k) {
+    marks->push_back({u, run_[k].line});
+    u += norm(points_[k + 1] - points_[k]);
+  }
+  Move c = run_[first];
+  c.kind = MoveKind::kNurbs;
+  c.start = pts.front();
+  c.end = pts.back();
+  c.known = run_[last - 1].known;
+  c.smoothed = true;
+  c.nurbs = std::make_shared<const NurbsCurve>(std::move(fit.curve));
+  c.line_marks = std::move(marks);
+  out_.push_back(std::move(c));
+  stats_.moves += last - first;
+  stats_.curves += 1;
+  stats_.max_deviation_mm = std::max(stats_.max_deviation_mm, fit.deviation);
+}
+
+}  // namespace pcnc

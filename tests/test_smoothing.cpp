@@ -1,0 +1,112 @@
+// test_smoothing.cpp — the smoothing stage alone (host/gcode/smoothing.hpp): runs of G1 moves
+// under M21 become curves that start and end exactly at the run's ends, a real corner stays a
+// corner between two curves, and what must not be smoothed passes unchanged.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "gcode/smoothing.hpp"
+#include "geometry/nurbs.hpp"
+#include "gcode_test_util.hpp"
+
+namespace pcnc {
+namespace {
+
+Move line(const Vec3& a, const Vec3& b, int n, double tol = 0.005, bool m21 = true) {
+  return test::line_move(a, b, n, 10.0, m21, tol);
+}
+
+// 20 chords of a gentle bend from `from`, heading along `dir` (unit, in XY), turning left 2° each.
+std::vector<Move> bend(Vec3 from, double heading, int first_line, double tol = 0.005, bool m21 = true) {
+  std::vector<Move> v;
+  for (int i = 0; i < 20; ++i) {
+    const double h = heading + i * 2.0 * M_PI / 180.0;
+    const Vec3 to = from + Vec3{0.2 * std::cos(h), 0.2 * std::sin(h), 0.0};
+    v.push_back(line(from, to, first_line + i, tol, m21));
+    from = to;
+  }
+  return v;
+}
+
+std::vector<Move> smooth(const std::vector<Move>& in) {
+  MachineConfig c = load_config(test::default_config());
+  Smoother s(c);
+  std::size_t next = 0;
+  auto pull = [&](Move& m) {
+    if (next >= in.size()) return false;
+    m = in[next++];
+    return true;
+  };
+  std::vector<Move> out;
+  Move m;
+  while (s.next(pull, m)) out.push_back(m);
+  return out;
+}
+
+TEST(Smoothing, ARealCornerStaysACornerBetweenTwoCurves) {
+  std::vector<Move> in = bend({1, 1, 0}, 0.0, 1);
+  const Vec3 corner = in.back().end;
+  const std::vector<Move> after = bend(corner, M_PI / 2.0 + 0.7, 21);  // turns ~85° at the corner
+  in.insert(in.end(), after.begin(), after.end());
+  const std::vector<Move> out = smooth(in);
+  ASSERT_EQ(out.size(), 2u);
+  for (const Move& m : out) {
+    EXPECT_EQ(m.kind, MoveKind::kNurbs);
+    EXPECT_TRUE(m.smoothed);
+    ASSERT_TRUE(m.nurbs);
+    EXPECT_EQ(validate(*m.nurbs), "");
+    EXPECT_EQ(m.nurbs->points.front(), m.start);
+    EXPECT_EQ(m.nurbs->points.back(), m.end);
+  }
+  EXPECT_EQ(out[0].start, in.front().start);
+  EXPECT_EQ(out[0].end, corner);  // the corner point exactly
+  EXPECT_EQ(out[1].start, corner);
+  EXPECT_EQ(out[1].end, in.back().end);
+  // the tangents at the corner still turn by about 85°: the corner was kept
+  const Vec3 t0 = nurbs_tangent(out[0].nurbs->view(), out[0].nurbs->u_max(), false);
+  const Vec3 t1 = nurbs_tangent(out[1].nurbs->view(), out[1].nurbs->u_min(), true);
+  EXPECT_LT(dot(t0, t1), std::cos(60.0 * M_PI / 180.0));
+  // each curve carries the programmed lines along it
+  ASSERT_TRUE(out[1].line_marks);
+  EXPECT_EQ(out[1].line_marks->front().line, 21);
+  EXPECT_EQ(out[1].line_marks->back().line, 40);
+}
+
+TEST(Smoothing, WhatMustNotBeSmoothedPassesUnchanged) {
+  // under M22, with tolerance 0, and a single move between corners: lines, as they came
+  for (const std::vector<Move>& in : {bend({1, 1, 0}, 0.0, 1, 0.005, false), bend({1, 1, 0}, 0.0, 1, 0.0, true)}) {
+    const std::vector<Move> out = smooth(in);
+    ASSERT_EQ(out.size(), in.size());
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      EXPECT_EQ(out[i].kind, MoveKind::kLine);
+      EXPECT_EQ(out[i].start, in[i].start);
+      EXPECT_EQ(out[i].end, in[i].end);
+    }
+  }
+  // an arc between two runs passes unchanged and ends both runs; a feed change ends a run
+  std::vector<Move> in = bend({1, 1, 0}, 0.0, 1);
+  Move arc = line(in.back().end, in.back().end + Vec3{1, 1, 0}, 21);
+  arc.kind = MoveKind::kArc;
+  arc.center = in.back().end + Vec3{0, 1, 0};
+  arc.radius = 1.0;
+  arc.sweep = M_PI / 2.0;
+  in.push_back(arc);
+  std::vector<Move> b = bend(arc.end, M_PI / 2.0, 22);
+  for (std::size_t i = 10; i < b.size(); ++i) b[i].feed_mm_s = 20.0;
+  in.insert(in.end(), b.begin(), b.end());
+  const std::vector<Move> out = smooth(in);
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_EQ(out[0].kind, MoveKind::kNurbs);
+  EXPECT_EQ(out[1].kind, MoveKind::kArc);
+  EXPECT_EQ(out[1].start, arc.start);
+  EXPECT_EQ(out[1].center, arc.center);
+  EXPECT_EQ(out[2].kind, MoveKind::kNurbs);
+  EXPECT_EQ(out[2].feed_mm_s, 10.0);
+  EXPECT_EQ(out[3].kind, MoveKind::kNurbs);
+  EXPECT_EQ(out[3].feed_mm_s, 20.0);
+  EXPECT_EQ(out[3].end, in.back().end);
+}
+
+}  // namespace
+}  // namespace pcnc
