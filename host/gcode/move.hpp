@@ -29,6 +29,8 @@ struct MoveComp {
   bool inch = false;             // G20 when it went on (LinuxCNC's arc tolerance is in program units)
   std::uint32_t serial = 0;      // counts the G41/G42 that turned it on: a new one is a new entry
   double radius_mm = 0.0;        // the real tool radius, never scaled by --fit
+};
+
 /// Where a smoothed curve passes from one programmed move to the next: from parameter u on,
 /// the curve stands for source line `line`.
 struct LineMark {
