@@ -15,6 +15,40 @@
 
 namespace pcnc {
 
+bool check_serve_inputs(const char* who, const std::string& config_path, const std::string& trace) {
+  try {
+    (void)load_config(config_path);
+    check_output_paths({{trace, "--trace"}});
+  } catch (const ConfigError& e) {
+    for (const auto& p : e.problems) std::fprintf(stderr, "%s: %s\n", who, p.c_str());
+    return false;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", who, e.what());
+    return false;
+  }
+  return true;
+}
+
+LaunchOptions serve_launch_options(const std::string& config_path, const std::string& clock, const std::string& trace,
+                                   const std::string& tool_table) {
+  LaunchOptions lo;
+  const std::string dir = executable_dir();
+  lo.rt_path = dir + "/../rt/pcnc-rt";
+  lo.host_path = dir + "/../host/pcnc-host";
+  if (access((dir + "/pcnc-rt").c_str(), X_OK) == 0) lo.rt_path = dir + "/pcnc-rt";
+  if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
+  lo.rt_args = {"--config", config_path, "--clock", clock};
+  if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
+  lo.host_args = {"--config", config_path, "--serve"};
+  if (!tool_table.empty()) {
+    std::error_code ec;
+    const std::string abs = std::filesystem::absolute(tool_table, ec).string();
+    lo.host_args.insert(lo.host_args.end(), {"--tool-table", ec ? tool_table : abs});
+  }
+  lo.supervise = true;  // a process that dies on its own is started again; the other stays up
+  return lo;
+}
+
 void add_serve_subcommand(CLI::App& app, int& exit_code) {
   auto* serve = app.add_subcommand("serve", "start pcnc-rt and pcnc-host --serve, then serve the control socket until Ctrl-C "
                                             "(use `pcnc ctl ...` from another terminal)");
@@ -27,34 +61,11 @@ void add_serve_subcommand(CLI::App& app, int& exit_code) {
   serve->add_option("--tool-table", tool_table,
                     "tool table for the service's programs (LinuxCNC format, mm); default: the config's gcode.tool_table");
   serve->callback([&exit_code] {
-    // a bad config or trace path: exit 2 before either process starts
-    try {
-      (void)load_config(config_path);
-      check_output_paths({{trace, "--trace"}});
-    } catch (const ConfigError& e) {
-      for (const auto& p : e.problems) std::fprintf(stderr, "pcnc serve: %s\n", p.c_str());
-      exit_code = kExitBadInput;
-      return;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "pcnc serve: %s\n", e.what());
+    if (!check_serve_inputs("pcnc serve", config_path, trace)) {
       exit_code = kExitBadInput;
       return;
     }
-    LaunchOptions lo;
-    const std::string dir = executable_dir();
-    lo.rt_path = dir + "/../rt/pcnc-rt";
-    lo.host_path = dir + "/../host/pcnc-host";
-    if (access((dir + "/pcnc-rt").c_str(), X_OK) == 0) lo.rt_path = dir + "/pcnc-rt";
-    if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
-    lo.rt_args = {"--config", config_path, "--clock", clock};
-    if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
-    lo.host_args = {"--config", config_path, "--serve"};
-    if (!tool_table.empty()) {
-      std::error_code ec;
-      const std::string abs = std::filesystem::absolute(tool_table, ec).string();
-      lo.host_args.insert(lo.host_args.end(), {"--tool-table", ec ? tool_table : abs});
-    }
-    lo.supervise = true;  // a process that dies on its own is started again; the other stays up
+    const LaunchOptions lo = serve_launch_options(config_path, clock, trace, tool_table);
     exit_code = launch_pair(lo);
   });
 }

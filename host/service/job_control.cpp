@@ -34,6 +34,12 @@ JobControl::~JobControl() {
   join();
 }
 
+void JobControl::interrupt() {
+  interrupt_ = true;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (feed_) feed_->close();
+}
+
 void JobControl::join() {
   if (worker_.joinable()) worker_.join();
 }
@@ -71,7 +77,7 @@ bool JobControl::start_worker(ClientId client, const json& id, std::function<voi
 }
 
 void JobControl::job_reply(ClientId client, const json& id, Outcome outcome) {
-  replied_ = true;
+  if (replied_.exchange(true)) return;  // one reply per request (a stream has had its own)
   notices_.reply(client, id, std::move(outcome));
 }
 
