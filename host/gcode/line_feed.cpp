@@ -31,6 +31,11 @@ bool LineFeed::closed() const {
   return closed_;
 }
 
+bool LineFeed::waiting() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return waiting_;
+}
+
 std::uint64_t LineFeed::done() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return done_;
@@ -48,7 +53,9 @@ bool LineFeed::line_at(std::uint64_t offset, std::uint64_t done, std::string& li
     }
   }
   auto whole_line = [&] { return offset < text_.size() && text_.find('\n', offset) != std::string::npos; };
+  waiting_ = !whole_line() && !closed_;
   cv_.wait(lock, [&] { return whole_line() || closed_; });
+  waiting_ = false;
   if (!whole_line()) return false;
   const std::size_t nl = text_.find('\n', offset);
   line.assign(text_, static_cast<std::size_t>(offset), nl - static_cast<std::size_t>(offset));

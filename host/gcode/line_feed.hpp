@@ -36,6 +36,8 @@ class LineFeed {
   /// must not wait for more lines).
   void set_on_done(std::function<bool(std::uint64_t done)> fn) { on_done_ = std::move(fn); }
   std::uint64_t done() const;
+  /// The reader is waiting for a line that has not arrived (everything received is read).
+  bool waiting() const;
 
   std::uint64_t lines_appended() const;
   std::uint64_t bytes() const;
@@ -47,6 +49,7 @@ class LineFeed {
   std::uint64_t lines_ = 0;
   bool closed_ = false;
   std::uint64_t done_ = 0;
+  bool waiting_ = false;
   std::function<bool(std::uint64_t)> on_done_;
 };
 

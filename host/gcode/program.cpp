@@ -285,7 +285,7 @@ struct BlockStream::Impl {
   Vec3 last_end{};                   // where the last block ended (the end block after an error)
   std::uint64_t last_seq = 0;
   bool have_last = false;
-  bool ended = false;                // the end block after an error was handed out
+  bool ended = false;                // FromFeed: the End block was handed out
 };
 
 BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
@@ -336,7 +336,10 @@ BlockStream::BlockStream(BlockStream&&) noexcept = default;
 BlockStream& BlockStream::operator=(BlockStream&&) noexcept = default;
 
 bool BlockStream::next(Block& out) {
+  // A stream ends with its End block (M2/M30): the pipeline would read on for lines after it.
+  if (impl_->streamed && impl_->ended) return false;
   if (impl_->pipeline.next(out)) {
+    if (impl_->streamed && out.kind == BlockKind::kEnd) impl_->ended = true;
     impl_->last_end = out.end;
     impl_->last_seq = out.seq;
     impl_->have_last = true;

@@ -107,7 +107,11 @@ json Session::status() {
 void Session::note_status(const json& st) {
   last_status_ = st;
   const int alarm = alarm_for(st.value("state", std::string()), st.value("fault", std::string()));
-  if (alarm != 0 && alarm_ == 0) {
+  // Latched when the machine enters an alarm state (a status pushed before $X that still
+  // says ESTOP does not latch it again).
+  const bool entered = alarm != 0 && !in_alarm_state_;
+  in_alarm_state_ = alarm != 0;
+  if (entered && alarm_ == 0) {
     alarm_ = alarm;
     port_.alarm = true;
     // The machine stopped on its own (a fault, an e-stop): what was queued is dropped, as

@@ -91,6 +91,7 @@ class Session {
   PortState port_;
   int feed_override_ = 100;
   int alarm_ = 0;
+  bool in_alarm_state_ = false;  // the last status seen was an alarm state
   nlohmann::json last_status_ = nlohmann::json::object();
 };
 

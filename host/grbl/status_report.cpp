@@ -35,13 +35,17 @@ std::string grbl_state(const json& st, const PortState& port) {
   const double speed = num(st, "path_speed");
   if (s == "PAUSED") return speed > 1e-9 ? "Hold:1" : "Hold:0";
   if (s == "JOGGING" || port.jogging) return "Jog";
-  if (s == "RUNNING" || s == "STOPPING") {
-    // A streamed program whose sender has sent everything it had: the ring is empty and the
-    // machine at rest, waiting for lines; grbl (an empty planner) says Idle.
-    const bool waiting = num(st, "ring_fill") == 0.0 && speed <= 1e-9 && !port.lines_pending &&
-                         st.value("job", json::object()).value("file", std::string()) == "stream";
-    return waiting ? "Idle" : "Run";
+  const json job = st.value("job", json::object());
+  const bool stream = job.value("active", false) && job.value("file", std::string()) == "stream";
+  if (stream && (s == "IDLE" || s == "RUNNING" || s == "STOPPING")) {
+    // A streamed program that has run every line received and waits for more: the rt has
+    // its program (a status older than the program start says Run), its pipeline waits for
+    // a line, the ring is empty and the last block done; grbl (an empty planner) says Idle.
+    const bool rested = job.value("waiting_for_lines", false) && !port.lines_pending && st.value("program_active", false) &&
+                        num(st, "ring_fill") == 0.0 && num(st, "blocks_done") == num(st, "block_seq") && speed <= 1e-9;
+    return rested ? "Idle" : "Run";
   }
+  if (s == "RUNNING" || s == "STOPPING") return "Run";
   return "Idle";
 }
 

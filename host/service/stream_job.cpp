@@ -8,6 +8,8 @@
 // runs the lines through every stage and the rt's block check, with no motion.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "service/job_control.hpp"
 #include "service/work_store.hpp"
 
@@ -83,7 +85,10 @@ void JobControl::stream_job(ClientId client, const json& id, bool check, std::sh
   // The end of the stream's input (or its error), said once, as soon as the pipeline knows.
   auto ended = [this, n, stream, feed] {
     feed->close();
-    json ev = {{"event", "stream"}, {"stream", n}, {"done", feed->done()}, {"end", true}};
+    // Ended by the program itself (M2/M30): its last line read is done too; lines after it
+    // were not read (a sender's next lines start a new stream).
+    const std::uint64_t done = stream->error() ? feed->done() : std::max<std::uint64_t>(feed->done(), stream->lines_read());
+    json ev = {{"event", "stream"}, {"stream", n}, {"done", done}, {"end", true}};
     if (const auto& e = stream->error()) {
       ev["error"] = json{{"line", e->line}, {"column", e->column}, {"message", e->message}, {"text", format_diagnostic(*e)}};
       spdlog::warn("stream {}: {}", n, format_diagnostic(*e));
@@ -109,7 +114,10 @@ void JobControl::stream_job(ClientId client, const json& id, bool check, std::sh
   json started = {{"started", true}, {"stream", n}, {"check", false}};
   follow_job(
       client, id, l, cfg, started, name,
-      [&](JobRunner& runner) { return runner.run_source(source, cfg.motion.contouring_default, interrupt_, progress_fn()); },
+      [&](JobRunner& runner) {
+        runner.set_staging(false);  // the pipeline may wait for lines: nothing it made may wait with it
+        return runner.run_source(source, cfg.motion.contouring_default, interrupt_, progress_fn());
+      },
       &ws, [stream](const JobRunner&) { return std::optional<WorkState>(stream->work_state()); });
   feed->close();
   std::lock_guard<std::mutex> lock(mutex_);
