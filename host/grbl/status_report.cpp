@@ -40,9 +40,9 @@ std::string grbl_state(const json& st, const PortState& port) {
   if (stream && (s == "IDLE" || s == "RUNNING" || s == "STOPPING")) {
     // A streamed program that has run every line received and waits for more: the rt has
     // its program (a status older than the program start says Run), its pipeline waits for
-    // a line, the ring is empty and the last block done; grbl (an empty planner) says Idle.
+    // a line, and the rt has done every block the stream made; grbl (an empty planner) says Idle.
     const bool rested = job.value("waiting_for_lines", false) && !port.lines_pending && st.value("program_active", false) &&
-                        num(st, "ring_fill") == 0.0 && num(st, "blocks_done") == num(st, "block_seq") && speed <= 1e-9;
+                        num(st, "blocks_done") >= num(job, "blocks_streamed") && num(st, "ring_fill") == 0.0 && speed <= 1e-9;
     return rested ? "Idle" : "Run";
   }
   if (s == "RUNNING" || s == "STOPPING") return "Run";

@@ -117,7 +117,10 @@ void JobControl::describe(json& j, const std::optional<Status>& st) const {
     j["job"] = info_;
     j["last_job"] = last_;
     j["job"]["active"] = active_.load();
-    if (feed_) j["job"]["waiting_for_lines"] = feed_->waiting();  // a stream has run all it received
+    if (feed_) {  // a stream: has it made blocks of all it received?
+      j["job"]["waiting_for_lines"] = feed_->waiting();
+      j["job"]["blocks_streamed"] = stream_blocks_.load();
+    }
     j["journal_error"] = journal_error_.empty() ? json(nullptr) : json(journal_error_);
   }
   j["resume"] = nullptr;

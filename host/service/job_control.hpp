@@ -121,6 +121,7 @@ class JobControl {
   std::string journal_error_;  // the last journal write failure, until one succeeds
   std::shared_ptr<LineFeed> feed_;  // the open stream's input (guarded by mutex_)
   std::uint64_t streams_ = 0;       // streams opened (each stream's number in its events)
+  std::atomic<std::uint64_t> stream_blocks_{0};  // blocks the open stream handed to the ring feeder
 };
 
 }  // namespace pcnc

@@ -104,9 +104,13 @@ void JobControl::stream_job(ClientId client, const json& id, bool check, std::sh
     end_job(&last);
     return;
   }
+  stream_blocks_ = 0;
   BlockSource source;
-  source.next = [stream, ended](Block& b) {
-    if (stream->next(b)) return true;
+  source.next = [this, stream, ended](Block& b) {
+    if (stream->next(b)) {
+      ++stream_blocks_;
+      return true;
+    }
     ended();
     return false;
   };
