@@ -104,12 +104,7 @@ int main(int argc, char** argv) {
   port.read_until([](const std::string& l) { return l.rfind("Grbl", 0) == 0; }, 10.0);
 
   // 3. machine time: streamed vs pcnc run
-  // the program up to its M2/M30 (a '%' after it would open a new stream: senders strip it)
-  std::vector<std::string> text;
-  for (const auto& l : read_lines(program)) {
-    text.push_back(l);
-    if (std::regex_search(l, std::regex("^\\s*[Mm]0*(2|30)\\b"))) break;
-  }
+  const auto text = read_lines(program);
   const auto t0 = Clock::now();
   const auto answers = port.stream(text);
   port.wait_status([](const GrblStatus& s) { return s.state == "Idle"; }, 600.0);

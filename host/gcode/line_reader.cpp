@@ -109,21 +109,25 @@ bool LineReader::fill() {
   }
 }
 
+// A whole line held in memory (text or the feed's copy): cut at kMaxLine, '\r' dropped.
+bool LineReader::hand_out(std::string_view l, std::string_view& line, bool& too_long) {
+  if (l.size() > kMaxLine) {
+    l = l.substr(0, kMaxLine);
+    too_long = true;
+  }
+  if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+  line = l;
+  ++line_no_;
+  return true;
+}
+
 bool LineReader::next(std::string_view& line, bool& too_long) {
   too_long = false;
   if (feed_) {
     if (!feed_->line_at(consumed_, line_no_, feed_line_)) return false;
     consumed_ += feed_line_.size() + 1;
     total_ = consumed_;
-    std::string_view l = feed_line_;
-    if (l.size() > kMaxLine) {
-      l = l.substr(0, kMaxLine);
-      too_long = true;
-    }
-    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
-    line = l;
-    ++line_no_;
-    return true;
+    return hand_out(feed_line_, line, too_long);
   }
   if (from_text_) {
     if (text_.empty()) return false;
@@ -132,14 +136,7 @@ bool LineReader::next(std::string_view& line, bool& too_long) {
     const std::size_t used = nl == std::string_view::npos ? text_.size() : nl + 1;
     text_.remove_prefix(used);
     consumed_ += used;
-    if (l.size() > kMaxLine) {
-      l = l.substr(0, kMaxLine);
-      too_long = true;
-    }
-    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
-    line = l;
-    ++line_no_;
-    return true;
+    return hand_out(l, line, too_long);
   }
   while (true) {
     const char* data = buf_.data();

@@ -62,6 +62,7 @@ class LineReader {
 
  private:
   bool fill();  // reads more into the buffer; false at end of file
+  bool hand_out(std::string_view l, std::string_view& line, bool& too_long);
   int fd_ = -1;
   std::vector<char> buf_;
   std::uint64_t buf_offset_ = 0;  // file offset of buf_[0]

@@ -37,26 +37,16 @@ constexpr bool is_realtime(std::uint8_t b) {
   return b == kSoftReset || b == kStatusQuery || b == kCycleStart || b == kFeedHold || b >= 0x80;
 }
 
-/// The feed override after byte `b` (0x90..0x94) from `percent`: grbl's steps, within 10..200.
-constexpr int next_feed_override(std::uint8_t b, int percent) {
-  int p = percent;
-  if (b == kFeedOv100) p = 100;
-  if (b == kFeedOvPlus10) p += 10;
-  if (b == kFeedOvMinus10) p -= 10;
-  if (b == kFeedOvPlus1) p += 1;
-  if (b == kFeedOvMinus1) p -= 1;
+/// An override after one of its five bytes (`first` = 0x90 for the feed, 0x99 for the
+/// spindle; `b` - `first`: 100 %, +10, -10, +1, -1), from `percent`: grbl's steps, within 10..200.
+constexpr int next_override(std::uint8_t b, std::uint8_t first, int percent) {
+  constexpr int kStep[5] = {0, 10, -10, 1, -1};
+  const int k = b - first;
+  if (k < 0 || k > 4) return percent;
+  const int p = k == 0 ? 100 : percent + kStep[k];
   return p < 10 ? 10 : (p > 200 ? 200 : p);
 }
-
-/// The spindle override after byte `b` (0x99..0x9D): within 10..200.
-constexpr int next_spindle_override(std::uint8_t b, int percent) {
-  int p = percent;
-  if (b == kSpindleOv100) p = 100;
-  if (b == kSpindleOvPlus10) p += 10;
-  if (b == kSpindleOvMinus10) p -= 10;
-  if (b == kSpindleOvPlus1) p += 1;
-  if (b == kSpindleOvMinus1) p -= 1;
-  return p < 10 ? 10 : (p > 200 ? 200 : p);
-}
+constexpr int next_feed_override(std::uint8_t b, int percent) { return next_override(b, kFeedOv100, percent); }
+constexpr int next_spindle_override(std::uint8_t b, int percent) { return next_override(b, kSpindleOv100, percent); }
 
 }  // namespace pcnc::grbl

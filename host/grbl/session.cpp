@@ -114,18 +114,26 @@ void Session::note_status(const json& st) {
   if (entered && alarm_ == 0) {
     alarm_ = alarm;
     port_.alarm = true;
-    // The machine stopped on its own (a fault, an e-stop): what was queued is dropped, as
-    // grbl's alarm reset drops it, and the stream's input ends.
-    if (stream_ != 0) service_.call("stream_close", json::object());
-    stream_ = 0;
-    queue_.clear();
-    rx_.clear();
-    port_.jogging = port_.homing = false;
-    emit("ALARM:" + std::to_string(alarm));
-    emit(msg_line(st.value("fault", std::string("none")) != "none"
-                      ? "pcnc fault: " + st.value("fault", std::string()) + "; '$X' or Ctrl-X then '$X' to reset"
-                      : "pcnc: the machine is " + st.value("state", std::string()) + "; '$X' to reset"));
+    alarm_message_ = st.value("fault", std::string("none")) != "none"
+                         ? "pcnc fault: " + st.value("fault", std::string()) + "; '$X' to reset"
+                         : "pcnc: the machine is " + st.value("state", std::string()) + "; '$X' to reset";
   }
+}
+
+// The machine stopped on its own (a fault, an e-stop): what was queued is dropped, as grbl's
+// alarm reset drops it, and the stream's input ends. Done here, between lines, never inside a
+// command that asked for the status.
+void Session::flush_alarm() {
+  if (alarm_message_.empty()) return;
+  if (stream_ != 0) service_.call("stream_close", json::object());
+  stream_ = 0;
+  sent_ = acked_ = 0;
+  queue_.clear();
+  rx_.clear();
+  port_.jogging = port_.homing = false;
+  emit("ALARM:" + std::to_string(alarm_));
+  emit(msg_line(alarm_message_));
+  alarm_message_.clear();
 }
 
 void Session::realtime(std::uint8_t b) {
@@ -221,7 +229,9 @@ void Session::line(ReceivedLine l) {
     queue_.back().text = "\x01overflow";
     return;
   }
-  it.gcode = !it.text.empty() && it.text[0] != '$';
+  // '%' (a tape's start or end) is answered and dropped: a '%' after M30 would open a new
+  // stream that waits for its closing '%'
+  it.gcode = !it.text.empty() && it.text[0] != '$' && it.text != "%";
   if (it.gcode && alarm_ != 0 && !port_.check_mode) {
     it.gcode = false;
     it.text = "\x01lock";  // G-code is locked out during an alarm (error:9)
@@ -230,6 +240,7 @@ void Session::line(ReceivedLine l) {
 }
 
 void Session::answer_front(int error, const std::string& message) {
+  if (queue_.empty()) return;
   const Item it = queue_.front();
   queue_.pop_front();
   rx_.answered(it.bytes);
@@ -242,20 +253,20 @@ void Session::answer_front(int error, const std::string& message) {
 }
 
 void Session::pump() {
+  flush_alarm();
   while (!queue_.empty()) {
-    if (queue_.front().gcode || (queue_.front().sent && !queue_.front().gcode)) {
-      // the front is a G-code line (sent or not) or a command under way
-      if (!queue_.front().gcode) return;
+    if (queue_.front().gcode) {  // G-code lines at the front: to the stream (or wait for it)
       send_stream_lines();
       return;
     }
-    Item& it = queue_.front();
-    const Step step = command(it);
+    if (queue_.front().sent) return;  // a command under way ($H): answered when it ends
+    const Step step = command(queue_.front());
     if (step == Step::kWait) return;
     if (step == Step::kStarted) {
-      it.sent = true;
+      if (!queue_.empty()) queue_.front().sent = true;
       return;
     }
+    flush_alarm();
   }
 }
 
@@ -281,10 +292,9 @@ bool Session::send_stream_lines() {
     sent_ = acked_ = 0;
   }
   const json r = service_.call("stream_lines", json{{"text", text}});
-  if (is_error(r)) {
-    stream_ = 0;  // the stream ended meanwhile (an error): a new one takes the lines
-    return false;
-  }
+  // Refused: the stream has just ended (an error in a line sent before); its `end` event is
+  // on its way and hands the lines it did not take to a new stream.
+  if (is_error(r)) return false;
   for (Item& it : queue_) {
     if (!it.gcode) break;
     if (!it.sent) {
@@ -400,7 +410,7 @@ Session::Step Session::command(Item& it) {
   const std::string& t = it.text;
   if (t == "\x01overflow") return answer_front(kOverflow, "line longer than " + std::to_string(kMaxLineLength) + " characters"), Step::kDone;
   if (t == "\x01lock") return answer_front(kSystemGcLock, "alarm: '$X' to unlock"), Step::kDone;
-  if (t.empty()) return answer_front(0), Step::kDone;
+  if (t.empty() || t == "%") return answer_front(0), Step::kDone;
   const std::string u = upper(t);
   if (u == "$") {
     emit("[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]");

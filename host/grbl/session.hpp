@@ -75,6 +75,7 @@ class Session {
   void emit(const std::string& line) { write_(line + "\r\n"); }
   nlohmann::json status();
   void note_status(const nlohmann::json& st);
+  void flush_alarm();
   void report_parameters();
   void report_parser_state();
 
@@ -92,6 +93,7 @@ class Session {
   int feed_override_ = 100;
   int alarm_ = 0;
   bool in_alarm_state_ = false;  // the last status seen was an alarm state
+  std::string alarm_message_;    // an alarm latched and not yet announced (flush_alarm)
   nlohmann::json last_status_ = nlohmann::json::object();
 };
 
