@@ -31,6 +31,8 @@ class CtlClient {
   nlohmann::json call(const std::string& method, const nlohmann::json& params = nlohmann::json::object(), double timeout_s = 30.0);
   /// Reads one line (reply or notification) within timeout_s; false on timeout.
   bool read_line(std::string& line, double timeout_s);
+  /// The socket (to poll for notifications between calls).
+  int fd() const { return fd_; }
   /// Sends raw text (for tests of malformed input).
   void send_raw(const std::string& text);
 

@@ -156,6 +156,7 @@ int main(int argc, char** argv) {
   // ---- ctl, serve: the control socket of pcnc-host --serve ----
   pcnc::add_ctl_subcommand(app, exit_code);
   pcnc::add_serve_subcommand(app, exit_code);
+  pcnc::add_grbl_subcommand(app, exit_code);
   pcnc::add_soak_subcommand(app, exit_code);
   pcnc::add_nurbs_subcommand(app, exit_code);
   pcnc::add_surface_subcommand(app, exit_code);

@@ -15,6 +15,46 @@
 
 namespace pcnc {
 
+bool check_serve_inputs(const char* who, const std::string& config_path, const std::string& trace) {
+  try {
+    (void)load_config(config_path);
+    check_output_paths({{trace, "--trace"}});
+  } catch (const ConfigError& e) {
+    for (const auto& p : e.problems) std::fprintf(stderr, "%s: %s\n", who, p.c_str());
+    return false;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", who, e.what());
+    return false;
+  }
+  return true;
+}
+
+LaunchOptions serve_launch_options(const std::string& config_path, const std::string& clock, const std::string& trace,
+                                   const std::string& tool_table, const std::string& surface, const std::string& tolerance) {
+  LaunchOptions lo;
+  const std::string dir = executable_dir();
+  lo.rt_path = dir + "/../rt/pcnc-rt";
+  lo.host_path = dir + "/../host/pcnc-host";
+  if (access((dir + "/pcnc-rt").c_str(), X_OK) == 0) lo.rt_path = dir + "/pcnc-rt";
+  if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
+  lo.rt_args = {"--config", config_path, "--clock", clock};
+  if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
+  lo.host_args = {"--config", config_path, "--serve"};
+  if (!tool_table.empty()) {
+    std::error_code ec;
+    const std::string abs = std::filesystem::absolute(tool_table, ec).string();
+    lo.host_args.insert(lo.host_args.end(), {"--tool-table", ec ? tool_table : abs});
+  }
+  if (!surface.empty()) {
+    std::error_code ec;
+    const std::string abs = std::filesystem::absolute(surface, ec).string();
+    lo.host_args.insert(lo.host_args.end(), {"--surface", ec ? surface : abs});
+  }
+  if (!tolerance.empty()) lo.host_args.insert(lo.host_args.end(), {"--tolerance", tolerance});
+  lo.supervise = true;  // a process that dies on its own is started again; the other stays up
+  return lo;
+}
+
 void add_serve_subcommand(CLI::App& app, int& exit_code) {
   auto* serve = app.add_subcommand("serve", "start pcnc-rt and pcnc-host --serve, then serve the control socket until Ctrl-C "
                                             "(use `pcnc ctl ...` from another terminal)");
@@ -33,40 +73,11 @@ void add_serve_subcommand(CLI::App& app, int& exit_code) {
                     "config's motion.path_tolerance_mm, changed by G64 P")
       ->check(CLI::Range(0.0, 1.0));
   serve->callback([&exit_code] {
-    // a bad config or trace path: exit 2 before either process starts
-    try {
-      (void)load_config(config_path);
-      check_output_paths({{trace, "--trace"}});
-    } catch (const ConfigError& e) {
-      for (const auto& p : e.problems) std::fprintf(stderr, "pcnc serve: %s\n", p.c_str());
-      exit_code = kExitBadInput;
-      return;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "pcnc serve: %s\n", e.what());
+    if (!check_serve_inputs("pcnc serve", config_path, trace)) {
       exit_code = kExitBadInput;
       return;
     }
-    LaunchOptions lo;
-    const std::string dir = executable_dir();
-    lo.rt_path = dir + "/../rt/pcnc-rt";
-    lo.host_path = dir + "/../host/pcnc-host";
-    if (access((dir + "/pcnc-rt").c_str(), X_OK) == 0) lo.rt_path = dir + "/pcnc-rt";
-    if (access((dir + "/pcnc-host").c_str(), X_OK) == 0) lo.host_path = dir + "/pcnc-host";
-    lo.rt_args = {"--config", config_path, "--clock", clock};
-    if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
-    lo.host_args = {"--config", config_path, "--serve"};
-    if (!tool_table.empty()) {
-      std::error_code ec;
-      const std::string abs = std::filesystem::absolute(tool_table, ec).string();
-      lo.host_args.insert(lo.host_args.end(), {"--tool-table", ec ? tool_table : abs});
-    }
-    if (!surface.empty()) {
-      std::error_code ec;
-      const std::string abs = std::filesystem::absolute(surface, ec).string();
-      lo.host_args.insert(lo.host_args.end(), {"--surface", ec ? surface : abs});
-    }
-    if (!tolerance.empty()) lo.host_args.insert(lo.host_args.end(), {"--tolerance", tolerance});
-    lo.supervise = true;  // a process that dies on its own is started again; the other stays up
+    const LaunchOptions lo = serve_launch_options(config_path, clock, trace, tool_table, surface, tolerance);
     exit_code = launch_pair(lo);
   });
 }

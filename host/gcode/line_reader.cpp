@@ -1,6 +1,8 @@
 // line_reader.cpp — chunked, allocation-free line splitting over read(2).
 #include "gcode/line_reader.hpp"
 
+#include "gcode/line_feed.hpp"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -53,8 +55,16 @@ LineReader::LineReader(const std::string& path) : path_(path) {
 LineReader::LineReader(FromText, std::string_view text)
     : text_(text), full_text_(text), from_text_(true), total_(text.size()) {}
 
+LineReader::LineReader(FromFeed, std::shared_ptr<LineFeed> feed) : feed_(std::move(feed)) {}
+
 bool LineReader::seek(const Position& pos) {
   if (pos.offset > total_ && from_text_) return false;
+  if (feed_) {
+    if (pos.offset > feed_->bytes()) return false;
+    line_no_ = pos.line;
+    consumed_ = pos.offset;
+    return true;
+  }
   skipping_ = false;
   line_no_ = pos.line;
   consumed_ = pos.offset;
@@ -99,8 +109,26 @@ bool LineReader::fill() {
   }
 }
 
+// A whole line held in memory (text or the feed's copy): cut at kMaxLine, '\r' dropped.
+bool LineReader::hand_out(std::string_view l, std::string_view& line, bool& too_long) {
+  if (l.size() > kMaxLine) {
+    l = l.substr(0, kMaxLine);
+    too_long = true;
+  }
+  if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+  line = l;
+  ++line_no_;
+  return true;
+}
+
 bool LineReader::next(std::string_view& line, bool& too_long) {
   too_long = false;
+  if (feed_) {
+    if (!feed_->line_at(consumed_, line_no_, feed_line_)) return false;
+    consumed_ += feed_line_.size() + 1;
+    total_ = consumed_;
+    return hand_out(feed_line_, line, too_long);
+  }
   if (from_text_) {
     if (text_.empty()) return false;
     const std::size_t nl = text_.find('\n');
@@ -108,14 +136,7 @@ bool LineReader::next(std::string_view& line, bool& too_long) {
     const std::size_t used = nl == std::string_view::npos ? text_.size() : nl + 1;
     text_.remove_prefix(used);
     consumed_ += used;
-    if (l.size() > kMaxLine) {
-      l = l.substr(0, kMaxLine);
-      too_long = true;
-    }
-    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
-    line = l;
-    ++line_no_;
-    return true;
+    return hand_out(l, line, too_long);
   }
   while (true) {
     const char* data = buf_.data();

@@ -7,11 +7,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace pcnc {
+
+class LineFeed;
 
 /// Opens a G-code file for reading: a regular file only. The open never blocks (O_NONBLOCK, so a
 /// FIFO or a device is refused after fstat, before anything is read). Returns the descriptor,
@@ -29,6 +32,10 @@ class LineReader {
   /// Reads from text that outlives the reader.
   struct FromText {};
   LineReader(FromText, std::string_view text);
+  /// Reads lines as they arrive in `feed` (a streamed program, gcode/line_feed.hpp): next()
+  /// waits for the next line; the end of input is the feed's close().
+  struct FromFeed {};
+  LineReader(FromFeed, std::shared_ptr<LineFeed> feed);
   ~LineReader();
   LineReader(const LineReader&) = delete;
   LineReader& operator=(const LineReader&) = delete;
@@ -55,6 +62,7 @@ class LineReader {
 
  private:
   bool fill();  // reads more into the buffer; false at end of file
+  bool hand_out(std::string_view l, std::string_view& line, bool& too_long);
   int fd_ = -1;
   std::vector<char> buf_;
   std::uint64_t buf_offset_ = 0;  // file offset of buf_[0]
@@ -66,6 +74,8 @@ class LineReader {
   std::string_view full_text_;
   std::string path_;
   bool from_text_ = false;
+  std::shared_ptr<LineFeed> feed_;
+  std::string feed_line_;  // the feed's last line (next()'s view points into it)
   std::uint64_t line_no_ = 0;
   std::uint64_t consumed_ = 0;
   std::uint64_t total_ = 0;

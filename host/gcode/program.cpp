@@ -15,6 +15,7 @@
 #include "gcode/pipeline.hpp"
 #include "gcode/planned_time.hpp"
 #include "config/surface_file.hpp"
+#include "gcode/preprocessor.hpp"
 
 namespace pcnc {
 
@@ -294,6 +295,12 @@ struct BlockStream::Impl {
   JobOptions options;
   DiagnosticSink sink;
   Pipeline pipeline;  // keeps its own copy of the config: the stream may outlive the caller's
+  bool streamed = false;             // FromFeed: an error ends the stream, it is not thrown
+  std::optional<Diagnostic> error;   // ... and is kept here
+  Vec3 last_end{};                   // where the last block ended (the end block after an error)
+  std::uint64_t last_seq = 0;
+  bool have_last = false;
+  bool ended = false;                // FromFeed: the End block was handed out
 };
 
 BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
@@ -314,6 +321,27 @@ BlockStream::BlockStream(FromText, std::string_view text, const std::string& nam
   impl_->options = options;
 }
 
+namespace {
+Transform stream_transform(const MachineConfig& config, const JobOptions& options) {
+  Transform t;
+  t.offset = start_work(config, options).g5x[0];
+  return t;
+}
+}  // namespace
+
+BlockStream::BlockStream(FromFeed, std::shared_ptr<LineFeed> feed, const std::string& name, const MachineConfig& config,
+                         const JobOptions& options)
+    : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(LineReader::FromFeed{}, std::move(feed)), name, config,
+                                   make_frame(config, options, stream_transform(config, options)))) {
+  if (options.on_message) impl_->pipeline.set_message_handler(options.on_message);
+  impl_->config = config;
+  impl_->options = options;
+  impl_->streamed = true;
+}
+
+const std::optional<Diagnostic>& BlockStream::error() const { return impl_->error; }
+bool BlockStream::failed() const { return impl_->pipeline.failed(); }
+
 WorkState BlockStream::work_state() const {
   return work_left(impl_->config, impl_->options, impl_->pipeline.work_state());
 }
@@ -323,8 +351,31 @@ BlockStream::BlockStream(BlockStream&&) noexcept = default;
 BlockStream& BlockStream::operator=(BlockStream&&) noexcept = default;
 
 bool BlockStream::next(Block& out) {
-  if (impl_->pipeline.next(out)) return true;
+  // A stream ends with its End block (M2/M30): the pipeline would read on for lines after it.
+  if (impl_->streamed && impl_->ended) return false;
+  if (impl_->pipeline.next(out)) {
+    if (impl_->streamed && out.kind == BlockKind::kEnd) impl_->ended = true;
+    impl_->last_end = out.end;
+    impl_->last_seq = out.seq;
+    impl_->have_last = true;
+    return true;
+  }
   if (!impl_->pipeline.failed()) return false;
+  if (impl_->streamed) {
+    // The blocks before the error run to their end: an End block where the last one ended.
+    for (Diagnostic& d : impl_->sink.take()) {
+      if (d.severity == Diagnostic::Severity::kError && !impl_->error) impl_->error = std::move(d);
+    }
+    if (impl_->ended) return false;
+    impl_->ended = true;
+    Move end;
+    end.kind = MoveKind::kEnd;
+    end.start = end.end = impl_->have_last ? impl_->last_end : impl_->options.start_position.value_or(Vec3{});
+    end.line = impl_->error ? impl_->error->line : 0;
+    make_block_into(end, impl_->config, out);
+    out.seq = impl_->last_seq + 1;
+    return true;
+  }
   for (const Diagnostic& d : impl_->sink.take()) {
     if (d.severity == Diagnostic::Severity::kError) {
       throw std::runtime_error(format_diagnostic(d) + " (the program changed since it was checked?)");

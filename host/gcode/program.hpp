@@ -19,6 +19,7 @@
 #include "config/work_state.hpp"
 #include "gcode/cutter_comp.hpp"
 #include "gcode/diagnostics.hpp"
+#include "gcode/line_feed.hpp"
 #include "gcode/move.hpp"
 #include "gcode/move_source.hpp"
 #include "gcode/tool_table.hpp"
@@ -121,11 +122,22 @@ class BlockStream {
   struct FromText {};
   BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config,
               const JobOptions& options, const Transform& transform);
+  /// A streamed program (the grbl port): lines are read from `feed` as they arrive, each checked
+  /// as it passes (words, modal state, soft limits of its moves, the rt's block check); there
+  /// is no check of the whole program first, and an error ends the stream: next() returns
+  /// false and error() holds it (it does not throw). The frame is the job's without --fit.
+  struct FromFeed {};
+  BlockStream(FromFeed, std::shared_ptr<LineFeed> feed, const std::string& name, const MachineConfig& config,
+              const JobOptions& options);
   ~BlockStream();
   BlockStream(BlockStream&&) noexcept;
   BlockStream& operator=(BlockStream&&) noexcept;
 
   bool next(Block& out);             // false at end of program (after the End block was returned)
+  /// An error has been found (no block is made from here on).
+  bool failed() const;
+  /// FromFeed: the error that ended the stream (next() returned false), if any.
+  const std::optional<Diagnostic>& error() const;
   std::uint64_t lines_read() const;  // for progress
   std::uint64_t total_bytes() const;
   std::uint64_t bytes_read() const;

@@ -34,6 +34,12 @@ JobControl::~JobControl() {
   join();
 }
 
+void JobControl::interrupt() {
+  interrupt_ = true;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (feed_) feed_->close();
+}
+
 void JobControl::join() {
   if (worker_.joinable()) worker_.join();
 }
@@ -71,7 +77,7 @@ bool JobControl::start_worker(ClientId client, const json& id, std::function<voi
 }
 
 void JobControl::job_reply(ClientId client, const json& id, Outcome outcome) {
-  replied_ = true;
+  if (replied_.exchange(true)) return;  // one reply per request (a stream has had its own)
   notices_.reply(client, id, std::move(outcome));
 }
 
@@ -111,6 +117,10 @@ void JobControl::describe(json& j, const std::optional<Status>& st) const {
     j["job"] = info_;
     j["last_job"] = last_;
     j["job"]["active"] = active_.load();
+    if (feed_) {  // a stream: has it made blocks of all it received?
+      j["job"]["waiting_for_lines"] = feed_->waiting();
+      j["job"]["blocks_streamed"] = stream_blocks_.load();
+    }
     j["journal_error"] = journal_error_.empty() ? json(nullptr) : json(journal_error_);
   }
   j["resume"] = nullptr;

@@ -51,7 +51,8 @@ class JobControl {
   /// A job is being checked, started, run or resumed.
   bool active() const { return active_.load(); }
   /// The worker stops feeding; the rt decelerates on the path (or the rt was told to stop).
-  void interrupt() { interrupt_ = true; }
+  /// A stream's feed is closed, so that its reader stops waiting for lines.
+  void interrupt();
   /// Waits for the worker to end (after interrupt(), at shutdown).
   void join();
 
@@ -66,6 +67,17 @@ class JobControl {
   /// The reply comes once it has started (or with the check's errors, line:col, code 3).
   Outcome mdi(ClientId client, const rpc::json& id, const std::string& text, std::shared_ptr<RtLink> link, const Status& st,
               const MachineConfig& config, const WorkState& work);
+  /// The `stream_open` method (the grbl port, stream_job.cpp): a program whose lines arrive
+  /// while it runs (stream_lines), each checked as it passes; `check` runs them through every
+  /// check without motion ($C). Refused like run. The reply comes at once (the lines follow
+  /// it); then `stream` events say how many lines are done, and the error that ended it.
+  Outcome stream_open(ClientId client, const rpc::json& id, bool check, std::shared_ptr<RtLink> link, const Status& st,
+                      const MachineConfig& config, const WorkState& work);
+  /// `stream_lines`: appends whole lines to the open stream (refused when none is open).
+  Outcome stream_lines(const std::string& text);
+  /// `stream_close`: the end of the stream's input; its program ends after the last line.
+  Outcome stream_close();
+
   /// The `resume` method in HOST_LOST: continues the journal's program with the work offsets
   /// the journal recorded (reply later).
   Outcome resume(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> link, const Status& st,
@@ -86,6 +98,8 @@ class JobControl {
   void mdi_job(ClientId client, const rpc::json& id, const std::string& text, std::shared_ptr<RtLink> l,
                const MachineConfig& cfg, const WorkState& ws, const Vec3& start);
   Outcome refuse_start(const Status& st) const;
+  void stream_job(ClientId client, const rpc::json& id, bool check, std::shared_ptr<LineFeed> feed, std::uint64_t n,
+                  std::shared_ptr<RtLink> l, const MachineConfig& cfg, const WorkState& ws, const Vec3& start);
   void resume_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg, JobJournal jj);
   void follow_job(ClientId client, const rpc::json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
                   rpc::json started, const std::string& file, const std::function<JobResult(JobRunner&)>& body,
@@ -105,6 +119,9 @@ class JobControl {
   rpc::json info_ = rpc::json::object();
   rpc::json last_ = nullptr;
   std::string journal_error_;  // the last journal write failure, until one succeeds
+  std::shared_ptr<LineFeed> feed_;  // the open stream's input (guarded by mutex_)
+  std::uint64_t streams_ = 0;       // streams opened (each stream's number in its events)
+  std::atomic<std::uint64_t> stream_blocks_{0};  // blocks the open stream handed to the ring feeder
 };
 
 }  // namespace pcnc

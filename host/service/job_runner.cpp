@@ -68,6 +68,7 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
 
   // Virtual clock: spin up to 200 µs for a free slot (see RingFeeder); real clock: 20 µs.
   RingFeeder feeder(link_, 0.02, link_.status().clock_virtual ? 200000 : 20000);
+  feeder.set_staging(staging_);
   Command start;
   start.kind = CommandKind::kProgramStart;
   start.value = contouring ? 1.0 : 0.0;

@@ -46,6 +46,8 @@ class JobRunner {
   /// The same over any block source; `contouring` is the mode at program start.
   JobResult run_source(const BlockSource& source, bool contouring, const std::atomic<bool>& interrupt,
                        const std::function<void(const JobProgress&)>& progress = {});
+  /// The ring feeder's staging (ring_feeder.hpp); off for a streamed program.
+  void set_staging(bool on) { staging_ = on; }
   /// Called once the rt has taken the program start (the program is under way).
   void set_on_started(std::function<void()> fn) { on_started_ = std::move(fn); }
 
@@ -56,6 +58,7 @@ class JobRunner {
   RtLink& link_;
   const MachineConfig& config_;
   std::function<void()> on_started_;
+  bool staging_ = true;
 };
 
 }  // namespace pcnc

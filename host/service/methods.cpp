@@ -208,6 +208,15 @@ std::vector<Method> method_table(ServiceParts parts) {
                      if (!s.captures) return Outcome::fail(refused("capture is not available in this service"));
                      return s.captures->start(c.client, c.id, c.link, c.status, p);
                    })},
+      // the grbl port's streamed program (stream_job.cpp, docs/grbl-protocol.md)
+      {"stream_open", kParams, kRt,
+       with_params(rpc::check_stream_open_params,
+                   [s](Call& c, const rpc::StreamOpenParams& p) {
+                     return s.jobs.stream_open(c.client, c.id, p.check, c.link, c.status, s.config, s.work.state());
+                   })},
+      {"stream_lines", kParams, kNoRt,
+       with_params(rpc::check_stream_lines_params, [s](Call&, const rpc::StreamLinesParams& p) { return s.jobs.stream_lines(p.text); })},
+      {"stream_close", kNoParams, kNoRt, [s](Call&) { return s.jobs.stream_close(); }},
   };
 }
 

@@ -46,7 +46,7 @@ class RingFeeder {
     const bool waited = slot == nullptr;
     if (waited) {
       if (staged_.empty()) staged_.resize(kStageDepth);
-      while (staged_count_ < kStageDepth && !input_ended_ && ring.begin_push() == nullptr) {
+      while (staging_ && staged_count_ < kStageDepth && !input_ended_ && ring.begin_push() == nullptr) {
         if (fill(staged_[(staged_head_ + staged_count_) % kStageDepth])) {
           ++staged_count_;
         } else {
@@ -75,6 +75,11 @@ class RingFeeder {
     return FeedResult::kPushed;
   }
 
+  /// Staging off: fill is called only with a free slot in hand. For a source that may wait
+  /// for its input (a streamed program): blocks it made are never held back in staging while
+  /// it waits for lines, so the machine runs everything received.
+  void set_staging(bool on) { staging_ = on; }
+
   /// Restart numbering for a new program (the rt expects seq 1 after kProgramStart).
   void reset_sequence() { seq_ = 0; }
   std::uint64_t pushed() const { return seq_; }
@@ -90,6 +95,7 @@ class RingFeeder {
   double check_period_s_;
   std::uint64_t spin_ns_;
   std::uint64_t seq_ = 0;
+  bool staging_ = true;
   LatencyHistogram refill_;
   static constexpr std::size_t kStageDepth = 16;
   std::vector<Block> staged_;  // blocks prepared while the ring was full, oldest at staged_head_

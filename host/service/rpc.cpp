@@ -150,7 +150,8 @@ std::string dump_line(const json& j) { return j.dump(-1, ' ', false, json::error
 const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names = {"status", "run",     "pause",  "resume",        "stop",
                                                  "estop",  "reset",   "override", "jog",         "jog_keepalive",
-                                                 "jog_stop", "set_offset", "mdi",     "touch_off",   "subscribe", "capture"};
+                                                 "jog_stop", "set_offset", "mdi",     "touch_off",   "subscribe", "capture",
+                                                 "stream_open", "stream_lines", "stream_close"};
   return names;
 }
 
@@ -400,6 +401,28 @@ Checked<SubscribeParams> check_subscribe_params(const json& params) {
   ParamReader r("subscribe", params);
   SubscribeParams p;
   if (auto v = r.number("rate_hz", 0.0, kMaxSubscribeHz, false, "Hz")) p.rate_hz = *v;
+  return done(r, p);
+}
+
+Checked<StreamOpenParams> check_stream_open_params(const json& params) {
+  ParamReader r("stream_open", params);
+  StreamOpenParams p;
+  p.check = r.boolean("check").value_or(false);
+  return done(r, p);
+}
+
+Checked<StreamLinesParams> check_stream_lines_params(const json& params) {
+  ParamReader r("stream_lines", params);
+  StreamLinesParams p;
+  if (auto t = r.string("text", true)) {
+    if (t->size() > kMaxMdiBytes) {
+      r.fail("parameter 'text' of stream_lines is too long: " + std::to_string(t->size()) + " bytes, at most " +
+             std::to_string(kMaxMdiBytes));
+    } else if (t->find('\0') != std::string::npos) {
+      r.fail("parameter 'text' of stream_lines must not contain a NUL character");
+    }
+    p.text = *t;
+  }
   return done(r, p);
 }
 

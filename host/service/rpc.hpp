@@ -102,6 +102,14 @@ struct TouchOffParams {
   double value = 0.0;  // what the current position shall read in the active work system, mm
 };
 
+struct StreamOpenParams {
+  bool check = false;  // $C: every check, no motion
+};
+
+struct StreamLinesParams {
+  std::string text;  // whole lines of G-code, at most kMaxMdiBytes
+};
+
 struct SubscribeParams {
   double rate_hz = 10.0;  // 0 = unsubscribe, else (0, 50]
 };
@@ -126,6 +134,8 @@ Checked<SetOffsetParams> check_set_offset_params(const json& params);
 Checked<MdiParams> check_mdi_params(const json& params);
 Checked<TouchOffParams> check_touch_off_params(const json& params);
 Checked<SubscribeParams> check_subscribe_params(const json& params);
+Checked<StreamOpenParams> check_stream_open_params(const json& params);
+Checked<StreamLinesParams> check_stream_lines_params(const json& params);
 /// For methods without parameters: params must be absent, null or an empty object.
 std::optional<Error> check_no_params(const std::string& method, const json& params);
 
