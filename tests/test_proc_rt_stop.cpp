@@ -192,7 +192,10 @@ TEST_P(SigtermRt, ComesToRestAlongThePathThenExitsZero) {
   EXPECT_NE(rt.err().find("brought the machine to rest before exiting"), std::string::npos) << rt.err();
   EXPECT_THROW(HostSegment seg(test_shm_name(tag)), SegmentError) << "a clean exit removes the segment";
   const TraceEnd t = read_trace(trace, m);
-  expect_brought_to_rest(t, 0.9 * cruise);
+  // On the virtual clock the rt runs ~1000x real time, so the microseconds between seeing the
+  // cruise speed and the signal landing can be seconds of machine time: the signal may find
+  // it slowing for a corner. It must be moving; the rest holds as for the real clock.
+  expect_brought_to_rest(t, c.clock == "virtual" ? 1.0 : 0.9 * cruise);
   // At most the deceleration from the cruise speed at the configured acceleration, plus the
   // settling; under load the real clock takes longer in wall time, never in machine time.
   const double v = t.stop_speed, a = m.axes[0].max_accel_mm_s2;

@@ -441,6 +441,10 @@ void ControlServer::run(const std::atomic<bool>& stop, double tick_s) {
         if (it->second.fd >= 0 && (rev & (POLLIN | POLLHUP | POLLERR))) read_client(ids[i], it->second);
       }
     }
+    // What other threads posted before these lines arrived goes first (a job's end and the
+    // offsets it left are then in the status a client asks for next); the wake-up fd is
+    // non-blocking, so this costs a lock when nothing was posted.
+    run_posted();
     // Hand complete lines to the handler, a bounded number per client per turn.
     for (auto& [id, c] : clients_) handle_lines(id, c);
     expire_clients();
