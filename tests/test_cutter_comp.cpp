@@ -215,6 +215,12 @@ TEST(CutterComp, BottleNeckNarrowerThanTheToolIsAGougeLinuxCncCannotSee) {
   loose.cutter_comp.gouge_check = false;  // LinuxCNC's local tests alone: accepted
   const Listing local = list_program(bottle("1.5"), loose);
   EXPECT_TRUE(local.result.ok) << local.first_error();
+  // The gouge is an error (nothing would move), but the listing goes on through it with
+  // LinuxCNC's moves, as LinuxCNC's interpreter would: the same moves as without the test.
+  ASSERT_EQ(gouge.moves.size(), local.moves.size());
+  for (std::size_t i = 0; i < local.moves.size(); ++i) {
+    EXPECT_EQ(norm(gouge.moves[i].end - local.moves[i].end), 0.0) << "move " << i;
+  }
   // A neck 2.5 wide fits the same tool.
   const Listing fits = list_program(bottle("2.5"));
   EXPECT_TRUE(fits.result.ok) << fits.first_error();

@@ -214,11 +214,15 @@ void CutterComp::programmed_piece(const Move& m) {
     p = segment(a, b);
   }
   Gouge g;
-  if (options_.gouge_check && !gouge_.programmed(p, index_, m.line, g)) {
-    sink_.error(g.line, g.column, describe_gouge(g, radius_));
-    broken_serial_ = serial_;
-    active_ = false;
-  }
+  if (options_.gouge_check && !gouge_.programmed(p, index_, m.line, g)) report_gouge(g);
+}
+
+// An exact gouge found by the look-ahead (a test LinuxCNC does not make): an error, so nothing
+// of the program moves, but the session goes on as LinuxCNC's would, so that the listing
+// (pcnc check --print-moves) still shows LinuxCNC's moves and every further gouge is reported.
+void CutterComp::report_gouge(const Gouge& g) {
+  sink_.error(g.line, g.column, describe_gouge(g, radius_));
+  ++figures_.gouges;
 }
 
 CutterComp::Held CutterComp::held(const Move& m, Vec2 end, double o) const {
@@ -270,16 +274,12 @@ void CutterComp::emit(const Held& h) {
   ++figures_.moves_out;
   if (h.entry || !active_ || !options_.gouge_check) return;
   Gouge g;
-  if (!gouge_.tool(piece, h.index, out.line, out.column, g)) {
-    sink_.error(g.line, g.column, describe_gouge(g, radius_));
-    broken_serial_ = serial_;
-    active_ = false;
-  }
+  if (!gouge_.tool(piece, h.index, out.line, out.column, g)) report_gouge(g);
 }
 
 void CutterComp::dequeue() {
   endpoint_valid_ = false;
-  // emit() may end the session on a gouge; the held moves still go out in order.
+  // The held moves go out in order (a gouge emit() finds is reported, the session goes on).
   std::vector<Held> held;
   held.swap(queue_);
   for (const Held& h : held) emit(h);

@@ -56,6 +56,7 @@ struct CompFigures {
   std::uint64_t fitted_runs = 0;       // G1 runs fitted
   std::uint64_t moves_replaced = 0;    // programmed moves they held (a NURBS counts 1)
   std::uint64_t biarcs = 0;            // biarcs that replaced them
+  std::uint64_t gouges = 0;            // exact look-ahead gouges reported (errors; the moves go on)
   std::uint64_t fit_arcs = 0;          // arcs (and straight pieces) those biarcs are made of
   double max_fit_deviation_mm = 0.0;   // the largest deviation measured between a curve and its arcs
   // The programmed contour of each session (machine mm, arcs as chords of at most 3 degrees),
@@ -116,6 +117,7 @@ class CutterComp {
   bool move_endpoint_and_flush(const Move& m, Vec2 p);
   void dequeue();
   void emit(const Held& h);
+  void report_gouge(const Gouge& g);
   Held held(const Move& m, Vec2 end, double oop) const;  // a held move of this session
   void enqueue_line(const Move& m, Vec2 dir, Vec2 end, double oop);
   void enqueue_arc(const Move& m, double original_turn, Vec2 end, Vec2 center, int turn, double oop);

@@ -65,10 +65,11 @@ class Pipeline {
   /// without making blocks: the --fit measuring pass, or the rest of a failed program.
   void drain();
 
-  /// The moves as they leave the front end (interpreter, then cutter compensation), before
-  /// the preflight: `pcnc check --print-moves`. False after the End move.
+  /// The moves as the program defines them: the interpreter's, through cutter compensation
+  /// and surface correction (what LinuxCNC's interpreter would hand its motion planner), not
+  /// yet smoothed: `pcnc check --print-moves`. False after the End move.
   /// Not to be mixed with next()/drain() on one pipeline.
-  bool front_end_move(Move& m) { return geometry_move(m); }
+  bool front_end_move(Move& m) { return to_smoother_(m); }
   /// Message comments ((MSG,...), (DEBUG,...), (PRINT,...)) as their lines run.
   void set_message_handler(MessageHandler handler) { source_.set_message_handler(std::move(handler)); }
   /// The offsets and stored positions as the program has left them so far.

@@ -223,9 +223,12 @@ MoveListing list_input(const Input& in, const std::string& name, const MachineCo
     pipeline.set_message_handler(on_message);
     Move m;
     // Up to the first error, as LinuxCNC's interpreter stops there (pcnc check without
-    // --print-moves goes on for every diagnostic).
-    while (!sink.has_errors() && pipeline.front_end_move(m)) {
-      if (sink.has_errors()) break;
+    // --print-moves goes on for every diagnostic); the exact gouges cutter compensation finds
+    // beyond LinuxCNC's own tests are errors that LinuxCNC would run through, so the listing
+    // goes on past them.
+    auto stop = [&] { return sink.error_count() > pipeline.comp_figures().gouges; };
+    while (!stop() && pipeline.front_end_move(m)) {
+      if (stop()) break;
       ++result.moves;
       if (on_move) on_move(m);
     }
