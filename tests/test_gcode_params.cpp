@@ -260,7 +260,14 @@ TEST(GcodeFlow, AMillionIterationsInBoundedMemory) {
   ASSERT_TRUE(r.ok);
   EXPECT_EQ(moves, 1000000u);
   EXPECT_DOUBLE_EQ(last_x, 9.0);
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer holds freed memory in its quarantine (256 MB by default), so its peak says
+  // nothing of the program's: the bound is checked in the normal build.
+  (void)before;
+  (void)after;
+#else
   EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 16 * 1024) << "kB of peak memory grown over 10^6 iterations";
+#endif
 }
 
 TEST(GcodeFlow, LoopsAndCallsAcrossTheReadBufferOfAFile) {
