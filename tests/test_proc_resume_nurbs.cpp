@@ -56,8 +56,10 @@ void kill_host_inside_the_curve_and_resume(const std::string& tag, const char* p
   // Inside the curve, some way along it.
   const json inside = p.wait_status(
       [&](const json& s) {
-        const int line = s["line"].get<int>();
-        return s["state"] == "RUNNING" && line >= kCurveFirst && line <= kCurveLast && s["program_time_s"].get<double>() > 8.0;
+        // (a status without the rt, or before a job, has no line: read with defaults)
+        const int line = s.value("line", 0);
+        return s.value("state", "") == "RUNNING" && line >= kCurveFirst && line <= kCurveLast &&
+               s.value("program_time_s", 0.0) > 8.0;
       },
       60);
   ASSERT_EQ(inside["state"], "RUNNING") << inside.dump();
