@@ -305,6 +305,10 @@ SplineFit fit_polyline(const std::vector<Vec3>& points, double tolerance) {
         }
       }
     }
+    // More knots than about two per programmed point cannot bring a cubic closer to the
+    // points and segments (a corner the angle did not see): give up here, the caller cuts the
+    // run at the worst point. This also bounds the work per fit on any input.
+    if (refined.size() > 2 * points.size() + 8) stuck = true;
     if (!split || stuck || round + 1 >= kMaxRounds) break;
     interior = std::move(refined);
   }
