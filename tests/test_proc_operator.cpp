@@ -26,11 +26,18 @@ bool idle(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].ge
 
 // Runs `text` as MDI and waits for its end; returns the status after it.
 json mdi(ServicePair& p, const std::string& text, int* code = nullptr) {
+  // The record of the job before this one: the wait below is for a new one (an earlier MDI's
+  // record would otherwise satisfy it before this job has even started).
+  const json before = p.status().value("last_job", json());
   const json r = p.call("mdi", {{"text", text}});
   if (code) *code = error_code(r);
   if (!r.contains("result")) return r;
   EXPECT_TRUE(r["result"]["mdi"].get<bool>()) << r.dump();
-  return p.wait_status([](const json& x) { return idle(x) && x["last_job"].is_object() && x["last_job"]["file"] == "MDI"; }, 60);
+  return p.wait_status(
+      [&](const json& x) {
+        return idle(x) && x["last_job"].is_object() && x["last_job"]["file"] == "MDI" && x["last_job"] != before;
+      },
+      60);
 }
 
 TEST(ServiceOperator, TouchOffSetsTheActiveOffsetAndSurvivesARestart) {
