@@ -111,14 +111,20 @@ TEST(GcodeOffsets, TheStartingWorkStateIsUsed) {
   expect_xyz(l.moves[0].end, 11, 2, 3);
 }
 
-TEST(GcodeTools, LengthOffsetsFromTheTable) {
+// A table holding one tool in its own pocket.
+std::shared_ptr<ToolTable> one_tool(int number, double length, double diameter = 0.0) {
   auto table = std::make_shared<ToolTable>();
-  ToolEntry t1;
-  t1.number = 1;
-  t1.pocket = 1;
-  t1.offset = Vec3{0, 0, 10};
-  t1.diameter = 6;
-  table->set(t1);
+  ToolEntry t;
+  t.number = number;
+  t.pocket = number;
+  t.offset = Vec3{0, 0, length};
+  t.diameter = diameter;
+  table->set(t);
+  return table;
+}
+
+TEST(GcodeTools, LengthOffsetsFromTheTable) {
+  const auto table = one_tool(1, 10.0, 6.0);
   JobOptions o;
   o.tools = table;
   const Listing l = list_program(
@@ -139,14 +145,8 @@ TEST(GcodeTools, LengthOffsetsFromTheTable) {
 
 TEST(GcodeTools, TheToolAndItsLengthOffsetCarryFromOneProgramToTheNext) {
   // As in LinuxCNC: the tool stays in the spindle and M2 does not cancel G43.
-  auto table = std::make_shared<ToolTable>();
-  ToolEntry t3;
-  t3.number = 3;
-  t3.pocket = 3;
-  t3.offset = Vec3{0, 0, 7.5};
-  table->set(t3);
   JobOptions o;
-  o.tools = table;
+  o.tools = one_tool(3, 7.5);
   o.work = default_work_state(wide_config());
   const Listing a = list_program("T3 M6 G43\nG0 Z0\nM2\n", wide_config(), o);
   ASSERT_TRUE(a.result.ok) << a.first_error();
