@@ -73,6 +73,28 @@ TEST(Smoothing, ARealCornerStaysACornerBetweenTwoCurves) {
   EXPECT_EQ(out[1].line_marks->back().line, 40);
 }
 
+// A zigzag of 3 mm moves turning 9° each (under the smoothing angle) at 0.5 µm: no cubic with
+// knots at most about two per move follows it, so every fit fails and the run is cut again and
+// again, down to the programmed lines, in order (the cut-and-refit recursion has a work bound
+// on such runs; what it gives back is always the programmed moves).
+TEST(Smoothing, ARunNoCurveCanFollowComesBackAsItsLines) {
+  std::vector<Move> in;
+  Vec3 p{1, 1, 0};
+  for (int i = 0; i < 400; ++i) {
+    const double h = (i % 2 ? 4.5 : -4.5) * M_PI / 180.0;
+    const Vec3 q = p + Vec3{3.0 * std::cos(h), 3.0 * std::sin(h), 0.0};
+    in.push_back(line(p, q, i + 1, 0.0005));
+    p = q;
+  }
+  const std::vector<Move> out = smooth(in);
+  ASSERT_EQ(out.size(), in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    EXPECT_EQ(out[i].kind, MoveKind::kLine) << i;
+    EXPECT_EQ(out[i].start, in[i].start) << i;
+    EXPECT_EQ(out[i].end, in[i].end) << i;
+  }
+}
+
 TEST(Smoothing, WhatMustNotBeSmoothedPassesUnchanged) {
   // under M22, with tolerance 0, and a single move between corners: lines, as they came
   for (const std::vector<Move>& in : {bend({1, 1, 0}, 0.0, 1, 0.005, false), bend({1, 1, 0}, 0.0, 1, 0.0, true)}) {

@@ -408,15 +408,15 @@ std::string format_block(const Block& b) {
     case BlockKind::kLine:
     case BlockKind::kArc:
     case BlockKind::kNurbs:
-      add(" ");
+      add("%s", " ");
       pt(b.start);
-      add("->");
+      add("%s", "->");
       pt(b.end);
       add(" len=%.4f class=%s v=%.3f a=%.1f drive=%c%c vd=%.3f ad=%.1f dec=%.4f t0=", c(b.length, 1e4),
           to_string(b.motion_class), c(b.speed, 1e3), c(b.accel, 1e1), axis_name(b.driving_axis),
           b.driving_dir < 0 ? '-' : '+', c(b.driving_speed, 1e3), c(b.driving_accel, 1e1), c(b.decel_start, 1e4));
       pt(b.dir_start);
-      add(" t1=");
+      add("%s", " t1=");
       pt(b.dir_end);
       add(" m21=%d", static_cast<int>(b.contouring));
       if (b.kind == BlockKind::kNurbs) {
@@ -425,7 +425,7 @@ std::string format_block(const Block& b) {
         add("] schedule=%d", static_cast<int>(b.nurbs.schedule_count));
       }
       if (b.kind == BlockKind::kArc) {
-        add(" center=");
+        add("%s", " center=");
         pt(b.arc.center);
         add(" r=%.4f normal=%c a0=%.6f sweep=%.6f helix=%.4f w=%.4f aw=%.2f dec_a=%.6f", c(b.arc.radius, 1e4),
             axis_name(b.arc.normal_axis), c(b.arc.start_angle, 1e6), c(b.arc.sweep, 1e6), c(b.arc.helix, 1e4),
@@ -441,7 +441,7 @@ std::string format_block(const Block& b) {
       pt(b.end);
       break;
     case BlockKind::kEnd:
-      add(" at ");
+      add("%s", " at ");
       pt(b.end);
       break;
   }

@@ -55,6 +55,7 @@ bool Smoother::next(const std::function<bool(Move&)>& pull, Move& out) {
 }
 
 void Smoother::flush_run() {
+  fit_work_left_ = kFitWork * points_.size();
   if (!run_.empty()) fit_range(0, points_.size() - 1);
   run_.clear();
   points_.clear();
@@ -62,10 +63,12 @@ void Smoother::flush_run() {
 
 // Move k of the run goes from points_[k] to points_[k + 1].
 void Smoother::fit_range(std::size_t first, std::size_t last) {
-  if (last - first < 2) {  // a single move stays a line
+  const std::size_t count = last - first + 1;
+  if (last - first < 2 || count > fit_work_left_) {  // a single move, or the run's work spent: lines
     for (std::size_t k = first; k < last; ++k) out_.push_back(run_[k]);
     return;
   }
+  fit_work_left_ -= count;
   const std::vector<Vec3> pts(points_.begin() + static_cast<std::ptrdiff_t>(first),
                               points_.begin() + static_cast<std::ptrdiff_t>(last) + 1);
   const double tolerance = run_[first].path_tolerance_mm;

@@ -18,7 +18,10 @@
 //     there (the rt passes it at the junction-deviation speed for the tolerance);
 //   * where the fit cannot stay within the tolerance, the run is cut at the worst programmed
 //     point (a corner kept) and both parts are fitted again; a single move stays a line;
-//   * at most kMaxRun moves per curve.
+//   * at most kMaxRun moves per curve;
+//   * the fits of one run cost at most kFitWork times its points (a bound on the cut-and-refit
+//     recursion, which a run that fails near one end again and again would make quadratic):
+//     a range met with the work spent stays the programmed lines.
 #pragma once
 
 #include <cstdint>
@@ -41,6 +44,7 @@ struct SmoothingStats {
 class Smoother {
  public:
   static constexpr std::size_t kMaxRun = 2000;
+  static constexpr std::size_t kFitWork = 24;  // points fitted per point of a run, at most
 
   explicit Smoother(const MachineConfig& config);
 
@@ -57,6 +61,7 @@ class Smoother {
   void fit_range(std::size_t first, std::size_t last);  // points first..last of the run
 
   double cos_corner_;
+  std::size_t fit_work_left_ = 0;  // points the run's remaining fits may still take
   std::vector<Move> run_;      // the run's moves (null moves dropped)
   std::vector<Vec3> points_;   // the run's start and each move's end
   std::deque<Move> out_;       // moves ready to hand on

@@ -272,7 +272,10 @@ SplineFit fit_polyline(const std::vector<Vec3>& points, double tolerance) {
   std::vector<double> du;
   std::vector<Vec3> dp;
   std::vector<double> interior;
-  const int first_spans = std::max(1, static_cast<int>(std::ceil(length / kFirstSpanMm)));
+  // Knots kFirstSpanMm apart, but no more than the refinement below may reach (about two per
+  // programmed point): a few very long moves must not cost thousands of spans.
+  const double max_spans = 2.0 * static_cast<double>(points.size()) + 8.0;
+  const int first_spans = static_cast<int>(std::clamp(std::ceil(length / kFirstSpanMm), 1.0, max_spans));
   for (int i = 1; i < first_spans; ++i) interior.push_back(length * i / first_spans);
   std::vector<double> knots;
   std::vector<Deviation> devs;
