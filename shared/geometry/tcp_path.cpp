@@ -1,0 +1,66 @@
+// tcp_path.cpp — joints, dq/ds and d²q/ds² along a tool-centre-point move, and the path speed
+// and acceleration caps they impose (tcp_path.hpp). With u = s/length:
+//   tip(s) = start + u·(end − start):  d tip/ds = (end − start)/length,  d² tip/ds² = 0
+//   axis(s) = slerp(u):                 d axis/ds = slerp'(u)/length,    d² axis/ds² = slerp''(u)/length²
+#include "geometry/tcp_path.hpp"
+
+#include <cmath>
+
+#include "geometry/kinematics_rates.hpp"
+
+namespace pcnc {
+
+ToolPose tcp_pose(const TcpMove& move, const AxisSlerp& axes, double u) {
+  return {move.start.tip + u * (move.end.tip - move.start.tip), slerp_axis(axes, u)};
+}
+
+std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& move, double length,
+                                         const Joints& previous, int samples) {
+  const AxisSlerp axes = make_axis_slerp(move.start.axis, move.end.axis);
+  const Vec3 dtip = (1.0 / length) * (move.end.tip - move.start.tip);
+  std::vector<JointSample> out;
+  out.reserve(static_cast<std::size_t>(samples));
+  Joints prev = previous;
+  for (int i = 0; i < samples; ++i) {
+    const double u = static_cast<double>(i) / (samples - 1);
+    JointSample js;
+    js.s = u * length;
+    js.q = inverse(kin, tcp_pose(move, axes, u), prev);
+    js.dq = joint_rates(kin, js.q, {dtip, (1.0 / length) * slerp_axis_d1(axes, u)});
+    js.ddq = joint_accels(kin, js.q, js.dq, {{0.0, 0.0, 0.0}, (1.0 / (length * length)) * slerp_axis_d2(axes, u)});
+    prev = js.q;
+    out.push_back(js);
+  }
+  return out;
+}
+
+PathCaps tcp_path_caps(const std::vector<JointSample>& samples, const JointLimits& limits, double feed,
+                       double accel) {
+  constexpr double kEps = 1e-12;
+  PathCaps caps{feed, accel, -1, -1};
+  for (const JointSample& js : samples)
+    for (int j = 0; j < kJoints; ++j) {
+      const double d1 = std::abs(js.dq[j]), d2 = std::abs(js.ddq[j]);
+      if (d1 > kEps && limits.velocity[j] / d1 < caps.speed) {
+        caps.speed = limits.velocity[j] / d1;
+        caps.speed_joint = j;
+      }
+      if (d2 > kEps && std::sqrt(limits.acceleration[j] / (2.0 * d2)) < caps.speed) {
+        caps.speed = std::sqrt(limits.acceleration[j] / (2.0 * d2));
+        caps.speed_joint = j;
+      }
+    }
+  for (const JointSample& js : samples)
+    for (int j = 0; j < kJoints; ++j) {
+      const double d1 = std::abs(js.dq[j]), d2 = std::abs(js.ddq[j]);
+      if (d1 <= kEps) continue;
+      const double a = (limits.acceleration[j] - d2 * caps.speed * caps.speed) / d1;
+      if (a < caps.accel) {
+        caps.accel = a;
+        caps.accel_joint = j;
+      }
+    }
+  return caps;
+}
+
+}  // namespace pcnc
