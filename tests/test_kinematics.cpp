@@ -167,6 +167,29 @@ void inverse_of_forward_is_identity(KinematicsKind kind, std::uint64_t seed) {
 TEST(Kinematics, InverseOfForwardIsIdentityTableTable) { inverse_of_forward_is_identity(KinematicsKind::kTableTable, 3); }
 TEST(Kinematics, InverseOfForwardIsIdentityHeadTable) { inverse_of_forward_is_identity(KinematicsKind::kHeadTable, 4); }
 
+TEST(Kinematics, TiltTravelPrefersTheReachableSolution) {
+  // B from −30° to +110°: an axis tilted 60° is reached at B = +60° (C + 180°), even from
+  // joints near the other solution (B = −60°), which the plain rule would take.
+  const Kinematics k = head_table({0, 0, 90}, {0, 0, 0}, 20);
+  const TiltTravel travel{-30 * kDeg, 110 * kDeg};
+  const ToolPose p = forward(k, {5, 6, 7, -60 * kDeg, 10 * kDeg});
+  const Joints near_other{0, 0, 0, -55 * kDeg, 12 * kDeg};
+  const Joints plain = inverse(k, p, near_other);
+  EXPECT_NEAR(plain[kTilt], -60 * kDeg, 1e-12);
+  const Joints q = inverse(k, p, near_other, travel);
+  EXPECT_NEAR(q[kTilt], 60 * kDeg, 1e-12);
+  EXPECT_NEAR(q[kRotary], 190 * kDeg, 1e-12);  // unwrapped nearest 12°: 190°, not −170°
+  const ToolPose back = forward(k, q);
+  EXPECT_LT(norm(back.tip - p.tip), 1e-9);
+  EXPECT_LT(norm(back.axis - p.axis), 1e-12);
+  // both inside: the nearer, as without a travel
+  const Joints both = inverse(k, forward(k, {5, 6, 7, -20 * kDeg, 0}), {0, 0, 0, -0.3, 0}, travel);
+  EXPECT_NEAR(both[kTilt], -20 * kDeg, 1e-12);
+  // both outside (tilt 120°): the nearer one still, for the caller to refuse
+  const Joints out = inverse(k, forward(k, {5, 6, 7, 120 * kDeg, 0}), {0, 0, 0, 2.0, 0}, travel);
+  EXPECT_NEAR(out[kTilt], 120 * kDeg, 1e-12);
+}
+
 TEST(Kinematics, UnwrapNear) {
   EXPECT_NEAR(unwrap_near(0.1, 4 * kPi), 4 * kPi + 0.1, 1e-12);
   EXPECT_NEAR(unwrap_near(-3.0, 3.0), 2 * kPi - 3.0, 1e-12);

@@ -55,6 +55,10 @@ TiltRotary tilt_rotary(KinematicsKind kind, const Vec3& v, double keep, bool* si
 }  // namespace
 
 Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous) {
+  return inverse(kin, pose, previous, TiltTravel{});
+}
+
+Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous, const TiltTravel& travel) {
   const Vec3 ez{0.0, 0.0, 1.0};
   if (kin.kind == KinematicsKind::kTrivial) {
     const Vec3 xyz = pose.tip + kin.tool_length * ez;
@@ -66,11 +70,14 @@ Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previo
   double tilt = tr.tilt;
   double rot = unwrap_near(tr.rotary, previous[kRotary]);
   if (!singular) {
-    // the other solution: (−tilt, rotary + π); take the one nearer the previous joints
+    // the other solution: (−tilt, rotary + π); take the one inside the tilt's travel, and of
+    // two inside (or two outside) the one nearer the previous joints
     const double rot2 = unwrap_near(tr.rotary + std::numbers::pi, previous[kRotary]);
     const double d1 = std::abs(tilt - previous[kTilt]) + std::abs(rot - previous[kRotary]);
     const double d2 = std::abs(-tilt - previous[kTilt]) + std::abs(rot2 - previous[kRotary]);
-    if (d2 < d1) {
+    const bool in1 = tilt >= travel.min && tilt <= travel.max;
+    const bool in2 = -tilt >= travel.min && -tilt <= travel.max;
+    if (in1 != in2 ? in2 : d2 < d1) {
       tilt = -tilt;
       rot = rot2;
     }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 
 #include "geometry/vec3.hpp"
 
@@ -58,6 +59,17 @@ ToolPose forward(const Kinematics& kin, const Joints& q);
 /// continuous C never jumps by 2π). At the singularity (|sin tilt| < kSingularSin) the rotary
 /// joint keeps previous[kRotary]. For kTrivial the axis is ignored and tilt, rotary are 0.
 Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous);
+
+/// The travel of the tilt joint (rad), for choosing between the inverse's two solutions.
+struct TiltTravel {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+};
+
+/// As above, but a solution whose tilt lies inside `travel` is preferred to one outside it
+/// (of two inside, or two outside, the nearer one): a tilt of −30°..+110° reaches an axis
+/// tilted 60° only at +60°, whatever the previous joints. The caller still checks the result.
+Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous, const TiltTravel& travel);
 
 /// The angle nearest `reference` that equals `angle` modulo 2π.
 double unwrap_near(double angle, double reference);
