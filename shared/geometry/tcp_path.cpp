@@ -4,7 +4,9 @@
 //   axis(s) = slerp(u):                 d axis/ds = slerp'(u)/length,    d² axis/ds² = slerp''(u)/length²
 #include "geometry/tcp_path.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "geometry/kinematics_rates.hpp"
 
@@ -14,15 +16,34 @@ ToolPose tcp_pose(const TcpMove& move, const AxisSlerp& axes, double u) {
   return {move.start.tip + u * (move.end.tip - move.start.tip), slerp_axis(axes, u)};
 }
 
+namespace {
+
+/// The fractions u in (0, 1) at which the great circle comes nearest +Z or −Z (the C axis, where
+/// the rotary rate peaks): vz = cos(uθ)·a_z + sin(uθ)·w_z is extreme at uθ = atan2(w_z, a_z) (+π).
+std::vector<double> nearest_to_pole(const AxisSlerp& axes) {
+  std::vector<double> out;
+  if (axes.angle <= 0.0 || std::hypot(axes.from[2], axes.across[2]) == 0.0) return out;
+  const double phi = std::atan2(axes.across[2], axes.from[2]);
+  for (double p : {phi - std::numbers::pi, phi, phi + std::numbers::pi})
+    if (p > 0.0 && p < axes.angle) out.push_back(p / axes.angle);
+  return out;
+}
+
+}  // namespace
+
 std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& move, double length,
                                          const Joints& previous, int samples) {
   const AxisSlerp axes = make_axis_slerp(move.start.axis, move.end.axis);
   const Vec3 dtip = (1.0 / length) * (move.end.tip - move.start.tip);
+  std::vector<double> us;
+  for (int i = 0; i < samples; ++i) us.push_back(static_cast<double>(i) / (samples - 1));
+  for (double u : nearest_to_pole(axes)) us.push_back(u);
+  std::sort(us.begin(), us.end());
+  us.erase(std::unique(us.begin(), us.end()), us.end());
   std::vector<JointSample> out;
-  out.reserve(static_cast<std::size_t>(samples));
+  out.reserve(us.size());
   Joints prev = previous;
-  for (int i = 0; i < samples; ++i) {
-    const double u = static_cast<double>(i) / (samples - 1);
+  for (double u : us) {
     JointSample js;
     js.s = u * length;
     js.q = inverse(kin, tcp_pose(move, axes, u), prev);

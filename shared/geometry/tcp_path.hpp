@@ -29,11 +29,12 @@ struct JointSample {
   Joints ddq{};     // d²q/ds²
 };
 
-/// `samples` (>= 2) evenly spaced samples from s = 0 to s = length (> 0): the caller chooses
-/// the length (the tip's travel, or an angular length for a move that only turns the tool).
-/// The first sample's joints are the inverse nearest `previous`, each next one the inverse
-/// nearest the sample before, so C never jumps a turn and a path through the singularity
-/// keeps C.
+/// `samples` (>= 2) evenly spaced samples from s = 0 to s = length (> 0), plus one where the
+/// tool axis comes nearest the C axis (+Z or −Z) inside the move, where C's rate peaks; the
+/// caller chooses the length (the tip's travel, or an angular length for a move that only
+/// turns the tool). The first sample's joints are the inverse nearest `previous`, each next
+/// one the inverse nearest the sample before, so C never jumps a turn and a path through the
+/// singularity keeps C.
 std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& move, double length,
                                          const Joints& previous, int samples);
 
