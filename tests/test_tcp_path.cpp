@@ -192,6 +192,28 @@ TEST(TcpPath, ANearMissBetweenSamplesIsStillSeen) {
   EXPECT_GT(without.speed, 10 * with.speed);
 }
 
+TEST(TcpPath, LeavingThePoleCStartsWhereTheAxisLeavesIt) {
+  // The tool stands vertical (on the C axis) and tilts 30° towards 50° in X-Y: C must be at
+  // 50° (or 230° with the tilt negative) from the start, not jump there at the first step.
+  const Kinematics k{KinematicsKind::kHeadTable, {0, 0, 80}, {1, 2, 0}, 20};
+  const TcpMove m{{{0, 0, 0}, {0, 0, 1}}, {{4, 3, -1}, tilted(30, 50)}};
+  struct Case {
+    double previous_c_deg, start_c_deg, end_tilt_deg;
+  };
+  for (const Case& c : {Case{0, 50, 30}, Case{200, 230, -30}, Case{-340, -310, 30}, Case{-100, -130, -30}}) {
+    const Joints previous{0, 0, 0, 0, c.previous_c_deg * kDeg};
+    // the plain inverse at the start keeps the previous C: the move would start with a jump
+    EXPECT_NEAR(inverse(k, m.start, previous)[kRotary], c.previous_c_deg * kDeg, 1e-12);
+    const Joints start = tcp_start_joints(k, m, previous);
+    EXPECT_NEAR(start[kRotary], c.start_c_deg * kDeg, 1e-9) << c.previous_c_deg;
+    EXPECT_LT(norm(forward(k, start).tip - m.start.tip), 1e-9);
+    const auto samples = sample_tcp_move(k, m, 5.0, previous, 501);
+    EXPECT_EQ(samples.front().q, start);
+    for (const JointSample& js : samples) ASSERT_NEAR(js.q[kRotary], start[kRotary], 1e-9) << js.s;
+    EXPECT_NEAR(samples.back().q[kTilt], c.end_tilt_deg * kDeg, 1e-9);
+  }
+}
+
 TEST(TcpPath, ThroughTheSingularityCIsNotMoved) {
   const Kinematics k{KinematicsKind::kTableTable, {0, 0, 40}, {0, 0, 0}, 20};
   const TcpMove m{{{0, -5, 0}, tilted(20, 90)}, {{0, 5, 0}, tilted(20, -90)}};

@@ -31,6 +31,20 @@ std::vector<double> nearest_to_pole(const AxisSlerp& axes) {
 
 }  // namespace
 
+Joints tcp_start_joints(const Kinematics& kin, const TcpMove& move, const Joints& previous) {
+  const Joints at = inverse(kin, move.start, previous);
+  const Vec3 v = normalized(move.start.axis);
+  const AxisSlerp axes = make_axis_slerp(move.start.axis, move.end.axis);
+  if (kin.kind == KinematicsKind::kTrivial || std::hypot(v[0], v[1]) >= kSingularSin || axes.angle == 0.0) return at;
+  // on the pole: C is the one the axis leaves it with (constant along a great circle through
+  // the pole), taken a milliradian along the move, of the two the nearer previous C
+  const double u = std::fmin(1.0, 1e-3 / axes.angle);
+  const Joints leaving = inverse(kin, tcp_pose(move, axes, u), previous);
+  Joints seed = previous;
+  seed[kRotary] = leaving[kRotary];
+  return inverse(kin, move.start, seed);
+}
+
 std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& move, double length,
                                          const Joints& previous, int samples) {
   const AxisSlerp axes = make_axis_slerp(move.start.axis, move.end.axis);
@@ -42,7 +56,7 @@ std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& m
   us.erase(std::unique(us.begin(), us.end()), us.end());
   std::vector<JointSample> out;
   out.reserve(us.size());
-  Joints prev = previous;
+  Joints prev = tcp_start_joints(kin, move, previous);
   for (double u : us) {
     JointSample js;
     js.s = u * length;

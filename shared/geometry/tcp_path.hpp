@@ -29,12 +29,19 @@ struct JointSample {
   Joints ddq{};     // d²q/ds²
 };
 
+/// The joints at the start of `move` coming from `previous`: the inverse nearest them, except
+/// when the move starts with the tool axis on the C axis (the singularity) and leaves it: then C
+/// is the one the axis leaves the pole with (of the two, the nearer previous C), so that C does
+/// not jump at the move's first step. It may differ from previous[kRotary]: the caller turns C
+/// there before the move (the tool pose does not change while it does; x, y follow the tip).
+Joints tcp_start_joints(const Kinematics& kin, const TcpMove& move, const Joints& previous);
+
 /// `samples` (>= 2) evenly spaced samples from s = 0 to s = length (> 0), plus one where the
 /// tool axis comes nearest the C axis (+Z or −Z) inside the move, where C's rate peaks; the
 /// caller chooses the length (the tip's travel, or an angular length for a move that only
-/// turns the tool). The first sample's joints are the inverse nearest `previous`, each next
-/// one the inverse nearest the sample before, so C never jumps a turn and a path through the
-/// singularity keeps C.
+/// turns the tool). The first sample's joints are tcp_start_joints, each next one the inverse
+/// nearest the sample before, so C never jumps a turn and a path through the singularity
+/// keeps C.
 std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& move, double length,
                                          const Joints& previous, int samples);
 
