@@ -69,22 +69,34 @@ std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& m
   return out;
 }
 
+double joint_speed_cap(const JointSample& js, const JointLimits& limits, double feed, int* joint) {
+  constexpr double kEps = 1e-12;
+  double speed = feed;
+  if (joint) *joint = -1;
+  for (int j = 0; j < kJoints; ++j) {
+    const double d1 = std::abs(js.dq[j]), d2 = std::abs(js.ddq[j]);
+    const double by_speed = d1 > kEps ? limits.velocity[j] / d1 : feed;
+    const double by_accel = d2 > kEps ? std::sqrt(limits.acceleration[j] / (2.0 * d2)) : feed;
+    if (std::fmin(by_speed, by_accel) < speed) {
+      speed = std::fmin(by_speed, by_accel);
+      if (joint) *joint = j;
+    }
+  }
+  return speed;
+}
+
 PathCaps tcp_path_caps(const std::vector<JointSample>& samples, const JointLimits& limits, double feed,
                        double accel) {
   constexpr double kEps = 1e-12;
   PathCaps caps{feed, accel, -1, -1};
-  for (const JointSample& js : samples)
-    for (int j = 0; j < kJoints; ++j) {
-      const double d1 = std::abs(js.dq[j]), d2 = std::abs(js.ddq[j]);
-      if (d1 > kEps && limits.velocity[j] / d1 < caps.speed) {
-        caps.speed = limits.velocity[j] / d1;
-        caps.speed_joint = j;
-      }
-      if (d2 > kEps && std::sqrt(limits.acceleration[j] / (2.0 * d2)) < caps.speed) {
-        caps.speed = std::sqrt(limits.acceleration[j] / (2.0 * d2));
-        caps.speed_joint = j;
-      }
+  for (const JointSample& js : samples) {
+    int joint = -1;
+    const double v = joint_speed_cap(js, limits, caps.speed, &joint);
+    if (joint >= 0) {
+      caps.speed = v;
+      caps.speed_joint = joint;
     }
+  }
   for (const JointSample& js : samples)
     for (int j = 0; j < kJoints; ++j) {
       const double d1 = std::abs(js.dq[j]), d2 = std::abs(js.ddq[j]);

@@ -60,6 +60,12 @@ struct PathCaps {
   int accel_joint = -1;
 };
 
+/// The path speed at one sample that keeps every joint within its limits there: the smallest
+/// of `feed`, v_j/|q'_j| and sqrt(a_j / (2|q''_j|)); the joint that sets it in *joint (-1: the
+/// feed stands; may be null). Over the samples of a move it is the speed profile a planner may
+/// follow where a joint needs a lower speed than the rest of the move.
+double joint_speed_cap(const JointSample& js, const JointLimits& limits, double feed, int* joint);
+
 /// Caps such that at every sample, for every joint j, with |ds/dt| <= speed and |d²s/dt²| <= accel:
 ///   |q'_j|·speed <= v_j   and   |q'_j|·accel + |q''_j|·speed² <= a_j,
 /// which bound the joint's speed q'·ṡ and its acceleration q'·s̈ + q''·ṡ². The speed is
