@@ -101,6 +101,21 @@ TEST(Kinematics, RotaryDirectionsAsDocumented) {
   expect_near(forward(ac, {10, 0, 0, 0, 90 * kDeg}).tip, {0, 10, 0}, 1e-12);
 }
 
+TEST(Kinematics, TheSeedsSphericalRulingIsTheHeadTablesBC) {
+  // The seed's ruling R = (cosθ·sinφ, sinθ·sinφ, cosφ) (eq. 10) is the XYZBC axis at B = φ,
+  // C = θ, and the XYZAC axis at A = φ, C = θ + 90° (docs/kinematics.md).
+  const Kinematics ac = table_table({1, 2, 3}, {4, 5, 6}, 7);
+  const Kinematics bc = head_table({1, 2, 3}, {4, 5, 6}, 7);
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> theta(-kPi, kPi), phi(0, kPi);
+  for (int i = 0; i < 100; ++i) {
+    const double th = theta(rng), ph = phi(rng);
+    const Vec3 r{std::cos(th) * std::sin(ph), std::sin(th) * std::sin(ph), std::cos(ph)};
+    expect_near(forward(bc, {9, 8, 7, ph, th}).axis, r, 1e-14);
+    expect_near(forward(ac, {9, 8, 7, ph, th + kPi / 2}).axis, r, 1e-14);
+  }
+}
+
 TEST(Kinematics, TrivialMachineIsXyzMinusToolLength) {
   const Kinematics k{KinematicsKind::kTrivial, {1, 2, 3}, {4, 5, 6}, 12};
   const ToolPose p = forward(k, {1, 2, 3, 0.5, 0.7});
