@@ -182,11 +182,11 @@ void inverse_of_forward_is_identity(KinematicsKind kind, std::uint64_t seed) {
 TEST(Kinematics, InverseOfForwardIsIdentityTableTable) { inverse_of_forward_is_identity(KinematicsKind::kTableTable, 3); }
 TEST(Kinematics, InverseOfForwardIsIdentityHeadTable) { inverse_of_forward_is_identity(KinematicsKind::kHeadTable, 4); }
 
-TEST(Kinematics, TiltTravelPrefersTheReachableSolution) {
+TEST(Kinematics, TravelPrefersTheReachableTilt) {
   // B from −30° to +110°: an axis tilted 60° is reached at B = +60° (C + 180°), even from
   // joints near the other solution (B = −60°), which the plain rule would take.
   const Kinematics k = head_table({0, 0, 90}, {0, 0, 0}, 20);
-  const TiltTravel travel{-30 * kDeg, 110 * kDeg};
+  const RotaryTravel travel{-30 * kDeg, 110 * kDeg};
   const ToolPose p = forward(k, {5, 6, 7, -60 * kDeg, 10 * kDeg});
   const Joints near_other{0, 0, 0, -55 * kDeg, 12 * kDeg};
   const Joints plain = inverse(k, p, near_other);
@@ -203,6 +203,29 @@ TEST(Kinematics, TiltTravelPrefersTheReachableSolution) {
   // both outside (tilt 120°): the nearer one still, for the caller to refuse
   const Joints out = inverse(k, forward(k, {5, 6, 7, 120 * kDeg, 0}), {0, 0, 0, 2.0, 0}, travel);
   EXPECT_NEAR(out[kTilt], 120 * kDeg, 1e-12);
+}
+
+TEST(Kinematics, TravelPrefersTheReachableTurnOfC) {
+  // A from −10° to +90°, C from −200° to +200°, now at 190°: an axis at A = 40°, C = 210°
+  // (mod 360°) is reached at C = −150° (210° is beyond the travel; the other solution needs
+  // A = −40°, beyond A's travel)
+  const Kinematics k = table_table({0, 0, 30}, {1, 1, 0}, 10);
+  const RotaryTravel travel{-10 * kDeg, 90 * kDeg, -200 * kDeg, 200 * kDeg};
+  const ToolPose p = forward(k, {3, 4, 5, 40 * kDeg, 210 * kDeg});
+  const Joints previous{0, 0, 0, 35 * kDeg, 190 * kDeg};
+  EXPECT_NEAR(inverse(k, p, previous)[kRotary], 210 * kDeg, 1e-12);  // unbounded: the nearest
+  const Joints q = inverse(k, p, previous, travel);
+  EXPECT_NEAR(q[kTilt], 40 * kDeg, 1e-12);
+  EXPECT_NEAR(q[kRotary], -150 * kDeg, 1e-12);
+  EXPECT_LT(norm(forward(k, q).tip - p.tip), 1e-9);
+  // with A allowed to −90°, of the two inside the travel the nearer: A = −40°, C = 30°
+  // (75° + 160° from the previous joints, against 5° + 340°)
+  const Joints q2 = inverse(k, p, previous, {-90 * kDeg, 90 * kDeg, -200 * kDeg, 200 * kDeg});
+  EXPECT_NEAR(q2[kTilt], -40 * kDeg, 1e-12);
+  EXPECT_NEAR(q2[kRotary], 30 * kDeg, 1e-12);
+  // a continuous C (no travel) unwraps to the turn nearest the previous C: 570° from 500°
+  const Joints q3 = inverse(k, p, {0, 0, 0, 35 * kDeg, 500 * kDeg}, {-10 * kDeg, 90 * kDeg});
+  EXPECT_NEAR(q3[kRotary], 570 * kDeg, 1e-12);
 }
 
 TEST(Kinematics, UnwrapNear) {

@@ -52,13 +52,28 @@ TiltRotary tilt_rotary(KinematicsKind kind, const Vec3& v, double keep, bool* si
   return {t, r};
 }
 
+/// The angle equal to `angle` modulo 2π nearest `reference` inside [lo, hi], or nearest
+/// `reference` when no turn lies inside.
+double turn_within(double angle, double reference, double lo, double hi) {
+  constexpr double kTurn = 2.0 * std::numbers::pi;
+  const double near = unwrap_near(angle, reference);
+  double best = near;
+  bool inside = near >= lo && near <= hi;
+  for (double alt : {near - kTurn, near + kTurn})
+    if (alt >= lo && alt <= hi && (!inside || std::abs(alt - reference) < std::abs(best - reference))) {
+      best = alt;
+      inside = true;
+    }
+  return best;
+}
+
 }  // namespace
 
 Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous) {
-  return inverse(kin, pose, previous, TiltTravel{});
+  return inverse(kin, pose, previous, RotaryTravel{});
 }
 
-Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous, const TiltTravel& travel) {
+Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous, const RotaryTravel& travel) {
   const Vec3 ez{0.0, 0.0, 1.0};
   if (kin.kind == KinematicsKind::kTrivial) {
     const Vec3 xyz = pose.tip + kin.tool_length * ez;
@@ -68,15 +83,18 @@ Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previo
   bool singular = false;
   const TiltRotary tr = tilt_rotary(kin.kind, v, previous[kRotary], &singular);
   double tilt = tr.tilt;
-  double rot = unwrap_near(tr.rotary, previous[kRotary]);
+  double rot = singular ? tr.rotary : turn_within(tr.rotary, previous[kRotary], travel.rotary_min, travel.rotary_max);
   if (!singular) {
-    // the other solution: (−tilt, rotary + π); take the one inside the tilt's travel, and of
-    // two inside (or two outside) the one nearer the previous joints
-    const double rot2 = unwrap_near(tr.rotary + std::numbers::pi, previous[kRotary]);
+    // the other solution: (−tilt, rotary + π); take the one inside the travel, and of two
+    // inside (or two outside) the one nearer the previous joints
+    const double rot2 =
+        turn_within(tr.rotary + std::numbers::pi, previous[kRotary], travel.rotary_min, travel.rotary_max);
     const double d1 = std::abs(tilt - previous[kTilt]) + std::abs(rot - previous[kRotary]);
     const double d2 = std::abs(-tilt - previous[kTilt]) + std::abs(rot2 - previous[kRotary]);
-    const bool in1 = tilt >= travel.min && tilt <= travel.max;
-    const bool in2 = -tilt >= travel.min && -tilt <= travel.max;
+    auto inside = [&](double t, double r) {
+      return t >= travel.tilt_min && t <= travel.tilt_max && r >= travel.rotary_min && r <= travel.rotary_max;
+    };
+    const bool in1 = inside(tilt, rot), in2 = inside(-tilt, rot2);
     if (in1 != in2 ? in2 : d2 < d1) {
       tilt = -tilt;
       rot = rot2;

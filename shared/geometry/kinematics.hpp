@@ -60,16 +60,21 @@ ToolPose forward(const Kinematics& kin, const Joints& q);
 /// joint keeps previous[kRotary]. For kTrivial the axis is ignored and tilt, rotary are 0.
 Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous);
 
-/// The travel of the tilt joint (rad), for choosing between the inverse's two solutions.
-struct TiltTravel {
-  double min = -std::numeric_limits<double>::infinity();
-  double max = std::numeric_limits<double>::infinity();
+/// The travel of the rotary joints (rad), for choosing among the inverse's solutions.
+/// Unbounded by default: a continuous C.
+struct RotaryTravel {
+  double tilt_min = -std::numeric_limits<double>::infinity();
+  double tilt_max = std::numeric_limits<double>::infinity();
+  double rotary_min = -std::numeric_limits<double>::infinity();
+  double rotary_max = std::numeric_limits<double>::infinity();
 };
 
-/// As above, but a solution whose tilt lies inside `travel` is preferred to one outside it
-/// (of two inside, or two outside, the nearer one): a tilt of −30°..+110° reaches an axis
-/// tilted 60° only at +60°, whatever the previous joints. The caller still checks the result.
-Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous, const TiltTravel& travel);
+/// As above, but within the travel where it can: C takes the turn nearest previous[kRotary]
+/// that lies inside its travel (C limited to −200°..+200°, now at 190°, reaches 210° as
+/// −150°), and a solution inside the travel is preferred to one outside it (of two inside, or
+/// two outside, the nearer one): a tilt of −30°..+110° reaches an axis tilted 60° only at +60°,
+/// whatever the previous joints. The caller still checks the result.
+Joints inverse(const Kinematics& kin, const ToolPose& pose, const Joints& previous, const RotaryTravel& travel);
 
 /// The angle nearest `reference` that equals `angle` modulo 2π.
 double unwrap_near(double angle, double reference);
