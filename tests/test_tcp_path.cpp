@@ -216,6 +216,13 @@ TEST(TcpPath, LeavingThePoleCStartsWhereTheAxisLeavesIt) {
     for (const JointSample& js : samples) ASSERT_NEAR(js.q[kRotary], start[kRotary], 1e-9) << js.s;
     EXPECT_NEAR(samples.back().q[kTilt], c.end_tilt_deg * kDeg, 1e-9);
   }
+  // a head that tilts only −5°..+90° leaves the pole with the positive tilt: C = 50°, not 230°
+  const RotaryTravel travel{-5 * kDeg, 90 * kDeg};
+  const Joints previous{0, 0, 0, 0, 200 * kDeg};
+  EXPECT_NEAR(tcp_start_joints(k, m, previous, travel)[kRotary], 50 * kDeg, 1e-9);
+  const auto samples = sample_tcp_move(k, m, 5.0, previous, 101, travel);
+  for (const JointSample& js : samples) ASSERT_NEAR(js.q[kRotary], 50 * kDeg, 1e-9);
+  EXPECT_NEAR(samples.back().q[kTilt], 30 * kDeg, 1e-9);
 }
 
 TEST(TcpPath, SpeedProfileIsLowOnlyWhereAJointNeedsIt) {

@@ -31,22 +31,24 @@ std::vector<double> nearest_to_pole(const AxisSlerp& axes) {
 
 }  // namespace
 
-Joints tcp_start_joints(const Kinematics& kin, const TcpMove& move, const Joints& previous) {
-  const Joints at = inverse(kin, move.start, previous);
+Joints tcp_start_joints(const Kinematics& kin, const TcpMove& move, const Joints& previous,
+                        const RotaryTravel& travel) {
+  const Joints at = inverse(kin, move.start, previous, travel);
   const Vec3 v = normalized(move.start.axis);
   const AxisSlerp axes = make_axis_slerp(move.start.axis, move.end.axis);
   if (kin.kind == KinematicsKind::kTrivial || std::hypot(v[0], v[1]) >= kSingularSin || axes.angle == 0.0) return at;
-  // on the pole: C is the one the axis leaves it with (constant along a great circle through
-  // the pole), taken a milliradian along the move, of the two the nearer previous C
-  const double u = std::fmin(1.0, 1e-3 / axes.angle);
-  const Joints leaving = inverse(kin, tcp_pose(move, axes, u), previous);
+  // on the pole: C is the one the axis leaves it with, constant along the great circle from the
+  // pole (a meridian); taken at the move's end (its middle if the end is the other pole), of
+  // the two the one inside the travel there, or the nearer the previous C
+  const double u = axes.angle < std::numbers::pi - 1e-6 ? 1.0 : 0.5;
+  const Joints leaving = inverse(kin, tcp_pose(move, axes, u), previous, travel);
   Joints seed = previous;
   seed[kRotary] = leaving[kRotary];
-  return inverse(kin, move.start, seed);
+  return inverse(kin, move.start, seed, travel);
 }
 
 std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& move, double length,
-                                         const Joints& previous, int samples) {
+                                         const Joints& previous, int samples, const RotaryTravel& travel) {
   const AxisSlerp axes = make_axis_slerp(move.start.axis, move.end.axis);
   const Vec3 dtip = (1.0 / length) * (move.end.tip - move.start.tip);
   std::vector<double> us;
@@ -56,11 +58,11 @@ std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& m
   us.erase(std::unique(us.begin(), us.end()), us.end());
   std::vector<JointSample> out;
   out.reserve(us.size());
-  Joints prev = tcp_start_joints(kin, move, previous);
+  Joints prev = tcp_start_joints(kin, move, previous, travel);
   for (double u : us) {
     JointSample js;
     js.s = u * length;
-    js.q = inverse(kin, tcp_pose(move, axes, u), prev);
+    js.q = inverse(kin, tcp_pose(move, axes, u), prev, travel);
     js.dq = joint_rates(kin, js.q, {dtip, (1.0 / length) * slerp_axis_d1(axes, u)});
     js.ddq = joint_accels(kin, js.q, js.dq, {{0.0, 0.0, 0.0}, (1.0 / (length * length)) * slerp_axis_d2(axes, u)});
     prev = js.q;

@@ -34,7 +34,8 @@ struct JointSample {
 /// is the one the axis leaves the pole with (of the two, the nearer previous C), so that C does
 /// not jump at the move's first step. It may differ from previous[kRotary]: the caller turns C
 /// there before the move (the tool pose does not change while it does; x, y follow the tip).
-Joints tcp_start_joints(const Kinematics& kin, const TcpMove& move, const Joints& previous);
+Joints tcp_start_joints(const Kinematics& kin, const TcpMove& move, const Joints& previous,
+                        const RotaryTravel& travel = {});
 
 /// `samples` (>= 2) evenly spaced samples from s = 0 to s = length (> 0), plus one where the
 /// tool axis comes nearest the C axis (+Z or −Z) inside the move, where C's rate peaks; the
@@ -43,7 +44,7 @@ Joints tcp_start_joints(const Kinematics& kin, const TcpMove& move, const Joints
 /// nearest the sample before, so C never jumps a turn and a path through the singularity
 /// keeps C.
 std::vector<JointSample> sample_tcp_move(const Kinematics& kin, const TcpMove& move, double length,
-                                         const Joints& previous, int samples);
+                                         const Joints& previous, int samples, const RotaryTravel& travel = {});
 
 /// Per-joint limits: speed (mm/s, rad/s) and acceleration (mm/s², rad/s²), all > 0.
 struct JointLimits {
