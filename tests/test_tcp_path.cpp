@@ -249,6 +249,17 @@ TEST(TcpPath, SpeedProfileIsLowOnlyWhereAJointNeedsIt) {
   }
 }
 
+TEST(TcpPath, AMoveThatOnlyTurnsTheToolUsesAnAngularLength) {
+  // the tip stays at (10, 5, 0) of the part while the axis turns by θ: the path parameter is
+  // the angle (rad), the feed 1 rad/s; x, y, z swing around the pivots to hold the tip
+  const Kinematics k{KinematicsKind::kTableTable, {0, 0, 40}, {2, -1, 0}, 20};
+  const TcpMove m{{{10, 5, 0}, tilted(20, 0)}, {{10, 5, 0}, tilted(45, 90)}};
+  const double theta = make_axis_slerp(m.start.axis, m.end.axis).angle;
+  caps_keep_joints_within_limits(k, m, theta, 1.0, 20.0, -2);
+  for (const JointSample& js : sample_tcp_move(k, m, theta, {0, 0, 0, 0.3, 0}, 201))
+    ASSERT_LT(norm(forward(k, js.q).tip - Vec3{10, 5, 0}), 1e-9);
+}
+
 TEST(TcpPath, ThroughTheSingularityCIsNotMoved) {
   const Kinematics k{KinematicsKind::kTableTable, {0, 0, 40}, {0, 0, 0}, 20};
   const TcpMove m{{{0, -5, 0}, tilted(20, 90)}, {{0, 5, 0}, tilted(20, -90)}};
