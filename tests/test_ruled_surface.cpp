@@ -60,7 +60,7 @@ Vec3 sphere(double th, double ph) { return {std::cos(th) * std::sin(ph), std::si
 
 // ---- curves -----------------------------------------------------------------------------
 
-TEST(Hermite, ReproducesACubicAndItsDerivatives) {
+TEST(RuledHermite, ReproducesACubicAndItsDerivatives) {
   // q(u) = a + b u + c u^2 + d u^3, written independently; Hermite data from its ends.
   const Vec3 a{1, -2, 3}, b{0.5, 4, -1}, c{2, -3, 0.5}, d{-1, 1.5, 2};
   auto q = [&](double u) { return a + u * b + (u * u) * c + (u * u * u) * d; };
@@ -75,7 +75,7 @@ TEST(Hermite, ReproducesACubicAndItsDerivatives) {
   }
 }
 
-TEST(Hermite, SplineThroughPointsIsC1AndPiecewise) {
+TEST(RuledHermite, SplineThroughPointsIsC1AndPiecewise) {
   const std::vector<Vec3> pts{{0, 0, 0}, {1, 2, 0}, {3, 2, 1}, {4, 0, 1}};
   const std::vector<Vec3> tan = catmull_rom_tangents(pts);
   EXPECT_TRUE(Near(tan[1], {1.5, 1, 0.5}, 1e-15));
@@ -100,7 +100,7 @@ NurbsCurve test_nurbs() {
   return c;
 }
 
-TEST(NurbsJet, AgreesWithNurbsEvalAndFiniteDifferences) {
+TEST(RuledNurbsJet, AgreesWithNurbsEvalAndFiniteDifferences) {
   const NurbsCurve c = test_nurbs();
   ASSERT_EQ(validate(c), "");
   const NurbsView v = c.view();
@@ -115,7 +115,7 @@ TEST(NurbsJet, AgreesWithNurbsEvalAndFiniteDifferences) {
   }
 }
 
-TEST(NurbsJet, PolynomialOfDegreeTwoHasNoThirdDerivative) {
+TEST(RuledNurbsJet, PolynomialOfDegreeTwoHasNoThirdDerivative) {
   NurbsCurve c;
   c.degree = 2;
   c.points = {{0, 0, 0}, {1, 2, 0}, {3, 1, 1}, {4, 3, 0}};
@@ -126,7 +126,7 @@ TEST(NurbsJet, PolynomialOfDegreeTwoHasNoThirdDerivative) {
   EXPECT_TRUE(Near(j.d2, fd([&](double x) { return nurbs_eval(c.view(), x).d1; }, 0.7), 1e-8));
 }
 
-TEST(SphericalCurve, AnglesJetMatchesEq10AndItsDifferences) {
+TEST(RuledSphericalCurve, AnglesJetMatchesEq10AndItsDifferences) {
   const HermiteView av{&kAngles, 1};
   auto e_of = [&](double u) {
     const Vec3 a = hermite_jet(av, u).p;
@@ -144,7 +144,7 @@ TEST(SphericalCurve, AnglesJetMatchesEq10AndItsDifferences) {
   }
 }
 
-TEST(SphericalCurve, NormalisedVectorJetMatchesDifferences) {
+TEST(RuledSphericalCurve, NormalisedVectorJetMatchesDifferences) {
   const NurbsCurve c = test_nurbs();
   auto e_of = [&](double u) { return normalized(nurbs_eval(c.view(), u).p + Vec3{1, 1, 1}); };
   for (double u : {0.3, 1.4, 2.6}) {
@@ -163,7 +163,7 @@ TEST(SphericalCurve, NormalisedVectorJetMatchesDifferences) {
   }
 }
 
-TEST(SphericalCurve, AnglesRoundTripAndUnwrap) {
+TEST(RuledSphericalCurve, AnglesRoundTripAndUnwrap) {
   for (double th : {-2.5, -0.3, 0.0, 1.0, 3.0})
     for (double ph : {0.2, 1.0, 2.9}) {
       const Vec3 a = sphere_angles(sphere(th, ph));
@@ -300,7 +300,7 @@ CurveJet circle_jet(double a, double u, double z0 = 0.0) {
   return {{a * c, a * s, z0}, {-a * s, a * c, 0}, {-a * c, -a * s, 0}, {a * s, -a * c, 0}};
 }
 
-TEST(ClosedForm, ConeHasItsStrictionAtTheApexAndIsDevelopable) {
+TEST(RuledClosedForm, ConeHasItsStrictionAtTheApexAndIsDevelopable) {
   // Directrix any Ferguson curve; ruling the unit vector from the apex: the same Ferguson
   // data shifted by the apex, given as a vector curve (normalised).
   const Vec3 apex{3, -2, 15};
@@ -322,7 +322,7 @@ TEST(ClosedForm, ConeHasItsStrictionAtTheApexAndIsDevelopable) {
   }
 }
 
-TEST(ClosedForm, HelicoidHasDistributionParameterEqualToItsPitchOverTwoPi) {
+TEST(RuledClosedForm, HelicoidHasDistributionParameterEqualToItsPitchOverTwoPi) {
   // c = (0, 0, b u), e = (cos u, sin u, 0): Delta = b, striction on the axis, gamma = 0.
   const double b = 2.5;
   for (double u : {0.0, 0.7, 2.0}) {
@@ -339,7 +339,7 @@ TEST(ClosedForm, HelicoidHasDistributionParameterEqualToItsPitchOverTwoPi) {
   }
 }
 
-TEST(ClosedForm, HyperboloidOfOneSheet) {
+TEST(RuledClosedForm, HyperboloidOfOneSheet) {
   // x^2/a^2 + y^2/a^2 - z^2/c^2 = 1, ruled by c(u) = (a cos u, a sin u, 0) and
   // e = (-a sin u, a cos u, c) / sqrt(a^2 + c^2): the waist circle is the striction curve,
   // the distribution parameter is -c (its magnitude c), the spherical indicatrix a small
@@ -372,7 +372,7 @@ TEST(ClosedForm, HyperboloidOfOneSheet) {
   }
 }
 
-TEST(ClosedForm, CylinderHasNoSphericalMotionButTheToolStillMoves) {
+TEST(RuledClosedForm, CylinderHasNoSphericalMotionButTheToolStillMoves) {
   // c = (R cos u, R sin u, 5), e = z constant: ds/du = 0, the s-functions are undefined, and
   // the tool frame (O along the motion) turns about the axis at F / R.
   const double R = 7.0, F = 12.0, dF = 3.0;
@@ -404,7 +404,7 @@ Vec3 frame_rate(const std::function<ToolMotion(double)>& m, double u) {
   return 0.5 * (cross(c.A, axis(&ToolMotion::A)) + cross(c.O, axis(&ToolMotion::O)) + cross(c.N, axis(&ToolMotion::N)));
 }
 
-TEST(ToolMotion, FrameAndItsRatesMatchFiniteDifferences) {
+TEST(RuledToolMotion, FrameAndItsRatesMatchFiniteDifferences) {
   const RuledCurves r = general_piece();
   const double F = 10.0;
   for (bool with_spin : {false, true}) {
@@ -433,7 +433,7 @@ TEST(ToolMotion, FrameAndItsRatesMatchFiniteDifferences) {
   }
 }
 
-TEST(ToolMotion, ChangingFeedMatchesATimeIntegration) {
+TEST(RuledToolMotion, ChangingFeedMatchesATimeIntegration) {
   // F(t) = F0 + dF t; u(t) from du/dt = F(t) / |c_u(u)| by RK4; v, omega by differences in t.
   const RuledCurves r = general_piece();
   const double F0 = 8.0, dF = 40.0, u0 = 0.4;
@@ -464,7 +464,7 @@ TEST(ToolMotion, ChangingFeedMatchesATimeIntegration) {
   EXPECT_NEAR(dot(m.acceleration, normalized(m.velocity)), dF, 1e-10);
 }
 
-TEST(ToolMotion, SeedRouteThroughTheTrihedronGivesTheSameMotion) {
+TEST(RuledToolMotion, SeedRouteThroughTheTrihedronGivesTheSameMotion) {
   // eqs. (25)-(26): v = c' s., a = c' s.. + c'' s.^2, omega = U0 s., alpha = U0 s.. + U0' s.^2
   // with s. = s_u u., s.. = s_uu u.^2 + s_u u.. .
   const RuledCurves r = general_piece();
@@ -491,7 +491,7 @@ std::vector<HermiteSegment> wavy_spline() {
   return hermite_through(pts, catmull_rom_tangents(pts));
 }
 
-TEST(ParameterStep, KeepsTheFeedWithinATenthOfAPercentOverAWholeCurve) {
+TEST(RuledParameterStep, KeepsTheFeedWithinATenthOfAPercentOverAWholeCurve) {
   const std::vector<HermiteSegment> segs = wavy_spline();
   const CurveSource d = CurveSource::of(HermiteView{segs.data(), static_cast<int>(segs.size())});
   const NurbsCurve nc = test_nurbs();
@@ -520,7 +520,7 @@ TEST(ParameterStep, KeepsTheFeedWithinATenthOfAPercentOverAWholeCurve) {
     }
 }
 
-TEST(ParameterStep, FollowsAChangingFeed) {
+TEST(RuledParameterStep, FollowsAChangingFeed) {
   const std::vector<HermiteSegment> segs = wavy_spline();
   const CurveSource d = CurveSource::of(HermiteView{segs.data(), static_cast<int>(segs.size())});
   const double T = 0.001, dF = 200.0;
@@ -537,7 +537,7 @@ TEST(ParameterStep, FollowsAChangingFeed) {
 
 // ---- cusp -------------------------------------------------------------------------------
 
-TEST(Cusp, PassIntervalByHand) {
+TEST(RuledCusp, PassIntervalByHand) {
   // h = 0.005, R = 1: P = 2 sqrt(0.005 * 1.995) = 2 sqrt(0.009975) = 0.1997498...
   EXPECT_NEAR(pass_interval(0.005, 1.0), 0.19974984355438, 1e-12);
   EXPECT_DOUBLE_EQ(pass_interval(0.0, 3.0), 0.0);
