@@ -91,15 +91,19 @@ ParameterStep advance_parameter(const CurveSource& directrix, double u, double f
   CurveJet c1 = curve_jet(directrix, s.u_next);
   Vec3 chord = c1.p - c0.p;
   s.chord = norm(chord);
-  if (correct && s.chord > 0.0 && s.u_next < hi) {
-    // Newton on f(u) = |c(u) - c(u0)| - target: f' = (c(u) - c(u0)) . c_u(u) / |c(u) - c(u0)|.
+  // Newton on f(u) = |c(u) - c(u0)| - target, f' = (c(u) - c(u0)) . c_u(u) / |c(u) - c(u0)|,
+  // while the chord is off by more than kChordTolerance (relative), at most kMaxCorrections
+  // times: one step is enough on a smooth curve; a curve whose parametric speed changes
+  // sharply within the period may need another.
+  for (int i = 0; correct && i < kMaxCorrections && s.chord > 0.0 && s.u_next < hi &&
+                  std::abs(s.chord - s.target) > kChordTolerance * s.target;
+       ++i) {
     const double slope = dot(chord, c1.d1) / s.chord;
-    if (slope > 0.0) {
-      s.u_next = std::clamp(s.u_next + (s.target - s.chord) / slope, lo, hi);
-      c1 = curve_jet(directrix, s.u_next);
-      chord = c1.p - c0.p;
-      s.chord = norm(chord);
-    }
+    if (!(slope > 0.0)) break;
+    s.u_next = std::clamp(s.u_next + (s.target - s.chord) / slope, u, hi);
+    c1 = curve_jet(directrix, s.u_next);
+    chord = c1.p - c0.p;
+    s.chord = norm(chord);
   }
   return s;
 }

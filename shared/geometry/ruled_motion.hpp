@@ -59,8 +59,12 @@ SeedMotionTerms seed_motion_terms(const RuledInvariants& k, const SpinJet& spin)
 
 /// One sampling period's advance of the parameter at constant feed (the seed's eq. 5 taken
 /// to second order): u + u' T + u'' T^2 / 2 from the directrix's jet at u. With `correct`,
-/// one Newton step on the chord |c(u_next) - c(u)| = F T + dF/dt T^2 / 2 follows (one more
-/// directrix evaluation). The result is clamped to the directrix's domain.
+/// Newton steps on the chord |c(u_next) - c(u)| = F T + dF/dt T^2 / 2 follow while it is off
+/// by more than kChordTolerance, at most kMaxCorrections (one directrix evaluation each;
+/// usually one, none when the Taylor step is already that close). The result is clamped to
+/// the directrix's domain.
+constexpr double kChordTolerance = 1e-9;
+constexpr int kMaxCorrections = 3;
 struct ParameterStep {
   double u_next = 0.0;
   double target = 0.0;  // the length to travel, mm
