@@ -433,6 +433,36 @@ TEST(RuledToolMotion, FrameAndItsRatesMatchFiniteDifferences) {
   }
 }
 
+TEST(RuledToolMotion, NurbsDirectrixAndNurbsToolVectorsThroughTheSameCalls) {
+  // A piece given entirely as NURBS: the directrix and a curve of (unnormalised) tool vectors.
+  const NurbsCurve dir = test_nurbs();
+  NurbsCurve vec;
+  vec.degree = 3;
+  vec.points = {{0.2, 0.1, 1}, {0.5, -0.2, 1}, {0.1, 0.4, 0.8}, {-0.3, 0.2, 1.1}, {-0.1, -0.3, 0.9}, {0.3, 0.0, 1}};
+  vec.weights = {1, 1.2, 0.8, 1, 1.1, 1};
+  vec.knots = dir.knots;  // the same parameter domain [0, 3]
+  ASSERT_EQ(validate(vec), "");
+  RuledCurves r;
+  r.directrix = CurveSource::of(dir.view());
+  r.ruling = CurveSource::of(vec.view());
+  r.form = RulingForm::kVector;
+  EXPECT_DOUBLE_EQ(r.u_max(), 3.0);
+  auto m_of = [&](double u) { return tool_motion(ruled_jet(r, u), u, 10.0, 0.0); };
+  for (double u : {0.3, 1.2, 2.5}) {
+    const RuledJet j = ruled_jet(r, u);
+    EXPECT_TRUE(Near(j.c.p, nurbs_eval(dir.view(), u).p, 1e-13));
+    EXPECT_TRUE(Near(j.e.p, normalized(nurbs_eval(vec.view(), u).p), 1e-14));
+    const ToolMotion m = m_of(u);
+    ASSERT_TRUE(m.frame_defined);
+    EXPECT_TRUE(Near(m.omega_u, frame_rate(m_of, u), 1e-7));
+    EXPECT_TRUE(Near(m.omega_uu, fd([&](double x) { return m_of(x).omega_u; }, u), 1e-6));
+    const RuledInvariants k = ruled_invariants(j);
+    // Delta changes steeply near u = 0.3 (ds/du = 0.12 there, Delta' = -8648 mm): a finer step.
+    EXPECT_TRUE(NearS(
+        k.dDelta, fds([&](double x) { return ruled_invariants(ruled_jet(r, x)).Delta; }, u, 1e-4) / k.ds_du, 1e-6));
+  }
+}
+
 TEST(RuledToolMotion, ChangingFeedMatchesATimeIntegration) {
   // F(t) = F0 + dF t; u(t) from du/dt = F(t) / |c_u(u)| by RK4; v, omega by differences in t.
   const RuledCurves r = general_piece();
