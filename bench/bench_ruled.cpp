@@ -16,7 +16,8 @@
 //     the N component of its first-order angular variation equals ds/du): the generator
 //     trihedron as (O, A, N) = (t, e, g), ds/du, and the first- and second-order positional
 //     (c_u, c_uu) and angular (omega_u, omega_uu) variation per unit u in that frame;
-//  5. the pass interval P(h, R) of eq. (1) and the passes the 200 mm surface needs.
+//  5. the pass interval P(h, R) of eq. (1) and the passes the 200 mm surface needs;
+//  6. the same pass modelled from set points only (ruled_model.hpp) against the true surface.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -27,6 +28,7 @@
 
 #include "geometry/cusp.hpp"
 #include "geometry/hermite_curve.hpp"
+#include "geometry/ruled_model.hpp"
 #include "geometry/ruled_motion.hpp"
 #include "geometry/ruled_surface.hpp"
 #include "geometry/spherical_curve.hpp"
@@ -254,6 +256,31 @@ int main(int argc, char** argv) {
     for (double h : {0.001, 0.005, 0.01}) {
       const double P = pass_interval(h, R);
       std::printf("  R %.1f mm, h %.3f mm: P %.4f mm, %d passes\n", R, h, P, static_cast<int>(std::ceil(kSize / P)) + 1);
+    }
+  std::printf("\n6. the pass from set points only (ruled_model_through: tool positions and normals, no derivatives), "
+              "against the true surface: largest height error of the directrix and angle of the ruling from the true "
+              "normal, 50 samples per segment:\n");
+  for (RulingForm form : {RulingForm::kAngles, RulingForm::kVector})
+    for (double step : {20.0, 10.0, 5.0, 2.0}) {
+      std::vector<Vec3> pts, normals;
+      const int m = static_cast<int>(std::lround(kSize / step));
+      for (int i = 0; i <= m; ++i) {
+        const double y = kSize * i / m;
+        const Height h = height(x0, y);
+        pts.push_back({x0, y, h.z});
+        normals.push_back(normalized(Vec3{-h.zx, -h.zy, 1}));
+      }
+      const RuledModelResult r = ruled_model_through(pts, normals, form);
+      const RuledCurves rc = r.model.curves();
+      double dz = 0, da = 0;
+      for (int i = 0; i < m * 50; ++i) {
+        const RuledJet j = ruled_jet(rc, i / 50.0);
+        const Height h = height(j.c.p[0], j.c.p[1]);
+        dz = std::max(dz, std::abs(j.c.p[2] - h.z));
+        da = std::max(da, std::acos(std::min(1.0, dot(j.e.p, normalized(Vec3{-h.zx, -h.zy, 1})))));
+      }
+      std::printf("  ruling as %-7s set points every %4.1f mm: height %.3e mm, axis %.3e rad\n",
+                  form == RulingForm::kAngles ? "angles," : "vectors,", step, dz, da);
     }
   if (sink == 12345.678) std::printf(" ");
   return 0;
