@@ -29,6 +29,7 @@ CurveJet hermite_jet(const HermiteSegment& s, double u) {
 }
 
 CurveJet hermite_jet(const HermiteView& c, double u) {
+  if (c.count <= 0) return {};
   u = std::clamp(u, 0.0, c.u_max());
   const int i = std::min(static_cast<int>(std::floor(u)), c.count - 1);
   return hermite_jet(c.segments[i], u - i);

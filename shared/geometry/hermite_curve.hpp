@@ -44,7 +44,7 @@ struct HermiteView {
 };
 
 /// The jet of the piecewise curve at u in [0, count] (clamped); at an interior integer the
-/// segment that starts there is used (right-hand derivatives).
+/// segment that starts there is used (right-hand derivatives). An empty view gives zeros.
 CurveJet hermite_jet(const HermiteView& c, double u);
 
 /// Segments through `points` with the given tangents at them (per unit of the segment
