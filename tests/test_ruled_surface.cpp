@@ -322,6 +322,26 @@ TEST(RuledClosedForm, ConeHasItsStrictionAtTheApexAndIsDevelopable) {
   }
 }
 
+TEST(RuledClosedForm, TangentDevelopableOfAHelixHasItsEdgeAsStrictionCurve) {
+  // c = (a cos u, a sin u, b u), e = c_u / |c_u|: developable (Delta = 0), and the striction
+  // curve is the edge of regression, the helix itself (mu = 0). The unit tangent of a helix
+  // is a small circle on the sphere: e = (-a sin u, a cos u, b) / L.
+  const double a = 3.0, b = 1.2, L = std::hypot(a, b);
+  for (double u : {0.0, 0.9, 2.2}) {
+    RuledJet j;
+    j.c = circle_jet(a, u, b * u);
+    j.c.d1[2] = b;
+    const double cu = std::cos(u), su = std::sin(u);
+    j.e = {{-a * su / L, a * cu / L, b / L}, {-a * cu / L, -a * su / L, 0}, {a * su / L, -a * cu / L, 0},
+           {a * cu / L, a * su / L, 0}};
+    const RuledInvariants k = ruled_invariants(j);
+    EXPECT_NEAR(k.Delta, 0.0, 1e-14);
+    EXPECT_NEAR(k.mu, 0.0, 1e-14);
+    EXPECT_TRUE(Near(k.striction, j.c.p, 1e-14));
+    EXPECT_NEAR(distribution_parameter(j), 0.0, 1e-14);
+  }
+}
+
 TEST(RuledClosedForm, HelicoidHasDistributionParameterEqualToItsPitchOverTwoPi) {
   // c = (0, 0, b u), e = (cos u, sin u, 0): Delta = b, striction on the axis, gamma = 0.
   const double b = 2.5;
