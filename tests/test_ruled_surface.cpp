@@ -510,6 +510,12 @@ TEST(RuledToolMotion, ChangingFeedMatchesATimeIntegration) {
   EXPECT_TRUE(Near(m.velocity, (0.5 / h) * (m_at(h).position - m_at(-h).position), 1e-7));
   EXPECT_TRUE(Near(m.acceleration, (0.5 / h) * (m_at(h).velocity - m_at(-h).velocity), 1e-6));
   EXPECT_TRUE(Near(m.alpha, (0.5 / h) * (m_at(h).omega - m_at(-h).omega), 1e-6, 1e-3));
+  EXPECT_TRUE(Near(m.axis_velocity, (0.5 / h) * (m_at(h).A - m_at(-h).A), 1e-7, 1e-3));
+  EXPECT_TRUE(Near(m.axis_velocity, cross(m.omega, m.A), 1e-13, 1e-3));
+  EXPECT_TRUE(
+      Near(m.axis_acceleration, (0.5 / h) * (m_at(h).axis_velocity - m_at(-h).axis_velocity), 1e-6, 1e-3));
+  // d2A/dt2 = alpha x A + omega x (omega x A).
+  EXPECT_TRUE(Near(m.axis_acceleration, cross(m.alpha, m.A) + cross(m.omega, cross(m.omega, m.A)), 1e-12, 1e-3));
   // Tangential acceleration is the feed's rate.
   EXPECT_NEAR(dot(m.acceleration, normalized(m.velocity)), dF, 1e-10);
 }

@@ -55,6 +55,8 @@ ToolMotion tool_motion(const RuledJet& j, double u, double feed, double dfeed, c
   m.acceleration = (ud * ud) * c.d2 + udd * c.d1;
   m.omega = ud * m.omega_u;
   m.alpha = (ud * ud) * m.omega_uu + udd * m.omega_u;
+  m.axis_velocity = ud * e.d1;
+  m.axis_acceleration = (ud * ud) * e.d2 + udd * e.d1;
   return m;
 }
 

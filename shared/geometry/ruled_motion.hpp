@@ -15,7 +15,9 @@
 // Time enters through the feed F = |dc/dt| (mm/s) and its rate dF/dt:
 //   du/dt = F / |c_u|,  d2u/dt2 = (dF/dt - (c_u . c_uu / |c_u|) (du/dt)^2) / |c_u|,
 //   v = c_u u',  a = c_uu u'^2 + c_u u'',  omega = omega_u u',  alpha = omega_uu u'^2 + omega_u u''.
-// The frame is undefined where the tool moves along its own axis (p = 0): `frame_defined`.
+// The frame is undefined where the tool moves along its own axis (p = 0): `frame_defined`;
+// near such a point the frame's spin about A (w) grows without bound, while the axis's own
+// rates (axis_velocity, axis_acceleration), which are all a 5-axis machine follows, do not.
 #pragma once
 
 #include "geometry/curve_jet.hpp"
@@ -38,6 +40,11 @@ struct ToolMotion {
   Vec3 alpha{};         // rad/s^2, angular acceleration
   Vec3 omega_u{};       // rad per unit u (what omega is before the time chain rule)
   Vec3 omega_uu{};
+  // The tool axis's own rates, dA/dt = e_u u' = omega x A and d2A/dt2 = e_uu u'^2 + e_u u'':
+  // what a 5-axis machine's joints follow (they cannot turn the tool about its own axis, so
+  // omega's component along A, the frame's spin, does not reach them).
+  Vec3 axis_velocity{};      // 1/s
+  Vec3 axis_acceleration{};  // 1/s^2
 };
 
 /// The spin angle eta(u) (radians) and its first two u-derivatives; zero when not given.
