@@ -14,7 +14,9 @@
 //    over the pass's parameter), and the angle between the tool axis and the intended axis at
 //    the nearest point of the intended tip curve;
 //  - the joint jerk: third differences of the joints (inverse kinematics each cycle, the
-//    solution nearest the cycle before) over the 0.5 ms period, max and RMS, X Y Z and A C.
+//    solution nearest the cycle before) over the 0.5 ms period, max and RMS, X Y Z and A C;
+//    also for the intended path itself at the same feed (the reference: what the surface and
+//    the kinematics ask for whatever the interpolation).
 // The machine time needs the rt's ruled block (issue 17, item 2) and comes later.
 #include <CLI/CLI.hpp>
 
@@ -150,7 +152,7 @@ int main(int argc, char** argv) {
   std::printf("%-8s %-26s %12s %14s %12s %14s %14s %14s %14s %8s\n", "", "", "", "", "", "mm/s^3", "mm/s^3", "deg/s^3",
               "deg/s^3", "");
   for (double spacing : {0.5, 1.0, 2.0}) {
-    Stats st[3];
+    Stats st[4];
     for (double u0 : pass_u) {
       Intended in{surf, u0, lead_deg * M_PI / 180.0, radius};
       const int n = static_cast<int>(std::ceil(25.0 / spacing - 1e-9));
@@ -216,13 +218,43 @@ int main(int argc, char** argv) {
         jerk(traj, s);
       }
     }
-    const char* names[3] = {"G1, angles linear", "ruled, ruling as vectors", "ruled, ruling as angles"};
-    for (int m = 0; m < 3; ++m) {
+    const char* names[4] = {"G1, angles linear", "ruled, ruling as vectors", "ruled, ruling as angles",
+                            "exact path (reference)"};
+    if (spacing == 0.5) {
+      // The intended path itself at the same feed (no set points): the joint jerk the surface
+      // and the kinematics ask for anyway. The tip advances by the chord F T (Newton in v).
+      for (double u0 : pass_u) {
+        const Intended in{surf, u0, lead_deg * M_PI / 180.0, radius};
+        std::vector<Joints> traj;
+        Joints prev = inverse(kin, {in.at(0.0).tip, in.at(0.0).axis}, Joints{});
+        for (double v = 0.0;;) {
+          const Pose p = in.at(v);
+          prev = inverse(kin, {p.tip, p.axis}, prev);
+          traj.push_back(prev);
+          ++st[3].samples;
+          const double h = 1e-7;
+          double w = v + F * kPeriod / (norm(in.at(v + h).tip - in.at(v).tip) / h);
+          for (int it = 0; it < 4 && w < 1.0; ++it) {
+            const double chord = norm(in.at(w).tip - p.tip);
+            const double slope = (norm(in.at(w + h).tip - p.tip) - chord) / h;
+            w -= (chord - F * kPeriod) / slope;
+          }
+          if (w >= 1.0) break;
+          v = w;
+        }
+        jerk(traj, st[3]);
+      }
+    }
+    for (int m = 0; m < (spacing == 0.5 ? 4 : 3); ++m) {
       const Stats& s = st[m];
-      std::printf("%-8s %-26s %12.4f %14.4f %12.2f %14.4g %14.4g %14.4g %14.4g %8ld\n",
-                  (std::to_string(spacing).substr(0, 3) + " mm").c_str(), names[m], s.tip_dev * 1e3, s.high_dev * 1e3,
-                  s.angle * 1e6, s.jerk_lin_max, std::sqrt(s.jerk_lin_ss / std::max(1L, s.jerk_n)), s.jerk_rot_max,
-                  std::sqrt(s.jerk_rot_ss / std::max(1L, s.jerk_n)), s.samples);
+      const std::string label = m == 3 ? "" : std::to_string(spacing).substr(0, 3) + " mm";
+      if (m == 3)  // the reference is the intended path: no deviation to measure
+        std::printf("%-8s %-26s %12s %14s %12s", label.c_str(), names[m], "-", "-", "-");
+      else
+        std::printf("%-8s %-26s %12.4f %14.4f %12.2f", label.c_str(), names[m], s.tip_dev * 1e3, s.high_dev * 1e3,
+                    s.angle * 1e6);
+      std::printf(" %14.4g %14.4g %14.4g %14.4g %8ld\n", s.jerk_lin_max, std::sqrt(s.jerk_lin_ss / std::max(1L, s.jerk_n)),
+                  s.jerk_rot_max, std::sqrt(s.jerk_rot_ss / std::max(1L, s.jerk_n)), s.samples);
     }
   }
   std::printf("machine time: needs the rt's ruled block (issue 17, item 2), not yet built; the feed time of these "
