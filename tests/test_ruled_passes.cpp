@@ -205,6 +205,21 @@ TEST(RuledPasses, RefusesBadInput) {
   o = {};
   o.point_spacing = 0.0;
   EXPECT_NE(plan_passes(s, o).error, "");
+  // a surface collapsed to a point along one edge (a cone's apex) has no normal there
+  PartSurface cone;
+  cone.eval = [](double u, double v) {
+    SurfaceEval e;
+    e.p = {v * std::cos(u), v * std::sin(u), -v};
+    e.su = {-v * std::sin(u), v * std::cos(u), 0};
+    e.sv = {std::cos(u), std::sin(u), -1};
+    return e;
+  };
+  cone.u_min = 0;
+  cone.u_max = 0.5;
+  cone.v_min = 0;
+  cone.v_max = 5;
+  const PassPlan bad = plan_passes(cone, {});
+  EXPECT_NE(bad.error.find("no normal"), std::string::npos) << bad.error;
 }
 
 }  // namespace

@@ -158,6 +158,12 @@ PassPlan plan_passes(const PartSurface& s, const PassOptions& o) {
       const double f = static_cast<double>(pass.reversed ? segments - i : i) / segments;
       const double v = s.v_min + (s.v_max - s.v_min) * f;
       const SurfaceEval e = s.eval(pass.u, v);
+      const double cr = norm(cross(e.su, e.sv));
+      if (!(cr > 1e-12 * norm(e.su) * norm(e.sv))) {
+        plan.error = "the surface has no normal at u " + std::to_string(pass.u) + ", v " + std::to_string(v) +
+                     " (a degenerate point: its partial derivatives are parallel or zero)";
+        return plan;
+      }
       PassPoint p = pass_point(e, pass.reversed ? -1.0 * e.sv : e.sv, o.tool_radius, o.lead_angle);
       p.u = pass.u;
       p.v = v;
