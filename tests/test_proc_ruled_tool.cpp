@@ -155,6 +155,10 @@ TEST(RuledTool, ExampleProgramAndFigures) {
   EXPECT_GE(length, chord_sum - 1e-3);
   EXPECT_LT(length, chord_sum * 1.001);
   EXPECT_NEAR(figure(r.out, "feed time         "), length / 10.0, 1e-3);
+  // the model between set points: within a micrometre of the exact path at 1 mm spacing
+  const double model_tip_um = figure(r.out, "ruled model       tip within ");
+  EXPECT_GT(model_tip_um, 0.0);
+  EXPECT_LT(model_tip_um, 1.0);
 
   // each pass: constant X, the tip on the surface (lead 0: the tip is the contact point), the
   // axis the formula's normal; the gap to the next pass measured here

@@ -194,6 +194,45 @@ TEST(RuledPasses, LeadAngleTiltsTheAxisForward) {
   }
 }
 
+TEST(RuledPasses, ModelErrorBetweenSetPoints) {
+  // on a cylinder along its axis the tip path is a line and the axis constant: the model is exact
+  const double r = 5.0;
+  PartSurface cyl;
+  cyl.eval = [r](double u, double v) {
+    SurfaceEval e;
+    e.p = {r * std::sin(u), v, r * std::cos(u)};
+    e.su = {r * std::cos(u), 0, -r * std::sin(u)};
+    e.sv = {0, 1, 0};
+    return e;
+  };
+  cyl.u_min = -0.2;
+  cyl.u_max = 0.2;
+  cyl.v_min = 0;
+  cyl.v_max = 6;
+  PassOptions o;
+  o.cusp_height = 0.05;
+  const PassPlan pc = plan_passes(cyl, o);
+  ASSERT_EQ(pc.error, "");
+  const ModelError ec = pass_model_error(cyl, pc.passes[1], o, 8);
+  EXPECT_LT(ec.tip, 1e-9);
+  EXPECT_LT(ec.axis, 1e-9);
+  // on the example it falls at least 8x per halving of the spacing (cubic or better)
+  const PartSurface ex = part_surface(example_surface(25.0, {0, 0, 0}));
+  double tip[2], axis[2];
+  for (int k = 0; k < 2; ++k) {
+    o.point_spacing = k == 0 ? 2.0 : 1.0;
+    const PassPlan p = plan_passes(ex, o);
+    ASSERT_EQ(p.error, "");
+    const ModelError e = pass_model_error(ex, p.passes[3], o, 8);
+    tip[k] = e.tip;
+    axis[k] = e.axis;
+  }
+  EXPECT_GT(tip[1], 0.0);
+  EXPECT_GT(tip[0], 8.0 * tip[1]);
+  EXPECT_GT(axis[0], 4.0 * axis[1]);
+  EXPECT_LT(tip[0], 1e-3);  // 2 mm spacing on a 25 mm part: under a micrometre
+}
+
 TEST(RuledPasses, RefusesBadInput) {
   const PartSurface s = part_surface(example_surface(25.0, {0, 0, 0}));
   PassOptions o;

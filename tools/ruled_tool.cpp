@@ -106,7 +106,8 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
   po.cusp_height = o.cusp;
   po.point_spacing = o.point_spacing;
   po.lead_angle = o.lead_deg * M_PI / 180.0;
-  const PassPlan plan = plan_passes(part_surface(surface), po);
+  const PartSurface part = part_surface(surface);
+  const PassPlan plan = plan_passes(part, po);
   if (!plan.error.empty()) {
     err << "pcnc ruled: " << plan.error << "\n";
     return kExitBadInput;
@@ -119,6 +120,12 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
   std::vector<RuledPiece> pieces;
   const PassPoint& first = plan.passes.front().points.front();
   pieces.push_back({{{first.tip[0], first.tip[1], clearance}, first.tip}, {up, first.axis}, "approach"});
+  ModelError model_err;
+  for (const Pass& p : plan.passes) {
+    const ModelError e = pass_model_error(part, p, po, 8);
+    model_err.tip = std::max(model_err.tip, e.tip);
+    model_err.axis = std::max(model_err.axis, e.axis);
+  }
   double pass_length = 0.0, link_length = 0.0;
   std::size_t set_points = 0;
   double widest = 0.0;
@@ -174,6 +181,8 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
   out << "  pass interval     P " << fmt("%.6f", plan.interval) << " mm (2 sqrt(h (2R - h)))\n";
   out << "  passes            " << plan.passes.size() << " at constant u, widest gap " << fmt("%.6f", widest) << " mm\n";
   out << "  set points        " << set_points << " (" << fmt("%g", o.point_spacing) << " mm apart or less along a pass)\n";
+  out << "  ruled model       tip within " << fmt("%.4f", model_err.tip * 1e3) << " um of the exact tip path, axis within "
+      << fmt("%.2f", model_err.axis * 1e6) << " urad of the exact axis (8 samples per segment, every pass)\n";
   out << "  pieces            " << pieces.size() << " G5.4 groups (approach, " << plan.passes.size() << " passes, "
       << plan.passes.size() - 1 << " links, retract)\n";
   out << "  path length       " << fmt("%.3f", total) << " mm (passes " << fmt("%.3f", pass_length) << ", links "

@@ -98,6 +98,36 @@ double directrix_length(const RuledModel& model) {
   return total;
 }
 
+ModelError pass_model_error(const PartSurface& s, const Pass& pass, const PassOptions& o, int per_segment) {
+  ModelError err;
+  const RuledCurves c = pass.model.curves();
+  auto exact = [&](double v) {
+    const SurfaceEval e = s.eval(pass.u, v);
+    return pass_point(e, pass.reversed ? -1.0 * e.sv : e.sv, o.tool_radius, o.lead_angle);
+  };
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (std::size_t i = 0; i + 1 < pass.points.size(); ++i) {
+    const double va = pass.points[i].v, vb = pass.points[i + 1].v, half = 0.5 * std::abs(vb - va);
+    for (int k = 0; k < per_segment; ++k) {
+      const RuledJet j = ruled_jet(c, static_cast<double>(i) + (k + 0.5) / per_segment);
+      auto dist = [&](double v) { return norm(exact(v).tip - j.c.p); };
+      double a = std::max(s.v_min, std::min(va, vb) - half), b = std::min(s.v_max, std::max(va, vb) + half);
+      double m1 = b - g * (b - a), m2 = a + g * (b - a), f1 = dist(m1), f2 = dist(m2);
+      for (int it = 0; it < 80 && b - a > 1e-13 * (s.v_max - s.v_min); ++it) {
+        if (f1 < f2) {
+          b = m2, m2 = m1, f2 = f1, m1 = b - g * (b - a), f1 = dist(m1);
+        } else {
+          a = m1, m1 = m2, f1 = f2, m2 = a + g * (b - a), f2 = dist(m2);
+        }
+      }
+      const PassPoint near = exact(0.5 * (a + b));
+      err.tip = std::max(err.tip, norm(near.tip - j.c.p));
+      err.axis = std::max(err.axis, std::atan2(norm(cross(near.axis, j.e.p)), dot(near.axis, j.e.p)));
+    }
+  }
+  return err;
+}
+
 namespace {
 
 // The next pass's u: the largest u1 in (u0, u_max] with pass_gap(u0, u1) <= P (bisection).

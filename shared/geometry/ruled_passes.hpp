@@ -84,6 +84,16 @@ PassPlan plan_passes(const PartSurface& surface, const PassOptions& options);
 /// where that falls beyond the curve's end, the distance to its end tangent line).
 double pass_gap(const PartSurface& surface, double u0, double u1, int samples);
 
+/// How far a pass's ruled piece strays from the exact tool path between its set points: over
+/// `per_segment` samples inside every segment, the largest distance of the model's directrix
+/// from the exact tip curve (its nearest point, golden section in v), and the largest angle
+/// (rad) between the model's ruling and the exact axis at that nearest point.
+struct ModelError {
+  double tip = 0.0;
+  double axis = 0.0;
+};
+ModelError pass_model_error(const PartSurface& surface, const Pass& pass, const PassOptions& options, int per_segment);
+
 /// The length of a ruled piece's directrix (Gauss-Legendre per segment).
 double directrix_length(const RuledModel& model);
 
