@@ -239,17 +239,10 @@ TEST(RuledTool, ExampleProgramAndFigures) {
 
 TEST(RuledTool, SurfaceFileAndLead) {
   // a tilted plane z = 0.1 x - 3 over [-10, 10] x [-5, 5] as a bicubic surface file
-  BSplineSurface s;
-  s.degree = 3;
-  s.count_u = 4;
-  s.count_v = 4;
-  s.knots_u = {0, 0, 0, 0, 1, 1, 1, 1};
-  s.knots_v = s.knots_u;
-  for (int jj = 0; jj < 4; ++jj)
-    for (int ii = 0; ii < 4; ++ii) {
-      const double x = -10 + 20.0 * ii / 3, y = -5 + 10.0 * jj / 3;
-      s.points.push_back({x, y, 0.1 * x - 3});
-    }
+  const BSplineSurface s = bicubic_patch([](int ii, int jj) {
+    const double x = -10 + 20.0 * ii / 3, y = -5 + 10.0 * jj / 3;
+    return Vec3{x, y, 0.1 * x - 3};
+  });
   const std::string dir = scratch_dir(), sf = dir + "/plane.json", ngc = dir + "/p.ngc";
   save_surface_file(sf, s);
   const test::ProcessResult r =

@@ -34,18 +34,10 @@ TEST(RuledPasses, ExampleSurfaceIsTheFormula) {
 
 // A tilted plane z = 0.3 x + 0.1 y as a bicubic B-spline over [0, 20] x [0, 10].
 BSplineSurface tilted_plane() {
-  BSplineSurface s;
-  s.degree = 3;
-  s.count_u = 4;
-  s.count_v = 4;
-  s.knots_u = {0, 0, 0, 0, 1, 1, 1, 1};
-  s.knots_v = s.knots_u;
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) {
-      const double x = 20.0 * i / 3, y = 10.0 * j / 3;
-      s.points.push_back({x, y, 0.3 * x + 0.1 * y});
-    }
-  return s;
+  return bicubic_patch([](int i, int j) {
+    const double x = 20.0 * i / 3, y = 10.0 * j / 3;
+    return Vec3{x, y, 0.3 * x + 0.1 * y};
+  });
 }
 
 TEST(RuledPasses, SpacingOnAPlaneIsP) {

@@ -35,6 +35,21 @@ struct BSplineSurface {
   double v_max() const { return knots_v[static_cast<std::size_t>(count_v)]; }
 };
 
+/// One bicubic Bezier patch over [0, 1]^2 as a B-spline surface: control point (i, j) is
+/// point(i, j), i along u and j along v, each 0..3.
+template <class PointOf>
+BSplineSurface bicubic_patch(PointOf point) {
+  BSplineSurface s;
+  s.degree = 3;
+  s.count_u = 4;
+  s.count_v = 4;
+  s.knots_u = {0, 0, 0, 0, 1, 1, 1, 1};
+  s.knots_v = s.knots_u;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) s.points.push_back(point(i, j));
+  return s;
+}
+
 /// Why `s` is not a usable surface (degree, sizes, knots clamped and non-decreasing with a
 /// non-empty domain, finite numbers) as "<key>: <why>" (degree, knots_u, knots_v,
 /// control_points, e), or an empty string.

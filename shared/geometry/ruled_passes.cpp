@@ -34,17 +34,10 @@ BSplineSurface example_surface(double size, const Vec3& origin) {
   const double q[4] = {0, 1.0 / 3, 1.0 / 3, 0};
   const double l[4] = {-1, -1.0 / 3, 1.0 / 3, 1};
   const double k = size / 200.0;
-  BSplineSurface s;
-  s.degree = 3;
-  s.count_u = 4;
-  s.count_v = 4;
-  s.knots_u = {0, 0, 0, 0, 1, 1, 1, 1};
-  s.knots_v = s.knots_u;
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i)
-      s.points.push_back({origin[0] + size * i / 3.0, origin[1] + size * j / 3.0,
-                          origin[2] + k * (4 + 12 * h[j] + 16 * q[i] * l[j])});
-  return s;
+  return bicubic_patch([&](int i, int j) {
+    return Vec3{origin[0] + size * i / 3.0, origin[1] + size * j / 3.0,
+                origin[2] + k * (4 + 12 * h[j] + 16 * q[i] * l[j])};
+  });
 }
 
 PassPoint pass_point(const SurfaceEval& e, const Vec3& dir, double tool_radius, double lead_angle) {
