@@ -25,7 +25,7 @@ using Args = std::vector<std::string>;
 std::vector<Args> all_commands() {
   const std::string p = pcnc_exe();
   return {{p},          {p, "run"},  {p, "check"}, {p, "config"}, {p, "config", "check"}, {p, "ctl"}, {p, "ctl", "status"},
-          {p, "ctl", "run"}, {p, "serve"}, {p, "soak"}, {p, "nurbs"}, {p, "biarc"}, {host_exe()}, {rt_exe()}};
+          {p, "ctl", "run"}, {p, "serve"}, {p, "soak"}, {p, "nurbs"}, {p, "biarc"}, {p, "ruled"}, {host_exe()}, {rt_exe()}};
 }
 
 std::string show(const Args& a) {

@@ -19,6 +19,7 @@
 #include "nurbs_tool.hpp"
 #include "progress.hpp"
 #include "report/run_outputs.hpp"
+#include "ruled_tool.hpp"
 #include "serve.hpp"
 #include "soak.hpp"
 #include "surface_tool.hpp"
@@ -161,6 +162,7 @@ int main(int argc, char** argv) {
   pcnc::add_nurbs_subcommand(app, exit_code);
   pcnc::add_surface_subcommand(app, exit_code);
   pcnc::add_biarc_subcommand(app, exit_code);
+  pcnc::add_ruled_subcommand(app, exit_code);
 
   pcnc::add_exit_status_help(app);
   if (const int parse_status = pcnc::parse_command_line(app, argc, argv); parse_status >= 0) return parse_status;

@@ -1,0 +1,41 @@
+// ruled_program.hpp — the ruled-surface G-code form (docs/ruled-surface.md, "The G-code form"):
+// pieces of directrix points (the tool tip X Y Z, workpiece coordinates, mm) and unit tool
+// vectors (I J K, tip to spindle, workpiece frame) written as G5.4 ... G5.5 groups, the 5-axis
+// analogue of G5.2 ... G5.3, inside a tool-centre-point program (M428 ... M429); and the same
+// pieces as a JSON file. Pure functions: pieces in, text out. `pcnc ruled` writes with them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "geometry/vec3.hpp"
+
+namespace pcnc {
+
+/// One ruled-surface piece: at least two set points, one unit tool vector each.
+struct RuledPiece {
+  std::vector<Vec3> points;  // tool tip, mm
+  std::vector<Vec3> axes;    // unit tool axis
+  std::string comment;       // written on the G5.4 line as (comment); may be empty
+};
+
+struct RuledProgramOptions {
+  double feed_mm_min = 600.0;         // F on every G5.4 line
+  double clearance_z = 1.0;           // the first rapid goes to this Z, the last back to it
+  std::vector<std::string> header;    // comment lines at the top (without parentheses)
+};
+
+/// The program, one string per line (no newlines): the header comments, G21 G90 G17 G94,
+/// M428, G0 Z<clearance>, G0 X Y to the first piece's first point, every piece as
+/// G5.4 F<feed> / X Y Z I J K lines / G5.5, G0 Z<clearance>, M429, M2. The first piece must
+/// start at (x, y, clearance) with the tool vertical (I0 J0 K1), where the rapids leave it.
+std::vector<std::string> ruled_program_lines(const std::vector<RuledPiece>& pieces, const RuledProgramOptions& options);
+
+/// One set point as written: X Y Z with 5 decimals, I J K with 7.
+std::string ruled_point_line(const Vec3& point, const Vec3& axis);
+
+/// The file form: {"format": "pcnc-ruled-program", "version": 1, "units": "mm", "feed_mm_min": F,
+/// "pieces": [{"points": [[x, y, z], ...], "axes": [[i, j, k], ...]}, ...]} (17 significant digits).
+std::string ruled_program_json(const std::vector<RuledPiece>& pieces, double feed_mm_min);
+
+}  // namespace pcnc
