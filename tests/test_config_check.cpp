@@ -59,5 +59,27 @@ TEST(ConfigCheck, AnAccelerationTheDriveCannotGiveIsAWarning) {
       << err.str();
 }
 
+// The 5-axis trunnion: the kinematics and one row per rotary joint in each table, in degrees
+// (the config holds radians); a note that the rt does not drive the joints yet.
+TEST(ConfigCheck, PrintsTheRotaryJointsAndKinematicsInDegrees) {
+  std::ostringstream out, err;
+  ASSERT_EQ(run_config_check(test::source_dir() + "/configs/desktop-5axis.toml", false, out, err), 0) << err.str();
+  const std::string text = out.str();
+  EXPECT_TRUE(has(text, "kinematics   xyzac-trt (A tilts the table, C turns it); tilt pivot (12.5, 12.5, 0) mm, "
+                        "rotary pivot (12.5, 12.5, 0) mm")) << text;
+  EXPECT_TRUE(has(text, "\n  A     -95 .. 95 (190)       0         180          3600           0.2              0.0003\n"))
+      << text;
+  EXPECT_TRUE(has(text, "\n  C     continuous            0         360          7200 ")) << text;
+  EXPECT_TRUE(has(text, "\n  A     0.002     0.4       5        2          0.01               0.03         ")) << text;
+  EXPECT_TRUE(has(text, "\n  A     23.5619   2356.19       0.0781035   800  ")) << "gains per degree again: " << text;
+  EXPECT_TRUE(has(text, "\n  C     6.28319   628.319       0.0207112   800  ")) << text;
+  EXPECT_TRUE(has(err.str(), "note: the rotary joints are configured but pcnc-rt does not drive them yet")) << err.str();
+  EXPECT_FALSE(has(err.str(), "warning")) << err.str();
+  // the 3-axis mill says it has none
+  std::ostringstream out3, err3;
+  ASSERT_EQ(run_config_check(test::default_config(), false, out3, err3), 0);
+  EXPECT_TRUE(has(out3.str(), "kinematics   trivial (X Y Z, no rotary joints)")) << out3.str();
+}
+
 }  // namespace
 }  // namespace pcnc

@@ -24,6 +24,51 @@ std::string num(double v) {
 
 std::string pad(const std::string& s, std::size_t width) { return s.size() >= width ? s + " " : s + std::string(width - s.size(), ' '); }
 
+// The rotary joints and the kinematics (degrees at this edge; the config holds radians).
+void print_rotary(const MachineConfig& c, std::ostream& out) {
+  const Kinematics& k = c.kinematics;
+  auto point = [](const Vec3& p) { return "(" + num(p[0]) + ", " + num(p[1]) + ", " + num(p[2]) + ") mm"; };
+  if (k.kind == KinematicsKind::kTrivial) {
+    out << "  kinematics   trivial (X Y Z, no rotary joints)\n";
+    return;
+  }
+  out << "  kinematics   " << (k.kind == KinematicsKind::kTableTable ? "xyzac-trt (A tilts the table, C turns it)"
+                                                                     : "xyzbc-head-table (B tilts the head, C turns the table)")
+      << "; tilt pivot " << point(k.tilt_pivot) << ", rotary pivot " << point(k.rotary_pivot)
+      << "; tool length from the tool table\n";
+  auto deg = [](double rad) { return num(rad * kDegPerRad); };
+  out << "  joint travel deg            home deg  v_max deg/s  a_max deg/s^2  f.err limit deg  encoder deg\n";
+  for (const auto& r : c.rotary) {
+    if (!r) continue;
+    const std::string travel =
+        r->continuous ? std::string("continuous")
+                      : deg(r->travel_min_rad) + " .. " + deg(r->travel_max_rad) + " (" +
+                            deg(r->travel_max_rad - r->travel_min_rad) + ")";
+    out << "  " << pad(std::string(1, r->letter), 6) << pad(travel, 22) << pad(deg(r->home_rad), 10)
+        << pad(deg(r->max_velocity_rad_s), 13) << pad(deg(r->max_accel_rad_s2), 15)
+        << pad(deg(r->following_error_limit_rad), 17) << deg(r->encoder_resolution_rad) << "\n";
+  }
+  out << "  joint J kg m^2  Kt N m/A  I_max A  T_max N m  viscous N m s/rad  Coulomb N m  drive a_max deg/s^2\n";
+  for (const auto& r : c.rotary) {
+    if (!r) continue;
+    const double torque = r->torque_constant_nm_per_a * r->current_limit_a;
+    out << "  " << pad(std::string(1, r->letter), 6) << pad(num(r->inertia_kg_m2), 10)
+        << pad(num(r->torque_constant_nm_per_a), 10) << pad(num(r->current_limit_a), 9) << pad(num(torque), 11)
+        << pad(num(r->viscous_friction_nm_s_per_rad), 19) << pad(num(r->coulomb_friction_nm), 13)
+        << deg(torque / r->inertia_kg_m2) << "\n";
+  }
+  out << "  joint Kp A/deg  Ki A/(deg s)  Kd A s/deg  D filter Hz  Vff A s/deg  Aff A s^2/deg  Fff A  I limit A\n";
+  for (const auto& r : c.rotary) {
+    if (!r) continue;
+    const double per_deg = kRadPerDeg;  // gains per rad inside, per deg in the file
+    out << "  " << pad(std::string(1, r->letter), 6) << pad(num(r->kp_a_per_rad * per_deg), 10)
+        << pad(num(r->ki_a_per_rad_s * per_deg), 14) << pad(num(r->kd_a_s_per_rad * per_deg), 12)
+        << pad(num(r->derivative_filter_hz), 13) << pad(num(r->velocity_ff_a_s_per_rad * per_deg), 13)
+        << pad(num(r->accel_ff_a_s2_per_rad * per_deg), 15) << pad(num(r->friction_ff_a), 7)
+        << num(r->integrator_limit_a) << "\n";
+  }
+}
+
 // The machine as understood, one block per subject.
 void print_machine(const MachineConfig& c, std::ostream& out) {
   const char* axis_names = "XYZ";
@@ -71,6 +116,7 @@ void print_machine(const MachineConfig& c, std::ostream& out) {
         << pad(num(a.kd_a_s_per_mm), 11) << pad(num(a.derivative_filter_hz), 13) << pad(num(a.velocity_ff_a_s_per_mm), 12)
         << pad(num(a.accel_ff_a_s2_per_mm), 14) << pad(num(a.friction_ff_a), 7) << num(a.integrator_limit_a) << "\n";
   }
+  print_rotary(c, out);
   out << "  timing       host lost after " << num(c.process.host_timeout_s) << " s, rt lost after "
       << num(c.process.rt_timeout_s) << " s, jog dead-man " << num(c.process.jog_deadman_s) << " s, idle client closed after "
       << (c.process.client_idle_timeout_s > 0.0 ? num(c.process.client_idle_timeout_s) + " s" : std::string("never"))
@@ -91,6 +137,19 @@ void print_machine(const MachineConfig& c, std::ostream& out) {
 
 // Plausibility notes that do not refuse the config (stderr).
 void print_notes(const MachineConfig& c, std::ostream& err) {
+  for (const auto& r : c.rotary) {
+    if (!r) continue;
+    const double drive = r->torque_constant_nm_per_a * r->current_limit_a / r->inertia_kg_m2;  // rad/s^2
+    if (drive < r->max_accel_rad_s2) {
+      err << c.source_path << ": warning: [axis." << static_cast<char>(r->letter + 32) << "] max_accel_deg_s2 "
+          << num(r->max_accel_rad_s2 * kDegPerRad) << " deg/s^2 is more than the drive can give ("
+          << num(drive * kDegPerRad) << " deg/s^2 = torque_constant x current_limit / inertia): expect following-error faults\n";
+    }
+  }
+  if (c.kinematics.kind != KinematicsKind::kTrivial) {
+    err << c.source_path << ": note: the rotary joints are configured but pcnc-rt does not drive them yet: programs run "
+        << "on X, Y and Z (A/B/C words are refused)\n";
+  }
   const char* axis_names = "XYZ";
   for (int i = 0; i < kAxes; ++i) {
     const AxisConfig& a = c.axes[static_cast<std::size_t>(i)];

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "gcode/preflight.hpp"
 #include "geometry/intersect.hpp"
 
 namespace pcnc {
@@ -269,6 +270,14 @@ void CutterComp::emit(const Held& h) {
     out.normal_axis = normal_;
     piece = arc_piece(s, h.end, h.center, h.turn);
   }
+  if (out.inverse_time_s > 0.0 && out.kind != MoveKind::kRapid) {
+    if (h.corner) {
+      out.inverse_time_s = 0.0;  // the programmed move's feed (mm/s), not its time
+    } else {
+      const double length = move_length(out);
+      out.feed_mm_s = length > 0.0 ? std::min(length / out.inverse_time_s, options_.max_feed_mm_s) : out.feed_mm_s;
+    }
+  }
   ready_.push_back(out);
   emitted_ = out.end;
   ++figures_.moves_out;
@@ -382,6 +391,7 @@ void CutterComp::straight_next(const Move& m) {
       if (!move_endpoint_and_flush(m, c)) return;
       if (m.kind == MoveKind::kLine) {
         enqueue_arc(m, 0.0, mid, op, left ? -1 : 1, cz);
+        queue_.back().corner = true;
       } else {
         Move r = m;  // a rapid has no arc: a straight traverse to the corner's far side
         enqueue_line(r, {0.0, 0.0}, mid, cz);
@@ -545,6 +555,7 @@ void CutterComp::arc_next(const Move& m) {
     const Vec2 mid = op + polar(radius_, delta);
     dequeue();
     enqueue_arc(m, 0.0, mid, op, left ? -1 : 1, cz);
+    queue_.back().corner = true;
     dequeue();
     set_endpoint(mid);
     ++figures_.corner_arcs;

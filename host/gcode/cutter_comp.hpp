@@ -26,6 +26,9 @@
 // path that comes closer to the contour than the tool radius is a gouge, reported with the
 // line and column of the move and its depth. All in machine mm: under --fit the programmed path
 // is scaled and offset by the real radius.
+// Inverse time (G93): the tool's move takes the programmed move's time, as in LinuxCNC (its feed
+// is the offset move's length over that time); a corner arc inserted before it runs at the
+// programmed move's feed; G93 moves are never fitted into biarc runs.
 #pragma once
 
 #include <cstddef>
@@ -72,6 +75,7 @@ struct CompOptions {
   double fit_segment_max_mm = 0.5;     // G1 runs: each move shorter than this
   double fit_tolerance_mm = 0.001;     // biarcs within this of the curve
   double contouring_angle_rad = 0.17453292519943295;  // G1 runs: each junction turning less
+  double max_feed_mm_s = 1e300;        // G93: an offset move's feed (its length / its time) is capped here
   static constexpr std::size_t kMinRun = 8;           // G1 runs: at least this many moves
 };
 
@@ -99,6 +103,7 @@ class CutterComp {
     double original_turn = 0.0;  // arc: its sweep as made (0: never tested)
     bool motion = true;   // false: a dwell or pause riding in the queue
     bool entry = false;   // the entry move (not measured for gouges)
+    bool corner = false;  // an arc inserted at a convex corner (G93: runs at the next move's feed)
     int index = -1;       // the programmed move of the session it belongs to
   };
 

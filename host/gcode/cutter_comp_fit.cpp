@@ -17,7 +17,7 @@ namespace pcnc {
 // shorter than fit_segment_max_mm in the plane with no motion along the normal, at the run's
 // feed, turning less than the contouring angle from the move before it in the run.
 bool CutterComp::run_candidate(const Move& m) const {
-  if (!active_ || first_move_ || m.kind != MoveKind::kLine) return false;
+  if (!active_ || first_move_ || m.kind != MoveKind::kLine || m.inverse_time_s > 0.0) return false;
   if (m.comp.side == 0 || m.comp.serial != serial_) return false;
   if (oop(m.start) != oop(m.end)) return false;
   const Vec2 a = in_plane(m.start), b = in_plane(m.end);

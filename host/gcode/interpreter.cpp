@@ -208,11 +208,15 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if (!check_words(l) || !comp_forbids(l)) return false;
   const int first = out.count;
 
-  // Feed, spindle, tool, coolant (RS274 order of execution).
+  // Feed mode, feed, spindle, tool, coolant (RS274 order of execution: G93/G94 before F).
+  if (l.g[kGFeedMode] >= 0) feed_mode(l);
   if (l.has('F')) {
     const double f = l.get('F');
     if (f < 0.0) return fail(l, l.column('F'), "negative F; expected a feed rate >= 0 (units per minute)");
-    feed_ = f;
+    if (!inverse_time_) {
+      feed_ = f;  // G93: each move reads its own line's F (an F without one is ignored, as in LinuxCNC)
+      feed_cleared_line_ = 0;
+    }
   }
   if (l.has('S'))
     warn(l, l.column('S'), "S",
@@ -320,6 +324,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   } else if (stop == 2 || stop == 30) {
     out.push(base_move(MoveKind::kEnd, l, l.m_col[kMStop]));
     select_system(0);  // M2/M30: back to G54, as LinuxCNC does
+    inverse_time_ = false;  // ... and to G94
     comp_.side = 0;    // ... and to G40
     ended_ = true;
   }

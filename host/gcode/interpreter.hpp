@@ -119,7 +119,11 @@ class Interpreter : public SystemParameters {
   Vec3 program_point() const;              // the current point in program coordinates (mm)
   Vec3 param_vec(int base) const;          // #base..#base+2 (mm)
   void set_param_vec(int base, const Vec3& v_mm);
-  bool feed_for_move(const ParsedLine& l, int column, double& feed_mm_s);
+  bool feed_for_move(const ParsedLine& l, int column, double& feed_mm_s, int motion = 10);
+  // G93/G94 (interpreter_feed_mode.cpp): the mode, and a G93 move's feed from its length
+  void feed_mode(const ParsedLine& l);
+  bool inverse_time_check(const ParsedLine& l, int column, int motion);
+  bool inverse_time_feed(const ParsedLine& l, Move& m);
   Vec3 axis_target(const ParsedLine& l, const Vec3& from, std::uint8_t& known, int& first_col) const;
   Vec3 to_machine(const Vec3& q) const { return frame_.scale * q + frame_.offset; }
   Vec3 to_job(const Vec3& m) const { return (1.0 / frame_.scale) * (m - frame_.offset); }
@@ -170,7 +174,9 @@ class Interpreter : public SystemParameters {
   bool inches_ = false;       // G20
   bool incremental_ = false;  // G91
   int work_index_ = 0;
-  double feed_ = 0.0;  // F as written, current units per minute
+  double feed_ = 0.0;  // F as written, current units per minute (G94; G93 reads each line's F)
+  bool inverse_time_ = false;  // G93: every G1/G2/G3 line's F is 1/(its time in minutes)
+  int feed_cleared_line_ = 0;  // the G94 that set a nonzero feed to 0 (LinuxCNC), for the message
   bool contouring_ = false;
   double path_tolerance_ = 0.0;  // mm: G64 P, else the config's (an operator's --tolerance in it)
   bool ended_ = false;

@@ -45,7 +45,7 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
                                  " (center offset) or R in the " + plane + " plane");
   }
   Move m = base_move(MoveKind::kArc, l, column);
-  if (!feed_for_move(l, column, m.feed_mm_s)) {
+  if (!feed_for_move(l, column, m.feed_mm_s, motion)) {
     q_ = e;
     known_ = known;
     return false;
@@ -130,6 +130,7 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   m.known = known;
   q_ = e;
   known_ = known;
+  if (inverse_time_ && !inverse_time_feed(l, m)) return false;
   out.push(m);
   return true;
 }

@@ -16,6 +16,7 @@ using namespace interp;
 bool Interpreter::cycle(const ParsedLine& l, int motion, bool first_of_series, MoveList& out) {
   const double u = inches_ ? kInch : 1.0;
   const int column = l.g[kGMotion] == motion ? l.g_col[kGMotion] : l.column(l.has('X') ? 'X' : l.has('Y') ? 'Y' : 'Z');
+  if (inverse_time_ && !inverse_time_check(l, column, motion)) return false;
   CycleInput in{};
   in.code10 = motion;
   in.normal_axis = normal_axis_;

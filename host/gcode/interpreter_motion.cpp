@@ -10,10 +10,18 @@ namespace pcnc {
 
 using namespace interp;
 
-bool Interpreter::feed_for_move(const ParsedLine& l, int column, double& feed_mm_s) {
+bool Interpreter::feed_for_move(const ParsedLine& l, int column, double& feed_mm_s, int motion) {
+  if (inverse_time_) {  // G93: this line's F; the feed itself follows from the move's length
+    feed_mm_s = 0.0;
+    return inverse_time_check(l, column, motion);
+  }
   if (!(feed_ > 0.0)) {
     return fail(l, column,
-                "feed move with no feed rate in effect (F0 or no F yet); expected an F word > 0 (units per minute)");
+                "feed move with no feed rate in effect (F0 or no F yet" +
+                    (feed_cleared_line_ > 0 ? "; G94 on line " + std::to_string(feed_cleared_line_) +
+                                                  " set it to 0, as in LinuxCNC"
+                                            : std::string()) +
+                    "); expected an F word > 0 (units per minute)");
   }
   double f = feed_ * (inches_ ? kInch : 1.0) / 60.0;
   if (f > max_feed_mm_s_ * (1.0 + 1e-12)) {
@@ -89,6 +97,11 @@ bool Interpreter::straight(const ParsedLine& l, int motion, bool g53, MoveList& 
   }
   if (!g53) end = to_machine(q);
   m.end = end;
+  if (motion == 10 && inverse_time_ && !inverse_time_feed(l, m)) {
+    q_ = q;
+    known_ = known;
+    return false;
+  }
   m.machine_frame = g53;
   m.known = known;
   q_ = q;

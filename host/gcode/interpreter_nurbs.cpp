@@ -56,7 +56,7 @@ bool Interpreter::nurbs_open(const ParsedLine& l, int motion, MoveList& out) {
     }
     g.order = static_cast<int>(v);
   }
-  if (!feed_for_move(l, col, g.feed_mm_s)) return false;
+  if (!feed_for_move(l, col, g.feed_mm_s, motion)) return false;
   g.known = known_;
   g.points.push_back(q_);  // the current position is the first control point
   const char weight_letter = fanuc ? 'R' : 'P';

@@ -45,6 +45,7 @@ struct Move {
   Vec3 start{};                // mm, machine coordinates
   Vec3 end{};                  // mm, machine coordinates
   double feed_mm_s = 0.0;      // programmed feed (already clamped to the machine maximum); 0 for rapids
+  double inverse_time_s = 0.0; // G93: the time the programmed move takes (s; feed_mm_s = length / it); 0 in G94
   bool contouring = false;     // M21 state (G64 on, G61 off) for this move
   bool optional_stop = false;  // kPause from M01
   bool machine_frame = false;  // G53 or G28: given in machine coordinates, not moved by --fit

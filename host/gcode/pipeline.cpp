@@ -1,6 +1,7 @@
 // pipeline.cpp — the front-end chain, linked in its one order (see pipeline.hpp).
 #include "gcode/pipeline.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "gcode/nurbs_move.hpp"
@@ -15,6 +16,10 @@ CompOptions comp_options(const MachineConfig& c) {
   o.fit_segment_max_mm = c.cutter_comp.fit_segment_max_mm;
   o.fit_tolerance_mm = c.cutter_comp.fit_tolerance_mm;
   o.contouring_angle_rad = c.motion.contouring_angle_deg * 3.14159265358979323846 / 180.0;
+  o.max_feed_mm_s = c.gcode.max_feed_mm_min > 0.0 ? c.gcode.max_feed_mm_min / 60.0 : 0.0;
+  if (o.max_feed_mm_s <= 0.0) {
+    for (const AxisConfig& a : c.axes) o.max_feed_mm_s = std::max(o.max_feed_mm_s, a.max_velocity_mm_s);
+  }
   return o;
 }
 }  // namespace

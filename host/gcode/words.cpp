@@ -46,7 +46,7 @@ constexpr CodeInfo kGCodes[] = {
     {900, 910, 10, kGDistance, nullptr},
     {901, 901, 1, kGArcDistance, nullptr},  // G90.1: I/J/K absolute
     {911, 911, 1, kGArcDistance, nullptr},
-    {930, 930, 1, kGFeedMode, "inverse time feed (G93) is not supported; expected G94 (F in units per minute)"},
+    {930, 930, 1, kGFeedMode, nullptr},  // G93 inverse time (interpreter_feed_mode.cpp)
     {940, 940, 1, kGFeedMode, nullptr},
     {950, 950, 1, kGFeedMode, "feed per revolution (G95) is not supported: the machine has no spindle; expected G94"},
     {200, 210, 10, kGUnits, nullptr},  // G20 G21

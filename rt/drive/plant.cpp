@@ -1,7 +1,9 @@
 // plant.cpp — closed-form integration of m·dv/dt = F − b·v under constant force F, with
 // Coulomb friction and stiction handled exactly at velocity zero crossings.
 //
-// Units: x in mm, v in mm/s, F in N, m in kg, b in N·s/m. Then dv/dt = 1000·F/m − (b/m)·v.
+// Units: linear x in mm, v in mm/s, F in N, m in kg, b in N·s/m: dv/dt = 1000·F/m − (b/m)·v.
+// Rotary x in rad, v in rad/s, F a torque in N·m, m = J in kg·m², b in N·m·s/rad:
+// dv/dt = F/J − (b/J)·v. The same equation with units_per_si 1000 or 1.
 #include "drive/plant.hpp"
 
 #include <algorithm>
@@ -9,18 +11,44 @@
 
 namespace pcnc {
 
-AxisPlant::AxisPlant(const AxisConfig& c, double cycle_s, int substeps, double position_mm)
-    : mass_kg_(c.moving_mass_kg),
-      kf_(c.force_constant_n_per_a),
-      imax_(c.current_limit_a),
-      b_(c.viscous_friction_n_s_per_m),
-      fc_(c.coulomb_friction_n),
-      fg_(c.gravity_load_n),
-      res_(c.encoder_resolution_mm),
+PlantModel plant_model(const AxisConfig& a) {
+  PlantModel m;
+  m.inertia = a.moving_mass_kg;
+  m.gain_per_a = a.force_constant_n_per_a;
+  m.current_limit_a = a.current_limit_a;
+  m.viscous = a.viscous_friction_n_s_per_m;
+  m.coulomb = a.coulomb_friction_n;
+  m.load = a.gravity_load_n;
+  m.encoder_resolution = a.encoder_resolution_mm;
+  m.units_per_si = 1000.0;  // mm per m
+  return m;
+}
+
+PlantModel plant_model(const RotaryAxisConfig& j) {
+  PlantModel m;
+  m.inertia = j.inertia_kg_m2;
+  m.gain_per_a = j.torque_constant_nm_per_a;
+  m.current_limit_a = j.current_limit_a;
+  m.viscous = j.viscous_friction_nm_s_per_rad;
+  m.coulomb = j.coulomb_friction_nm;
+  m.load = 0.0;  // a balanced cradle and a horizontal table: no gravity torque
+  m.encoder_resolution = j.encoder_resolution_rad;
+  m.units_per_si = 1.0;  // rad
+  return m;
+}
+
+AxisPlant::AxisPlant(const PlantModel& m, double cycle_s, int substeps, double position)
+    : mass_kg_(m.inertia),
+      kf_(m.gain_per_a),
+      imax_(m.current_limit_a),
+      b_(m.viscous),
+      fc_(m.coulomb),
+      fg_(m.load),
+      res_(m.encoder_resolution),
       h_(cycle_s / std::max(1, substeps)),
       substeps_(std::max(1, substeps)),
-      x_(position_mm) {
-  accel_per_n_ = 1000.0 / mass_kg_;
+      x_(position) {
+  accel_per_n_ = m.units_per_si / mass_kg_;
   lambda_ = b_ / mass_kg_;
   e_h_ = std::exp(-lambda_ * h_);
 }

@@ -7,18 +7,46 @@
 
 namespace pcnc {
 
-AxisPid::AxisPid(const AxisConfig& c, double cycle_s)
-    : kp_(c.kp_a_per_mm),
-      ki_(c.ki_a_per_mm_s),
-      kd_(c.kd_a_s_per_mm),
-      kvff_(c.velocity_ff_a_s_per_mm),
-      kaff_(c.accel_ff_a_s2_per_mm),
-      kfric_(c.friction_ff_a),
-      ilim_(c.integrator_limit_a),
-      imax_(c.current_limit_a),
+PidGains pid_gains(const AxisConfig& a) {
+  PidGains g;
+  g.kp = a.kp_a_per_mm;
+  g.ki = a.ki_a_per_mm_s;
+  g.kd = a.kd_a_s_per_mm;
+  g.derivative_filter_hz = a.derivative_filter_hz;
+  g.kvff = a.velocity_ff_a_s_per_mm;
+  g.kaff = a.accel_ff_a_s2_per_mm;
+  g.kfric = a.friction_ff_a;
+  g.integrator_limit_a = a.integrator_limit_a;
+  g.current_limit_a = a.current_limit_a;
+  return g;
+}
+
+PidGains pid_gains(const RotaryAxisConfig& j) {
+  PidGains g;
+  g.kp = j.kp_a_per_rad;
+  g.ki = j.ki_a_per_rad_s;
+  g.kd = j.kd_a_s_per_rad;
+  g.derivative_filter_hz = j.derivative_filter_hz;
+  g.kvff = j.velocity_ff_a_s_per_rad;
+  g.kaff = j.accel_ff_a_s2_per_rad;
+  g.kfric = j.friction_ff_a;
+  g.integrator_limit_a = j.integrator_limit_a;
+  g.current_limit_a = j.current_limit_a;
+  return g;
+}
+
+AxisPid::AxisPid(const PidGains& g, double cycle_s)
+    : kp_(g.kp),
+      ki_(g.ki),
+      kd_(g.kd),
+      kvff_(g.kvff),
+      kaff_(g.kaff),
+      kfric_(g.kfric),
+      ilim_(g.integrator_limit_a),
+      imax_(g.current_limit_a),
       dt_(cycle_s) {
   // First-order low-pass on the derivative, corner derivative_filter_hz, exact discretisation.
-  alpha_ = 1.0 - std::exp(-2.0 * std::numbers::pi * c.derivative_filter_hz * cycle_s);
+  alpha_ = 1.0 - std::exp(-2.0 * std::numbers::pi * g.derivative_filter_hz * cycle_s);
 }
 
 void AxisPid::reset(double integral_a) {

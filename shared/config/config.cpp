@@ -260,6 +260,109 @@ void read_axis(Section& parent, const char* key, AxisConfig& a, std::vector<std:
   s.finish();
 }
 
+// [axis.a], [axis.b], [axis.c]: a rotary joint, in degrees in the file and radians in `out`
+// (rotary_config.hpp). Read only when the section is there (a 3-axis machine has none).
+// `continuous = true` replaces the travel (its keys are then refused).
+void read_rotary_axis(Section& parent, const char* key, std::optional<RotaryAxisConfig>& out,
+                      std::vector<std::string>& problems) {
+  const toml::table* table = parent.subtable(key);
+  if (!table) return;
+  Section s(table, parent.child(key), parent.origin(), problems);
+  RotaryAxisConfig a;
+  a.letter = static_cast<char>(key[0] - 'a' + 'A');
+  double min_deg = 0.0, max_deg = 0.0, home_deg = 0.0, v = 0.0, acc = 0.0, ferr = 0.0, res = 0.0;
+  double kp = 0.0, ki = 0.0, kd = 0.0, kvff = 0.0, kaff = 0.0;
+  s.boolean("continuous", a.continuous, Need::kOptional);
+  const Need travel = a.continuous ? Need::kOptional : Need::kRequired;
+  const bool min_ok = s.number("travel_min_deg", min_deg, -1e5, 1e5, "deg", travel);
+  const bool max_ok = s.number("travel_max_deg", max_deg, -1e5, 1e5, "deg", travel);
+  const bool home_ok = s.number("home_deg", home_deg, -1e5, 1e5, "deg");
+  s.number("max_velocity_deg_s", v, 1e-3, 1e6, "deg/s");
+  s.number("max_accel_deg_s2", acc, 1e-3, 1e8, "deg/s^2");
+  s.number("following_error_limit_deg", ferr, 1e-6, 360.0, "deg");
+  s.number("inertia_kg_m2", a.inertia_kg_m2, 1e-9, 1e3, "kg m^2");
+  s.number("torque_constant_nm_per_a", a.torque_constant_nm_per_a, 1e-4, 1e4, "N m/A");
+  s.number("current_limit_a", a.current_limit_a, 1e-4, 1e4, "A");
+  s.number("viscous_friction_nm_s_per_rad", a.viscous_friction_nm_s_per_rad, 0.0, 1e4, "N m s/rad");
+  s.number("coulomb_friction_nm", a.coulomb_friction_nm, 0.0, 1e4, "N m");
+  s.number("encoder_resolution_deg", res, 0.0, 1.0, "deg");
+  s.number("kp_a_per_deg", kp, 0.0, 1e9, "A/deg");
+  s.number("ki_a_per_deg_s", ki, 0.0, 1e12, "A/(deg s)");
+  s.number("kd_a_s_per_deg", kd, 0.0, 1e6, "A s/deg");
+  s.number("derivative_filter_hz", a.derivative_filter_hz, 1.0, 1e6, "Hz");
+  s.number("velocity_ff_a_s_per_deg", kvff, 0.0, 1e6, "A s/deg");
+  s.number("accel_ff_a_s2_per_deg", kaff, 0.0, 1e6, "A s^2/deg");
+  s.number("friction_ff_a", a.friction_ff_a, 0.0, 1e4, "A");
+  s.number("integrator_limit_a", a.integrator_limit_a, 0.0, 1e4, "A");
+  if (a.continuous && (min_ok || max_ok)) {
+    s.problem("a continuous axis has no travel limits; expected either continuous = true or travel_min_deg and "
+              "travel_max_deg",
+              min_ok ? "travel_min_deg" : "travel_max_deg");
+  } else if (!a.continuous && min_ok && max_ok && !(max_deg > min_deg)) {
+    s.problem("travel_max_deg (" + show(max_deg) + " deg) must exceed travel_min_deg (" + show(min_deg) + " deg)",
+              "travel_max_deg");
+  } else if (!a.continuous && min_ok && max_ok && home_ok && !(home_deg >= min_deg && home_deg <= max_deg)) {
+    s.problem("home_deg (" + show(home_deg) + " deg) must lie within the travel, " + show(min_deg) + " .. " +
+                  show(max_deg) + " deg",
+              "home_deg");
+  }
+  s.finish();
+  // degrees at the edge, radians inside; gains per degree become gains per radian
+  a.travel_min_rad = min_deg * kRadPerDeg;
+  a.travel_max_rad = max_deg * kRadPerDeg;
+  a.home_rad = home_deg * kRadPerDeg;
+  a.max_velocity_rad_s = v * kRadPerDeg;
+  a.max_accel_rad_s2 = acc * kRadPerDeg;
+  a.following_error_limit_rad = ferr * kRadPerDeg;
+  a.encoder_resolution_rad = res * kRadPerDeg;
+  a.kp_a_per_rad = kp * kDegPerRad;
+  a.ki_a_per_rad_s = ki * kDegPerRad;
+  a.kd_a_s_per_rad = kd * kDegPerRad;
+  a.velocity_ff_a_s_per_rad = kvff * kDegPerRad;
+  a.accel_ff_a_s2_per_rad = kaff * kDegPerRad;
+  out = a;
+}
+
+// [kinematics], optional (absent: trivial): kind and the pivots of geometry/kinematics.hpp, and
+// the rotary joints that kind needs, none more.
+void read_kinematics(Section& top, MachineConfig& c, std::vector<std::string>& problems) {
+  Section k(top.subtable("kinematics"), "kinematics", top.origin(), problems);
+  std::string kind = "trivial";
+  const bool have_kind = k.string("kind", kind, Need::kOptional);
+  const bool trivial = kind == "trivial";
+  const Need pivots = trivial ? Need::kOptional : Need::kRequired;
+  const bool tilt = k.vec3("tilt_pivot_mm", c.kinematics.tilt_pivot, -1e4, 1e4, "mm", pivots);
+  const bool rot = k.vec3("rotary_pivot_mm", c.kinematics.rotary_pivot, -1e4, 1e4, "mm", pivots);
+  const char* needs = "";  // the rotary joints the kind uses: tilt, then C
+  if (kind == "xyzac-trt") {
+    c.kinematics.kind = KinematicsKind::kTableTable;
+    needs = "ac";
+  } else if (kind == "xyzbc-head-table") {
+    c.kinematics.kind = KinematicsKind::kHeadTable;
+    needs = "bc";
+  } else if (!trivial) {
+    k.problem("kind '" + kind + "' is not a kinematics pcnc has; expected \"trivial\", \"xyzac-trt\" or "
+              "\"xyzbc-head-table\"",
+              "kind");
+  } else if (tilt || rot) {
+    k.problem("the trivial kinematics has no pivots; expected no tilt_pivot_mm or rotary_pivot_mm", tilt ? "tilt_pivot_mm" : "rotary_pivot_mm");
+  }
+  k.finish();
+  if (!trivial && !(kind == "xyzac-trt" || kind == "xyzbc-head-table")) return;
+  const std::string label = have_kind ? "[kinematics] kind = \"" + kind + "\"" : std::string("the trivial kinematics (no [kinematics] kind)");
+  for (int i = 0; i < kRotaryAxes; ++i) {
+    const char letter = static_cast<char>('a' + i);
+    const bool used = std::string(needs).find(letter) != std::string::npos;
+    const bool there = c.rotary[static_cast<std::size_t>(i)].has_value();
+    if (used && !there) {
+      problems.push_back(top.origin() + ": missing section [axis." + letter + "]: " + label + " needs it");
+    } else if (!used && there) {
+      problems.push_back(top.origin() + ": [axis." + letter + "] is not a joint of " + label +
+                         "; expected it removed, or a [kinematics] kind that uses it");
+    }
+  }
+}
+
 // A path named in the config: relative ones are relative to the config file's directory
 // (not the working directory of whichever process reads it).
 std::string resolve_beside(const std::string& path, const std::string& config_origin) {
@@ -295,8 +398,12 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     read_axis(axes, "x", c.axes[0], problems);
     read_axis(axes, "y", c.axes[1], problems);
     read_axis(axes, "z", c.axes[2], problems);
+    read_rotary_axis(axes, "a", c.rotary[0], problems);
+    read_rotary_axis(axes, "b", c.rotary[1], problems);
+    read_rotary_axis(axes, "c", c.rotary[2], problems);
     axes.finish();
   }
+  read_kinematics(top, c, problems);
   {
     Section m(top.subtable("motion"), "motion", origin, problems);
     m.number("cycle_hz", c.motion.cycle_hz, 100.0, 100000.0, "Hz");

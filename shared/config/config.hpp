@@ -4,10 +4,13 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "config/rotary_config.hpp"
+#include "geometry/kinematics.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -143,8 +146,36 @@ struct MachineConfig {
   GcodeConfig gcode{};
   CutterCompConfig cutter_comp{};
   ProcessConfig process{};
+  // Rotary joints [axis.a], [axis.b], [axis.c] (index 0, 1, 2; absent: none) and [kinematics]
+  // (default: trivial, the 3-axis mill). The tool length is the tool table's, not the config's.
+  std::array<std::optional<RotaryAxisConfig>, kRotaryAxes> rotary{};
+  Kinematics kinematics{};
 
   double cycle_period_s() const { return 1.0 / motion.cycle_hz; }
+  /// The kinematics' tilt joint (A of table-table, B of head-table) and its rotary joint (C);
+  /// nullptr on the trivial machine.
+  const RotaryAxisConfig* tilt_joint() const {
+    if (kinematics.kind == KinematicsKind::kTableTable && rotary[0]) return &*rotary[0];
+    if (kinematics.kind == KinematicsKind::kHeadTable && rotary[1]) return &*rotary[1];
+    return nullptr;
+  }
+  const RotaryAxisConfig* rotary_joint() const {
+    return kinematics.kind != KinematicsKind::kTrivial && rotary[2] ? &*rotary[2] : nullptr;
+  }
+  /// The joints' travel for the inverse kinematics' choice of solution (geometry/kinematics.hpp):
+  /// unbounded for a continuous joint or on the trivial machine.
+  RotaryTravel rotary_travel() const {
+    RotaryTravel t;
+    if (const RotaryAxisConfig* a = tilt_joint(); a && !a->continuous) {
+      t.tilt_min = a->travel_min_rad;
+      t.tilt_max = a->travel_max_rad;
+    }
+    if (const RotaryAxisConfig* c = rotary_joint(); c && !c->continuous) {
+      t.rotary_min = c->travel_min_rad;
+      t.rotary_max = c->travel_max_rad;
+    }
+    return t;
+  }
   Vec3 travel_min() const { return {axes[0].travel_min_mm, axes[1].travel_min_mm, axes[2].travel_min_mm}; }
   Vec3 travel_max() const { return {axes[0].travel_max_mm, axes[1].travel_max_mm, axes[2].travel_max_mm}; }
 };
