@@ -69,6 +69,19 @@ int main(int argc, char** argv) {
   }
   const double n = static_cast<double>(rows.size());
   std::printf("bench_report: %s, %zu rows\n", trace.c_str(), rows.size());
+  {
+    CompactTraceBuilder b(nullptr);
+    for (const TraceSample& s : rows) b.add(s);
+    const CompactTotals t = b.finish();
+    std::FILE* f = std::fopen(compact.c_str(), "rb");
+    long size = -1;
+    if (f && std::fseek(f, 0, SEEK_END) == 0) size = std::ftell(f);
+    if (f) std::fclose(f);
+    std::printf("  compact trace: %.2f MB: %llu runs for %llu window rows, %llu slices of %.1f ms, %llu path points %.0f um apart\n",
+                static_cast<double>(size) / 1e6, static_cast<unsigned long long>(t.runs),
+                static_cast<unsigned long long>(t.program_rows), static_cast<unsigned long long>(t.slices),
+                t.slice_width_s * 1e3, static_cast<unsigned long long>(t.points), t.path_tolerance_mm * 1e3);
+  }
 
   std::size_t sink = 0;
   const double t_csv = fastest(repeat, [&] {

@@ -183,7 +183,7 @@ TEST(CompactTrace, DigestEqualsTheFullCsvsDigest) {
     expect_same_digest(full, compact);
     // the path: decimated twice, but from the same rows: same ends, same tolerance rule
     ASSERT_FALSE(compact.path.empty());
-    EXPECT_EQ(compact.path.front().p[0], full.path.front().p[0]);
+    EXPECT_NEAR(compact.path.front().p[0], full.path.front().p[0], 1e-5);  // single precision
     EXPECT_EQ(compact.path.back().p[0], full.path.back().p[0]);
     EXPECT_EQ(compact.path.back().t, full.path.back().t);
     EXPECT_LE(compact.path.size(), o.max_path_points + 1);

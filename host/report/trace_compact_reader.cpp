@@ -181,8 +181,9 @@ std::vector<ToolPathPoint> decimate_path(const std::vector<CompactPoint>& points
   };
   for (const CompactPoint& c : points) {
     const bool rapid = o.is_rapid_line && o.is_rapid_line(c.line);
-    if (!path.empty() && rapid == path.back().rapid && norm(c.actual - path.back().p) < tol) continue;
-    path.push_back(ToolPathPoint{c.actual, c.speed, rapid, c.t, c.line, c.ferr});
+    const Vec3 p = point_position(c);
+    if (!path.empty() && rapid == path.back().rapid && norm(p - path.back().p) < tol) continue;
+    path.push_back(ToolPathPoint{p, static_cast<double>(c.speed), rapid, c.t, c.line, point_ferr(c)});
     if (path.size() > o.max_path_points) thin();
   }
   return path;

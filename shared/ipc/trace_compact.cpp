@@ -36,6 +36,9 @@ Vec3 round_vec(const Vec3& v) {
 
 }  // namespace
 
+Vec3 point_position(const CompactPoint& p) { return {p.actual[0], p.actual[1], p.actual[2]}; }
+Vec3 point_ferr(const CompactPoint& p) { return {p.ferr[0], p.ferr[1], p.ferr[2]}; }
+
 double round_like_csv(double x, double scale) { return std::nearbyint(x * scale) / scale; }
 
 TraceSample round_like_csv(const TraceSample& s) {
@@ -49,8 +52,10 @@ TraceSample round_like_csv(const TraceSample& s) {
 }
 
 CompactTraceBuilder::CompactTraceBuilder(std::function<void(const CompactRun&)> on_run) : on_run_(std::move(on_run)) {
+  // reserved once, so they never reallocate (pages are resident only as they fill)
   slices_.reserve(kMaxSlices + 1);
-  points_.reserve(1024);
+  points_.reserve(kMaxPoints + 1);
+  idle_tail_.reserve(kMaxIdleTail);
 }
 
 void CompactTraceBuilder::add(const TraceSample& raw) {
@@ -158,16 +163,24 @@ void CompactTraceBuilder::add_to_path(const TraceSample& raw, const TraceSample&
     if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < path_tol_ * path_tol_) return;
   }
   last_kept_ = raw.actual;
-  points_.push_back(CompactPoint{t, r.speed, round_vec(raw.actual), round_vec(raw.following_error), r.line, 0});
+  CompactPoint p;
+  p.t = t;
+  p.speed = static_cast<float>(r.speed);
+  for (std::size_t i = 0; i < 3; ++i) {
+    p.actual[i] = static_cast<float>(raw.actual[i]);
+    p.ferr[i] = static_cast<float>(raw.following_error[i]);
+  }
+  p.line = r.line;
+  points_.push_back(p);
   if (points_.size() <= kMaxPoints) return;
   path_tol_ *= 2.0;
   std::size_t out = 1;
   for (std::size_t i = 1; i < points_.size(); ++i) {
-    if (norm(points_[i].actual - points_[out - 1].actual) < path_tol_) continue;
+    if (norm(point_position(points_[i]) - point_position(points_[out - 1])) < path_tol_) continue;
     points_[out++] = points_[i];
   }
   points_.resize(out);
-  last_kept_ = points_.back().actual;
+  last_kept_ = point_position(points_.back());
 }
 
 CompactTotals CompactTraceBuilder::finish() {

@@ -14,7 +14,8 @@
 //   - slices: per time slice (0.5 ms, doubling while there are more than kMaxSlices) the
 //     first and last time, the rows, the minimum and maximum speed, following error and line;
 //   - the tool path: a row is kept when it lies at least the path tolerance (1 µm, doubling
-//     past kMaxPoints) from the last kept one; the host decimates this path again;
+//     past kMaxPoints) from the last kept one, in single precision; the host decimates this
+//     path again (its last point is the window's last row, exact);
 //   - the counts, maxima and the last row of the window.
 // Pure: the caller hands rows in and takes records out (runs as they complete, through a
 // callback, so memory stays bounded by the slices and the path, not the program's length).
@@ -51,14 +52,17 @@ struct CompactSlice {
 };
 static_assert(std::is_trivially_copyable_v<CompactSlice>);
 
-/// A kept point of the tool path (measured position), values as the CSV holds them.
+/// A kept point of the tool path (measured position) for the views: 40 bytes, so that the rt
+/// can keep enough of them. Time as the CSV holds it; position, speed and following error in
+/// single precision (on a 25 mm travel a float resolves 2 nm, far below the views' 0.5 µm).
 struct CompactPoint {
   double t = 0.0;  // program time, s
-  double speed = 0.0;
-  Vec3 actual{}, ferr{};
-  std::uint32_t line = 0, reserved = 0;
+  float actual[3] = {0, 0, 0};  // mm
+  float ferr[3] = {0, 0, 0};    // mm
+  float speed = 0.0f;           // mm/s
+  std::uint32_t line = 0;
 };
-static_assert(std::is_trivially_copyable_v<CompactPoint>);
+static_assert(std::is_trivially_copyable_v<CompactPoint> && sizeof(CompactPoint) == 40);
 
 /// What holds for the whole trace; written after the runs.
 struct CompactTotals {
@@ -89,6 +93,10 @@ struct CompactFooter {
 };
 static_assert(std::is_trivially_copyable_v<CompactHeader> && std::is_trivially_copyable_v<CompactFooter>);
 
+/// A point's position and following error, mm.
+Vec3 point_position(const CompactPoint& p);
+Vec3 point_ferr(const CompactPoint& p);
+
 /// Rounds as the CSV row does (ipc/trace_format.cpp: t %.4f, positions %.7f, speed %.5f).
 double round_like_csv(double x, double scale);
 TraceSample round_like_csv(const TraceSample& s);
@@ -96,7 +104,7 @@ TraceSample round_like_csv(const TraceSample& s);
 class CompactTraceBuilder {
  public:
   static constexpr std::size_t kMaxSlices = 4096;   // the report uses at most 920 buckets: slices nest in them
-  static constexpr std::size_t kMaxPoints = 65536;  // the report keeps at most 40,000 points
+  static constexpr std::size_t kMaxPoints = 65536;  // 2.6 MB at most; the report keeps at most 40,000 points
   static constexpr double kPathToleranceMm = 0.001;
 
   /// `on_run` receives each run once it is complete, in time order.
