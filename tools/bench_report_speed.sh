@@ -24,7 +24,11 @@ TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 # a private segment, socket and state directory, so a running pcnc elsewhere is not disturbed
 sed -e "s#^shm_name = .*#shm_name = \"/pcnc-benchrep-$$\"#" -e "s#^\# socket_path = .*#socket_path = \"$TMP/s.sock\"#" \
-    -e "s#^\# state_dir = .*#state_dir = \"$TMP/state\"#" configs/desktop-mill.toml >"$TMP/mill.toml"
+    -e "s#^\# state_dir = .*#state_dir = \"$TMP/state\"#" \
+    -e "s#^host_timeout_s = .*#host_timeout_s = 2.0#" -e "s#^rt_timeout_s = .*#rt_timeout_s = 2.0#" \
+    configs/desktop-mill.toml >"$TMP/mill.toml"
+# (heartbeat timeouts of 2 s instead of 0.1 s: on a busy machine a starved process would end
+# a run as "pcnc-rt lost"; they change no figure of a run that completes)
 
 # timed OUT ARGS... : runs pcnc run ARGS RUNS times; prints "WALL CPU" of the fastest run
 timed() {
@@ -42,10 +46,16 @@ for _ in range(runs):
     wall = time.monotonic() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    if rc != 0:
-        sys.exit(f"bench_report_speed: exit {rc}: {' '.join(argv)}\n" + open(out + ".err").read()[-800:])
+    if rc != 0:  # a busy machine can starve a heartbeat: say so, keep the other runs
+        print(f"bench_report_speed: exit {rc} (run left out): {' '.join(argv)}\n" + open(out + ".err").read()[-400:],
+              file=sys.stderr)
+        continue
     if best is None or wall < best[0]:
         best = (wall, cpu)
+        with open(out) as o, open(out + ".best", "w") as b:
+            b.write(o.read())
+if best is None:
+    sys.exit("bench_report_speed: every run failed")
 print(f"{best[0]:.3f} {best[1]:.3f}")
 EOF
 }
@@ -58,7 +68,7 @@ for p in "${PROGRAMS[@]}"; do
   f=$SHARED/gcode/cam/$p
   rm -f "$TMP"/*.html "$TMP"/*.csv
   read -r w0 c0 < <(timed "$TMP/o0" "$f" --fit --clock virtual)
-  machine=$(sed -n 's/^  program time *\([0-9.]*\) s machine time.*/\1/p' "$TMP/o0")
+  machine=$(sed -n 's/^  program time *\([0-9.]*\) s machine time.*/\1/p' "$TMP/o0.best")
   read -r w1 c1 < <(timed "$TMP/o1" "$f" --fit --clock virtual --report "$TMP/r1.html")
   read -r w2 c2 < <(timed "$TMP/o2" "$f" --fit --clock virtual --report "$TMP/r2.html" --trace "$TMP/t2.csv")
   for row in "plain|$w0|$c0|-|-" "--report|$w1|$c1|$TMP/r1.html|-" "--report --trace|$w2|$c2|$TMP/r2.html|$TMP/t2.csv"; do
