@@ -52,7 +52,8 @@ int main(int argc, char** argv) {
   run->add_option("--trace", trace, "write the per-cycle trace (CSV) to this file");
   run->add_option("--report", report,
                   "also write the run report as a self-contained HTML page (figures, isometric tool path, speed and "
-                  "following error over time; built from the trace after both processes have ended)");
+                  "following error over time; built after both processes have ended from the compact trace pcnc-rt keeps "
+                  "for it, or from the CSV when --trace is given)");
   run->add_option("--summary", summary, "also write the run's figures as JSON (check, transform, job, final status)");
   run->add_flag("-q,--quiet", quiet, "stderr: errors only (no G-code warnings, no progress, no process log)");
   run->add_flag("-v,--verbose", verbose, "stderr: the processes' informational log too");
