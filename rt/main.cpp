@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
       "--serve."};
   std::string config_path = pcnc::default_config_path();
   std::string clock = "real";
-  std::string trace_path;
+  std::string trace_path, trace_digest_path;
   std::string log_level = "info";
   int ready_fd = -1;
   app.add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
@@ -88,6 +88,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"real", "virtual"}))
       ->capture_default_str();
   app.add_option("--trace", trace_path, "write the per-cycle trace CSV to this file");
+  app.add_option("--trace-digest", trace_digest_path,
+                 "write the compact trace the run report reads to this file (per time slice min/max, speed runs, "
+                 "decimated path; docs/replay.md)");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   app.add_option("--ready-fd", ready_fd, "write 'ready' to this file descriptor once the segment exists (for launchers)");
   pcnc::add_exit_status_help(app);
@@ -104,7 +107,7 @@ int main(int argc, char** argv) {
     return pcnc::kExitBadInput;
   }
   try {
-    pcnc::check_output_paths({{trace_path, "--trace"}});
+    pcnc::check_output_paths({{trace_path, "--trace"}, {trace_digest_path, "--trace-digest"}});
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return pcnc::kExitBadInput;
@@ -133,6 +136,7 @@ int main(int argc, char** argv) {
     pcnc::RtLoopOptions options;
     options.virtual_clock = virtual_clock;
     options.trace_path = trace_path;
+    options.trace_digest_path = trace_digest_path;
     options.on_trace_failure = [](const std::string& what) {
       spdlog::error("{}{}", what,
                     g_trace_stops ? "; stopping the program along the path, no program starts until pcnc-rt restarts "

@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
   run->add_option("--trace", trace, "write the per-cycle trace (CSV) to this file");
   run->add_option("--report", report,
                   "also write the run report as a self-contained HTML page (figures, isometric tool path, speed and "
-                  "following error over time; built from the trace after both processes have ended)");
+                  "following error over time; built after both processes have ended from the compact trace pcnc-rt keeps "
+                  "for it, or from the CSV when --trace is given)");
   run->add_option("--summary", summary, "also write the run's figures as JSON (check, transform, job, final status)");
   run->add_flag("-q,--quiet", quiet, "stderr: errors only (no G-code warnings, no progress, no process log)");
   run->add_flag("-v,--verbose", verbose, "stderr: the processes' informational log too");
@@ -92,8 +93,9 @@ int main(int argc, char** argv) {
     for (auto* args : {&lo.rt_args, &lo.host_args}) args->insert(args->end(), {"--log-level", level});
     if (quiet) lo.host_args.push_back("--quiet");
     // --report: the HTML page needs the trace and the host's summary; --summary's time_by_cause
-    // needs the trace too. What the user did not ask for goes to a temporary directory that is
-    // removed afterwards.
+    // needs the trace too. Without --trace, pcnc-rt keeps only the compact trace the report
+    // reads (--trace-digest, docs/replay.md); with it, the report reads the CSV. What the user
+    // did not ask for goes to a temporary directory that is removed afterwards.
     std::string scratch, trace_file = trace, summary_file = summary;
     if ((!report.empty() && (trace.empty() || summary.empty())) || (!summary.empty() && trace.empty())) {
       std::string tmpl = (std::getenv("TMPDIR") ? std::string(std::getenv("TMPDIR")) : std::string("/tmp")) + "/pcnc-run-XXXXXX";
@@ -103,10 +105,13 @@ int main(int argc, char** argv) {
         return;
       }
       scratch = tmpl;
-      if (trace_file.empty()) trace_file = scratch + "/trace.csv";
+      if (trace_file.empty()) {
+        trace_file = scratch + "/trace.pcct";
+        lo.rt_args.insert(lo.rt_args.end(), {"--trace-digest", trace_file});
+      }
       if (summary_file.empty()) summary_file = scratch + "/summary.json";
     }
-    if (!trace_file.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace_file});
+    if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
     if (!contouring.empty()) lo.host_args.insert(lo.host_args.end(), {"--contouring", contouring});
     if (!offset.empty()) lo.host_args.insert(lo.host_args.end(), {"--offset", offset});
     if (fit) lo.host_args.push_back("--fit");

@@ -11,6 +11,7 @@ namespace pcnc {
 namespace {
 
 constexpr int kGzipWindow = 15 + 16;  // zlib: 15-bit window, +16 selects the gzip wrapper
+constexpr int kGzipLevel = 6;         // zlib's default: a report is written once per run (see the header)
 
 constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
@@ -18,7 +19,7 @@ constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwx
 
 std::string gzip_bytes(std::string_view bytes) {
   z_stream z{};
-  if (deflateInit2(&z, Z_BEST_COMPRESSION, Z_DEFLATED, kGzipWindow, 9, Z_DEFAULT_STRATEGY) != Z_OK) {
+  if (deflateInit2(&z, kGzipLevel, Z_DEFLATED, kGzipWindow, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
     throw std::runtime_error("gzip: cannot initialise zlib");
   }
   std::string out(deflateBound(&z, static_cast<uLong>(bytes.size())) + 32, '\0');

@@ -1,6 +1,8 @@
 // run_outputs.cpp — summary + trace -> time by cause and the HTML report (see run_outputs.hpp).
 #include "report/run_outputs.hpp"
 
+#include "report/trace_compact_reader.hpp"
+
 #include <algorithm>
 #include <fstream>
 #include <iterator>
@@ -33,7 +35,8 @@ ReportPage load_report_page(const std::string& summary_path, const std::string& 
   if (!page.summary.plan.empty()) {
     d.cause_of = [&classifier](const TraceSample& row, double prev) { return classifier.classify(row, prev); };
   }
-  page.trace = digest_trace(trace_path, d);
+  // the compact trace pcnc-rt keeps for the report (--trace-digest), or the full CSV (--trace)
+  page.trace = is_compact_trace_file(trace_path) ? digest_compact_trace(trace_path, d) : digest_trace(trace_path, d);
   page.has_trace = true;
   const double program_time = page.summary.final_status.program_time_s;
   if (page.trace.classified && page.trace.program_rows > 0) {

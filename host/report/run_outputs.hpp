@@ -1,5 +1,6 @@
 // run_outputs.hpp — what `pcnc run` does with a run's files once both processes have ended:
-// reads the host's summary and the rt's trace in one pass, attributes the program time to its
+// reads the host's summary and the rt's trace (the full CSV or the compact trace,
+// report/trace_compact_reader.hpp) in one pass, attributes the program time to its
 // causes (report/time_causes.hpp) into the summary's `time_by_cause`, and writes the HTML
 // report (report/report_html.hpp).
 #pragma once
@@ -10,7 +11,8 @@
 
 namespace pcnc {
 
-/// The page's data from a summary and a trace (empty `trace_path`: no pictures, no causes).
+/// The page's data from a summary and a trace, CSV or compact, told apart by the file's first
+/// bytes (empty `trace_path`: no pictures, no causes).
 /// Fills page.summary.time_by_cause when the trace is there. Throws std::runtime_error.
 ReportPage load_report_page(const std::string& summary_path, const std::string& trace_path);
 

@@ -14,7 +14,8 @@ constexpr std::size_t kMaxIdleTail = 20000;  // 10 s at 2 kHz: longer idle close
 
 bool busy(MachineState s) { return s != MachineState::kIdle && s != MachineState::kStarting; }
 
-// x's rows into m (x follows m in time).
+}  // namespace
+
 void merge_bucket(TraceBucket& m, const TraceBucket& x) {
   m.t1 = x.t1;
   m.speed_min = std::min(m.speed_min, x.speed_min);
@@ -35,8 +36,6 @@ void merge_bucket(TraceBucket& m, const TraceBucket& x) {
   for (std::size_t c = 0; c < m.cause_rows.size(); ++c) m.cause_rows[c] += x.cause_rows[c];
   m.rows += x.rows;
 }
-
-}  // namespace
 
 TraceReader::TraceReader(const std::string& path) : path_(path) {
   file_ = std::fopen(path.c_str(), "r");

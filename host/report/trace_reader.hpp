@@ -57,6 +57,9 @@ struct TraceBucket {
   std::array<std::uint32_t, kTimeCauseCount> cause_rows{};  // rows per cause (when classified)
 };
 
+/// x's rows into m (x follows m in time): min and max, counts, the later end time.
+void merge_bucket(TraceBucket& m, const TraceBucket& x);
+
 /// What a row's time is attributed to, and the planned speed limit there (0: none).
 struct RowCause {
   TimeCause cause = TimeCause::kOther;

@@ -32,8 +32,9 @@ RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOpti
       host_timeout_ns_(static_cast<std::uint64_t>(config.process.host_timeout_s * 1e9)),
       summary_period_(std::max(1, static_cast<int>(config.motion.cycle_hz / 10.0))),
       settle_cycles_(std::max(1, static_cast<int>(config.motion.cycle_hz / 100.0))) {
-  if (!options_.trace_path.empty()) {
-    trace_ = std::make_unique<TraceWriter>(options_.trace_path, options_.on_trace_failure);
+  if (!options_.trace_path.empty() || !options_.trace_digest_path.empty()) {
+    trace_ = std::make_unique<TraceWriter>(TraceFiles{options_.trace_path, options_.trace_digest_path},
+                                           options_.on_trace_failure);
   }
   if (options_.start_position) machine_->take_up_position(*options_.start_position);
 }

@@ -26,6 +26,7 @@ class TraceWriter;
 struct RtLoopOptions {
   bool virtual_clock = false;
   std::string trace_path;  // empty: no trace
+  std::string trace_digest_path;  // the compact trace for the report (ipc/trace_compact.hpp); empty: none
   double shutdown_timeout_s = 5.0;  // a stop request ends the loop after this long even if not at rest
   // Where the axes stand at start (a restarted rt: where its predecessor last measured them).
   std::optional<Vec3> start_position;

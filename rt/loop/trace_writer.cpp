@@ -1,6 +1,7 @@
 // trace_writer.cpp — the trace queue's consumer thread (see trace_writer.hpp; the row's text is
-// ipc/trace_format). Every fwrite, fputc, fflush and fclose is checked; the first failure is
-// kept and reported once, then the queue is drained and discarded.
+// ipc/trace_format, the compact trace ipc/trace_compact). Every fwrite, fputc, fflush and
+// fclose is checked; the first failure is kept and reported once, then the queue is drained
+// and discarded.
 #include "loop/trace_writer.hpp"
 
 #include <cerrno>
@@ -15,10 +16,27 @@ constexpr auto kFlushEvery = std::chrono::milliseconds(50);
 }
 
 TraceWriter::TraceWriter(const std::string& path, std::function<void(const std::string&)> on_failure)
-    : path_(path), queue_(std::make_unique<SpscRing<TraceSample, kQueueSlots>>()), on_failure_(std::move(on_failure)) {
-  file_ = std::fopen(path.c_str(), "w");
-  if (!file_) throw std::runtime_error("cannot create trace file '" + path + "': " + std::strerror(errno));
-  if (std::fprintf(file_, "%s\n", trace_csv_header()) < 0) fail("write", errno);
+    : TraceWriter(TraceFiles{path, ""}, std::move(on_failure)) {}
+
+TraceWriter::TraceWriter(const TraceFiles& files, std::function<void(const std::string&)> on_failure)
+    : files_(files), queue_(std::make_unique<SpscRing<TraceSample, kQueueSlots>>()), on_failure_(std::move(on_failure)) {
+  if (!files_.csv.empty()) {
+    file_ = std::fopen(files_.csv.c_str(), "w");
+    if (!file_) throw std::runtime_error("cannot create trace file '" + files_.csv + "': " + std::strerror(errno));
+    if (std::fprintf(file_, "%s\n", trace_csv_header()) < 0) fail(files_.csv, "write", errno);
+  }
+  if (!files_.compact.empty()) {
+    compact_ = std::fopen(files_.compact.c_str(), "wb");
+    if (!compact_) {
+      const int err = errno;
+      if (file_) std::fclose(file_);
+      throw std::runtime_error("cannot create compact trace file '" + files_.compact + "': " + std::strerror(err));
+    }
+    const CompactHeader header;
+    errno = 0;
+    if (std::fwrite(&header, sizeof header, 1, compact_) != 1) fail(files_.compact, "write", errno);
+    builder_ = std::make_unique<CompactTraceBuilder>([this](const CompactRun& r) { write_compact_run(r); });
+  }
   thread_ = std::thread([this] { run(); });
 }
 
@@ -38,12 +56,12 @@ void TraceWriter::push_wait(const TraceSample& sample) {
 
 std::string TraceWriter::failure() const { return failed() ? failure_ : std::string(); }
 
-void TraceWriter::fail(const char* what, int err) {
+void TraceWriter::fail(const std::string& path, const char* what, int err) {
   if (failed_.load(std::memory_order_relaxed)) return;
   if (err == 0) err = EIO;  // a stream error without errno: call it an I/O error
   lost_.fetch_add(unflushed_, std::memory_order_relaxed);
   unflushed_ = 0;
-  failure_ = "trace file '" + path_ + "' could not be written (" + what + " failed: " + std::strerror(err) + ", errno " +
+  failure_ = "trace file '" + path + "' could not be written (" + what + " failed: " + std::strerror(err) + ", errno " +
              std::to_string(err) + "); the trace is incomplete after about " +
              std::to_string(written_.load(std::memory_order_relaxed) - lost_.load(std::memory_order_relaxed)) + " rows";
   error_.store(err, std::memory_order_relaxed);
@@ -59,29 +77,60 @@ void TraceWriter::drain() {
       lost_.fetch_add(1, std::memory_order_relaxed);  // keep the queue moving: the rt never waits on us
       continue;
     }
-    const int n = format_trace_row(buf, sizeof buf, s);
-    if (n > 0) {
-      errno = 0;
-      if (std::fwrite(buf, 1, static_cast<std::size_t>(n), file_) != static_cast<std::size_t>(n) ||
-          std::fputc('\n', file_) == EOF) {
-        fail("write", errno);
-        lost_.fetch_add(1, std::memory_order_relaxed);
-        continue;
+    if (file_) {
+      const int n = format_trace_row(buf, sizeof buf, s);
+      if (n > 0) {
+        errno = 0;
+        if (std::fwrite(buf, 1, static_cast<std::size_t>(n), file_) != static_cast<std::size_t>(n) ||
+            std::fputc('\n', file_) == EOF) {
+          fail(files_.csv, "write", errno);
+          lost_.fetch_add(1, std::memory_order_relaxed);
+          continue;
+        }
       }
-      ++unflushed_;
     }
+    if (builder_) builder_->add(s);  // may write a completed run
+    ++unflushed_;
     written_.fetch_add(1, std::memory_order_relaxed);
   }
 }
 
-void TraceWriter::flush() {
-  if (failed_.load(std::memory_order_relaxed) || !file_) return;
+void TraceWriter::write_compact_run(const CompactRun& run) {
+  if (failed_.load(std::memory_order_relaxed)) return;
   errno = 0;
-  if (std::fflush(file_) != 0 || std::ferror(file_)) {
-    fail("flush", errno);
-    return;
+  if (std::fwrite(&run, sizeof run, 1, compact_) != 1) fail(files_.compact, "write", errno);
+}
+
+void TraceWriter::flush() {
+  if (failed_.load(std::memory_order_relaxed)) return;
+  for (auto [f, path] : {std::pair{file_, &files_.csv}, std::pair{compact_, &files_.compact}}) {
+    if (!f) continue;
+    errno = 0;
+    if (std::fflush(f) != 0 || std::ferror(f)) {
+      fail(*path, "flush", errno);
+      return;
+    }
   }
   unflushed_ = 0;
+}
+
+// After the last row: the last run, the totals, slices, path and the footer that marks the
+// file complete (a reader refuses a compact trace without it).
+void TraceWriter::finish_compact() {
+  const CompactTotals totals = builder_->finish();
+  if (failed_.load(std::memory_order_relaxed)) return;
+  errno = 0;
+  const long offset = std::ftell(compact_);
+  CompactFooter footer;
+  footer.totals_offset = offset < 0 ? 0 : static_cast<std::uint64_t>(offset);
+  const auto& slices = builder_->slices();
+  const auto& points = builder_->points();
+  if (offset < 0 || std::fwrite(&totals, sizeof totals, 1, compact_) != 1 ||
+      std::fwrite(slices.data(), sizeof(CompactSlice), slices.size(), compact_) != slices.size() ||
+      std::fwrite(points.data(), sizeof(CompactPoint), points.size(), compact_) != points.size() ||
+      std::fwrite(&footer, sizeof footer, 1, compact_) != 1) {
+    fail(files_.compact, "write", errno);
+  }
 }
 
 void TraceWriter::run() {
@@ -96,6 +145,7 @@ void TraceWriter::run() {
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   drain();
+  if (builder_) finish_compact();
   flush();
 }
 
@@ -104,11 +154,12 @@ void TraceWriter::close() {
     stop_.store(true, std::memory_order_release);
     thread_.join();
   }
-  if (file_) {
+  for (auto [f, path] : {std::pair{&file_, &files_.csv}, std::pair{&compact_, &files_.compact}}) {
+    if (!*f) continue;
     errno = 0;
-    const int r = std::fclose(file_);
-    file_ = nullptr;
-    if (r != 0) fail("close", errno);
+    const int r = std::fclose(*f);
+    *f = nullptr;
+    if (r != 0) fail(*path, "close", errno);
   }
 }
 

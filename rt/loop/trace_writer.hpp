@@ -7,6 +7,10 @@
 // queue into a CSV file in the trace format (ipc/trace_format.hpp, the row and header shared
 // with the report's reader). close() (or the destructor) drains what is left and joins.
 //
+// It writes the full CSV (--trace), the compact trace the run report reads (--trace-digest:
+// ipc/trace_compact.hpp, built here from every row, off the rt thread; its summary records
+// are written at close()), or both.
+//
 // Every write, flush and close is checked (the buffer is flushed at least every 50 ms, so a
 // full disk shows within that). The first failure is recorded (errno), reported once through
 // the on_failure callback from the writer thread (never the rt thread), and failed() turns
@@ -23,9 +27,16 @@
 #include <thread>
 
 #include "ipc/spsc_ring.hpp"
+#include "ipc/trace_compact.hpp"
 #include "ipc/trace_format.hpp"
 
 namespace pcnc {
+
+/// The files a TraceWriter writes; either may be empty (none), not both.
+struct TraceFiles {
+  std::string csv;      // the per-cycle CSV
+  std::string compact;  // the compact trace for the report
+};
 
 class TraceWriter {
  public:
@@ -36,6 +47,8 @@ class TraceWriter {
   /// `on_failure` (optional) receives one line naming the path and the error, from the
   /// writer thread (or from close()), once.
   explicit TraceWriter(const std::string& path, std::function<void(const std::string&)> on_failure = {});
+  /// The CSV, the compact trace, or both (TraceFiles).
+  explicit TraceWriter(const TraceFiles& files, std::function<void(const std::string&)> on_failure = {});
   ~TraceWriter();
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
@@ -51,7 +64,8 @@ class TraceWriter {
 
   std::uint64_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
   std::uint64_t written() const { return written_.load(std::memory_order_relaxed); }
-  const std::string& path() const { return path_; }
+  /// The CSV's path, else the compact trace's.
+  const std::string& path() const { return files_.csv.empty() ? files_.compact : files_.csv; }
 
   /// A write, flush or close failed: the file holds the header and `written()` rows at most.
   bool failed() const { return failed_.load(std::memory_order_acquire); }
@@ -66,10 +80,14 @@ class TraceWriter {
   void run();
   void drain();
   void flush();
-  void fail(const char* what, int err);
+  void fail(const std::string& path, const char* what, int err);
+  void write_compact_run(const CompactRun& run);
+  void finish_compact();
 
-  std::string path_;
-  std::FILE* file_ = nullptr;
+  TraceFiles files_;
+  std::FILE* file_ = nullptr;     // the CSV (null: none)
+  std::FILE* compact_ = nullptr;  // the compact trace (null: none)
+  std::unique_ptr<CompactTraceBuilder> builder_;
   std::unique_ptr<SpscRing<TraceSample, kQueueSlots>> queue_;
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> dropped_{0};
