@@ -248,16 +248,21 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   }
   const Block& blk = ring.peek(0);
   const PreparedBlock& b = prep_[0];
-  const double a = b.accel;
+  const double a = b.accel;  // the stop rules brake at this: safe all along the block
+  double a_ramp = a;         // speeding up and slowing down in this cycle
   double cap = cap_of(b, in);
-  if (b.kind == BlockKind::kNurbs && cap > 0.0) {
+  if (b.kind == BlockKind::kNurbs) {
     // the feed schedule where the machine is and where this cycle will land (floored at
-    // one cycle's acceleration, so that a 0 at a corner of the schedule cannot freeze it)
+    // one cycle's acceleration, so that a 0 at a corner of the schedule cannot freeze it),
+    // and the tangential acceleration it allows there
     const NurbsGeometry& g = blk.nurbs;
     const double d1 = norm(nurbs_at_.d1);
     const double u_next = d1 > 0.0 ? std::min(nurbs_u_ + v_ * dt_ / d1, g.knots[g.point_count]) : nurbs_u_;
-    const double sched = std::min(block_schedule_speed(g, nurbs_u_, nurbs_hint_), block_schedule_speed(g, u_next, nurbs_hint_));
-    cap = std::min(cap, std::max(sched, a * dt_));
+    if (cap > 0.0) {
+      const double sched = std::min(block_schedule_speed(g, nurbs_u_, nurbs_hint_), block_schedule_speed(g, u_next, nurbs_hint_));
+      cap = std::min(cap, std::max(sched, a * dt_));
+    }
+    a_ramp = std::max(a, std::min(block_schedule_accel(g, nurbs_u_, nurbs_hint_), block_schedule_accel(g, u_next, nurbs_hint_)));
   }
   const bool stop_at_end = !flows_after(0);
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
@@ -269,7 +274,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
                                                      : stop_speed(remaining, v_exit, a, dt_, k_);
   const double v_allow = std::min(cap, v_stop);
   const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
-  const double a_step = near_junction ? (1.0 - f_) * a : a;
+  const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
   double v_new = std::min(v_allow, v_ + a_step * dt_);
   v_new = std::max({v_new, v_ - a_step * dt_, 0.0});
   if (stop_at_end && cap > 0.0) {

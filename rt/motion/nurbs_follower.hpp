@@ -24,6 +24,10 @@ namespace pcnc {
 /// by the caller between calls so that a monotone walk costs O(1); start it at 0.
 double block_schedule_speed(const NurbsGeometry& g, double u, int& hint);
 
+/// The tangential acceleration the block schedule allows at u: the smaller of the two points
+/// around u (the point itself at or beyond the ends). `hint` as for block_schedule_speed.
+double block_schedule_accel(const NurbsGeometry& g, double u, int& hint);
+
 class NurbsFollower {
  public:
   /// Starts at the beginning of the block's curve with path speed v_start (mm/s).
