@@ -46,6 +46,17 @@ double block_schedule_accel(const NurbsGeometry& g, double u, int& hint) {
   return std::min(g.schedule_accel[i], g.schedule_accel[i + 1]);
 }
 
+double block_brake_capacity(const NurbsGeometry& g, double s) {
+  double c = 0.0;
+  for (int i = g.schedule_count - 1; i > 0; --i) {
+    const double s0 = g.schedule_s[i - 1], s1 = g.schedule_s[i];
+    if (s1 <= s) break;
+    c += std::min(g.schedule_accel[i - 1], g.schedule_accel[i]) * (s1 - std::max(s0, s));
+    if (s0 <= s) break;
+  }
+  return c;
+}
+
 void NurbsFollower::start(const Block& block, double v_start) {
   const NurbsView c = view_of(block.nurbs);
   u_ = c.u_min();
