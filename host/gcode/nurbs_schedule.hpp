@@ -28,7 +28,7 @@
 namespace pcnc {
 
 /// The default share of an axis's acceleration a bend's centripetal part may take.
-constexpr double kNormalAccelShare = 0.8;
+constexpr double kNormalAccelShare = 0.7;
 
 struct NurbsLimits {
   double feed_mm_s = 0.0;             // programmed path feed
