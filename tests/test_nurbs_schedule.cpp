@@ -12,6 +12,7 @@
 
 #include "config/config.hpp"
 #include "geometry/nurbs.hpp"
+#include "ipc/block_check.hpp"
 #include "ipc/block_nurbs.hpp"
 #include "nurbs_circles.hpp"
 #include "gcode/nurbs_schedule.hpp"
@@ -346,6 +347,42 @@ TEST(NurbsSchedule, BlockSchedulesKeepEveryAxisWithinItsLimits) {
   EXPECT_GT(dense_checked, 1000u);
   EXPECT_LE(worst, 1.0 + 1e-4);
   std::printf("random 60-point curve: %zu blocks, worst axis load %.4f of its limit\n", nb.blocks.size(), worst);
+}
+
+// A quadratic is only C1 at its knots: the curvature jumps there, and a block ending at a knot
+// is evaluated from the left while the dense sample there sits on the right. Every block of
+// long wavy rational quadratic and cubic curves (bench_nurbs_gcode's program, where a 10,000-
+// point quadratic was refused at block 22) passes the rt's block check, which evaluates each
+// block's own curve at its schedule points.
+TEST(NurbsSchedule, EveryBlockPassesTheRtsCheckAlsoWhereTheCurvatureJumps) {
+  const MachineConfig cfg = load_config(test::default_config());
+  for (int degree : {2, 3}) {
+    std::vector<Vec3> pts;
+    std::vector<double> w;
+    const int n = 3000;
+    for (int i = 0; i < n; ++i) {
+      pts.push_back({2.5 + 20.0 * i / (n - 1), 12.5 + 4.0 * std::sin(0.7 * i) * std::cos(0.13 * i), 20.0});
+      w.push_back(1.0 + 0.3 * std::sin(1.3 * i));
+    }
+    const NurbsCurve c = make_nurbs(pts, w, degree + 1);
+    const NurbsBlocks nb = plan_nurbs_blocks(c, nurbs_limits(cfg, 20.0));
+    ASSERT_EQ(nb.error, "");
+    ASSERT_GT(nb.blocks.size(), 10u);
+    Vec3 at = nb.blocks.front().start;
+    std::uint64_t seq = 1;
+    int refused = 0;
+    for (Block b : nb.blocks) {
+      b.seq = seq;
+      const BlockVerdict v = check_block(b, at, seq, cfg);
+      if (v.fault != FaultCode::kNone && refused++ < 3) {
+        ADD_FAILURE() << "degree " << degree << ", block " << seq << ": " << v.reason << " (axis " << int(v.axis)
+                      << ", value " << v.value << ")";
+      }
+      at = b.end;
+      ++seq;
+    }
+    EXPECT_EQ(refused, 0) << "degree " << degree << " of " << nb.blocks.size() << " blocks";
+  }
 }
 
 }  // namespace

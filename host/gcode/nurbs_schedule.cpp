@@ -63,7 +63,9 @@ double sample_accel(const FeedSample& f, double v, const NurbsLimits& lim) {
     const AxisLimits& a = lim.axis_accel_mm_s2;
     return kTangentialMargin * std::min({a[0], a[1], a[2]});
   }
-  return kTangentialMargin * std::max(0.0, tangential_budget(f.t, f.k, v * v, lim.axis_accel_mm_s2));
+  double b = tangential_budget(f.t, f.k, v * v, lim.axis_accel_mm_s2);
+  if (f.has_left) b = std::min(b, tangential_budget(f.t_left, f.k_left, v * v, lim.axis_accel_mm_s2));
+  return kTangentialMargin * std::max(0.0, b);
 }
 
 // The largest v² at sample b reached from sample a (at v2_a) over ds with a ramp of at most
@@ -73,6 +75,7 @@ double ramp_v2(const FeedSample& a, double v2_a, const FeedSample& b, double ds,
   double x = v2_a + 2.0 * ds * share * sample_accel(a, std::sqrt(v2_a), lim);
   if (b.has_frame) {
     x = std::min(x, reachable_v2(v2_a, ds, b.t, b.k, lim.axis_accel_mm_s2, share * kTangentialMargin));
+    if (b.has_left) x = std::min(x, reachable_v2(v2_a, ds, b.t_left, b.k_left, lim.axis_accel_mm_s2, share * kTangentialMargin));
   } else {
     x = std::min(x, v2_a + 2.0 * ds * share * sample_accel(b, 0.0, lim));
   }
@@ -158,7 +161,19 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
     fs.has_frame = f.ok;
     fs.t = f.t;
     fs.k = f.k;
-    const SampleLimit sl = limit_at(f, lim);
+    SampleLimit sl = limit_at(f, lim);
+    const bool interior_knot = fs.u > v.u_min() && fs.u < v.u_max() &&
+                               std::find(v.knots, v.knots + v.count + v.degree + 1, fs.u) != v.knots + v.count + v.degree + 1;
+    if (f.ok && interior_knot) {
+      const CurveFrame left = nurbs_frame(v, fs.u - 1e-12 * (v.u_max() - v.u_min()));
+      if (left.ok) {
+        fs.has_left = true;
+        fs.t_left = left.t;
+        fs.k_left = left.k;
+        const SampleLimit sl_left = limit_at(left, lim);
+        if (sl_left.speed < sl.speed) sl = sl_left;
+      }
+    }
     fs.limit = sl.speed;
     fs.binding = sl.binding;
     if (std::find(corners.begin(), corners.end(), fs.u) != corners.end()) {

@@ -61,6 +61,11 @@ struct FeedSample {
   FeedLimit binding = FeedLimit::kFeed;
   bool has_frame = false;  // t and k are set (the curve has a tangent here)
   Vec3 t{}, k{};           // unit tangent, curvature vector (1/mm)
+  // At an interior knot the curvature may jump (a quadratic is only C1 there): the frame just
+  // before it too. The sample's limits hold on both sides (a block ending here is evaluated
+  // from the left, the next one from the right).
+  bool has_left = false;
+  Vec3 t_left{}, k_left{};
 };
 
 struct FeedSchedule {
