@@ -145,13 +145,18 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
   const int per_span = std::max(2, lim.samples_per_span);
   // Sample parameters: every distinct knot of the domain and per_span-1 points inside each span.
   std::vector<double> us;
+  std::vector<bool> interior_knot;  // the sample is a knot inside the domain
   for (int i = v.degree; i < v.count; ++i) {
     const double a = v.knots[i];
     const double b = v.knots[i + 1];
     if (!(b > a)) continue;
-    for (int k = 0; k < per_span; ++k) us.push_back(a + (b - a) * k / per_span);
+    for (int k = 0; k < per_span; ++k) {
+      us.push_back(a + (b - a) * k / per_span);
+      interior_knot.push_back(k == 0 && a > v.u_min());
+    }
   }
   us.push_back(v.u_max());
+  interior_knot.push_back(false);
 
   out.samples.resize(us.size());
   for (std::size_t j = 0; j < us.size(); ++j) {
@@ -162,9 +167,7 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
     fs.t = f.t;
     fs.k = f.k;
     SampleLimit sl = limit_at(f, lim);
-    const bool interior_knot = fs.u > v.u_min() && fs.u < v.u_max() &&
-                               std::find(v.knots, v.knots + v.count + v.degree + 1, fs.u) != v.knots + v.count + v.degree + 1;
-    if (f.ok && interior_knot) {
+    if (f.ok && interior_knot[j]) {
       const CurveFrame left = nurbs_frame(v, fs.u - 1e-12 * (v.u_max() - v.u_min()));
       if (left.ok) {
         fs.has_left = true;
