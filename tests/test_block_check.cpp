@@ -2,7 +2,8 @@
 // blocks from the real preprocessor pass; a block whose seed driving-axis plan (driving_axis,
 // driving_dir, driving_speed, driving_accel, decel_start), arc plan (angular_speed,
 // angular_accel, decel_start_angle), motion class, arc tangents or optional-stop flag
-// disagrees with its path is refused with kBadBlock and a reason naming the field, and the
+// disagrees with its path, or a NURBS schedule that asks an axis for more than its velocity or
+// acceleration limit, is refused with kBadBlock and a reason naming the field, and the
 // machine faults on it naming the block's line. (Every corpus program's blocks pass:
 // test_corpus.)
 #include <gtest/gtest.h>
@@ -24,7 +25,8 @@ namespace {
 
 // A program through the real front end with one of each kind of block: rapids, single-axis,
 // plane and space lines (a three-way tie), a short line, arcs in G17/G18/G19, a helix, a
-// NURBS curve, a dwell, an optional stop and the end.
+// NURBS curve (fast enough that its schedule varies along it: many schedule points), a dwell,
+// an optional stop and the end.
 const char* kProgram =
     "G21 G90 G17\n"
     "G0 X0 Y0 Z-1\n"
@@ -40,7 +42,7 @@ const char* kProgram =
     "G17 G4 P0.1\n"
     "M1\n"
     "G0 X0 Y0\n"
-    "G5.2 P1 L3\n"
+    "G5.2 P1 L3 F6000\n"
     "  X0 Y1 P1\n"
     "  X2 Y2 P1\n"
     "  X2 Y0 P1\n"
@@ -198,6 +200,29 @@ const std::vector<Corruption>& corruptions() {
       {"arc tangent", arc, [](Block& b) { b.dir_end = -1.0 * b.dir_end; }, "arc: direction cosines disagree with the tangents"},
       {"optional stop on a move", [](const Block& b) { return is_motion(b); }, [](Block& b) { b.optional_stop = 1; },
        "optional_stop is set on a block that is not a pause, or is not 0 or 1"},
+      // a NURBS schedule whose tangential accelerations leave no room for the normal part
+      {"NURBS schedule acceleration above what the axes leave", nurbs,
+       [](Block& b) {
+         for (int j = 0; j < b.nurbs.schedule_count; ++j) b.nurbs.schedule_accel[j] *= 1.2;
+       },
+       "nurbs: feed schedule above an axis's acceleration limit"},
+      {"NURBS block acceleration above its schedule's", nurbs, [](Block& b) { b.accel *= 1.01; },
+       "nurbs: block acceleration above its schedule's"},
+      {"NURBS schedule acceleration zero", nurbs, [](Block& b) { b.nurbs.schedule_accel[0] = 0.0; },
+       "nurbs: feed schedule acceleration not positive"},
+      {"NURBS schedule arc lengths halved", nurbs,
+       [](Block& b) {
+         for (int j = 0; j < b.nurbs.schedule_count; ++j) b.nurbs.schedule_s[j] *= 0.5;
+       },
+       "nurbs: feed schedule arc lengths do not run from 0 to the block length"},
+      {"NURBS schedule arc length shorter than a chord", [](const Block& b) { return nurbs(b) && b.nurbs.schedule_count >= 3; },
+       [](Block& b) { b.nurbs.schedule_s[1] = b.nurbs.schedule_s[0]; },
+       "nurbs: feed schedule arc length shorter than the chord"},
+      {"NURBS schedule speed above an axis's velocity", nurbs,
+       [](Block& b) {
+         for (int j = 0; j < b.nurbs.schedule_count; ++j) b.nurbs.schedule_speed[j] = 150.0;
+       },
+       "nurbs: feed schedule above an axis's velocity limit"},
   };
   return list;
 }

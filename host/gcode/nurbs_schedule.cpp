@@ -7,32 +7,31 @@
 #include <limits>
 
 #include "geometry/axis_caps.hpp"
+#include "geometry/tangential_budget.hpp"
 
 namespace pcnc {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// The schedule's own ramps use this share of the block acceleration. The rt interpolates the
-// schedule linearly in u, not in arc length, so between two points its slope can be a little
-// steeper than the ramp it was planned with; the margin lets the follower (which accelerates
-// at the full block acceleration) track every decrease of the schedule.
+// The schedule's own ramps use this share of each sample's tangential acceleration. The rt
+// interpolates the schedule linearly in u, not in arc length, so between two points its slope
+// can be a little steeper than the ramp it was planned with; the margin lets the follower
+// (which accelerates at the full acceleration of the sample) track every decrease.
 constexpr double kRampAccelShare = 0.9;
 
 // The tangential acceleration is found at the samples only; between them the tangent and
 // curvature turn a little, and the rt's parameter steps add a little of their own. This share
-// of it keeps every axis within its limit between the samples as well.
+// of what the axes leave keeps every axis within its limit between the samples as well.
 constexpr double kTangentialMargin = 0.9;
 
 struct SampleLimit {
   double speed;
   FeedLimit binding;
-  bool has_tangent = false;  // C' does not vanish here: t and k are set
-  Vec3 t{}, k{};             // unit tangent, curvature vector
 };
 
-// Speed limit at one curve point from its derivatives.
-SampleLimit limit_at(const NurbsEval& e, const NurbsLimits& lim) {
+// Speed limit at one curve point from its tangent and curvature vector.
+SampleLimit limit_at(const CurveFrame& f, const NurbsLimits& lim) {
   SampleLimit out{lim.feed_mm_s, FeedLimit::kFeed};
   auto take = [&out](double v, FeedLimit why) {
     if (v < out.speed) {
@@ -40,20 +39,13 @@ SampleLimit limit_at(const NurbsEval& e, const NurbsLimits& lim) {
       out.binding = why;
     }
   };
-  const double sp = norm(e.d1);
-  if (!(sp > 0.0)) return out;
-  const Vec3 t = (1.0 / sp) * e.d1;
-  // Curvature vector kappa * n = (C'' - (C''.t) t) / |C'|^2.
-  const Vec3 k = (1.0 / (sp * sp)) * (e.d2 - dot(e.d2, t) * t);
-  out.has_tangent = true;
-  out.t = t;
-  out.k = k;
-  const double kappa = norm(k);
-  take(axis_cap(t, lim.axis_velocity_mm_s), FeedLimit::kAxisVelocity);
+  if (!f.ok) return out;
+  const double kappa = norm(f.k);
+  take(axis_cap(f.t, lim.axis_velocity_mm_s), FeedLimit::kAxisVelocity);
   // centripetal: axis i sees v²·|k_i|, within its share of the axis's acceleration
   AxisLimits normal_accel{};
   for (int i = 0; i < kAxes; ++i) normal_accel[i] = lim.normal_accel_share * lim.axis_accel_mm_s2[i];
-  take(std::sqrt(axis_cap(k, normal_accel)), FeedLimit::kCentripetal);
+  take(std::sqrt(axis_cap(f.k, normal_accel)), FeedLimit::kCentripetal);
   if (kappa > 0.0) {
     const double rho = 1.0 / kappa;
     const double d = lim.chord_tolerance_mm;
@@ -63,29 +55,61 @@ SampleLimit limit_at(const NurbsEval& e, const NurbsLimits& lim) {
   return out;
 }
 
-// Tangential acceleration available at a point with unit tangent t and curvature vector k
-// where the speed never exceeds v_top: per axis, |a_t·t_i| + v_top²·|k_i| <= a_i, the
-// centripetal part counted at no more than its share (the speed limit keeps it there).
-double tangential_accel(const Vec3& t, const Vec3& k, double v_top, const NurbsLimits& lim) {
-  double a = kInf;
-  for (int i = 0; i < kAxes; ++i) {
-    const auto ii = static_cast<std::size_t>(i);
-    const double ti = std::fabs(t[ii]);
-    const double ai = lim.axis_accel_mm_s2[ii];
-    const double centripetal = std::min(v_top * v_top * std::fabs(k[ii]), lim.normal_accel_share * ai);
-    if (ti > 0.0) a = std::min(a, (ai - centripetal) / ti);
+// The acceleration a sample allows at speed v: the margin times what the axes leave after the
+// normal part (geometry/tangential_budget.hpp); a point without a tangent allows what every
+// axis allows in any direction.
+double sample_accel(const FeedSample& f, double v, const NurbsLimits& lim) {
+  if (!f.has_frame) {
+    const AxisLimits& a = lim.axis_accel_mm_s2;
+    return kTangentialMargin * std::min({a[0], a[1], a[2]});
   }
-  return kTangentialMargin * a;
+  double b = tangential_budget(f.t, f.k, v * v, lim.axis_accel_mm_s2);
+  if (f.has_left) b = std::min(b, tangential_budget(f.t_left, f.k_left, v * v, lim.axis_accel_mm_s2));
+  return kTangentialMargin * std::max(0.0, b);
 }
 
-// Forward and backward passes: v_{j+1}^2 <= v_j^2 + 2 a ds and the reverse.
-template <typename GetS, typename Speed>
-void accel_passes(std::size_t n, GetS s_of, Speed& v, double a, double v_start, double v_end) {
+// The largest v² at sample b reached from sample a (at v2_a) over ds with a ramp of at most
+// `share` of the tangential acceleration both samples allow (each at its own speed; the
+// budget is linear in v², so both bounds have closed forms).
+double ramp_v2(const FeedSample& a, double v2_a, const FeedSample& b, double ds, const NurbsLimits& lim, double share) {
+  double x = v2_a + 2.0 * ds * share * sample_accel(a, std::sqrt(v2_a), lim);
+  if (b.has_frame) {
+    x = std::min(x, reachable_v2(v2_a, ds, b.t, b.k, lim.axis_accel_mm_s2, share * kTangentialMargin));
+    if (b.has_left) x = std::min(x, reachable_v2(v2_a, ds, b.t_left, b.k_left, lim.axis_accel_mm_s2, share * kTangentialMargin));
+  } else {
+    x = std::min(x, v2_a + 2.0 * ds * share * sample_accel(b, 0.0, lim));
+  }
+  return x;
+}
+
+// Forward and backward passes over the dense samples with speeds v: between neighbours the
+// speed² changes by at most 2·ds·kRampAccelShare·(the acceleration both samples allow).
+void dense_passes(const std::vector<FeedSample>& s, std::vector<double>& v, const NurbsLimits& lim, double v_start,
+                  double v_end) {
+  const std::size_t n = s.size();
   if (n == 0) return;
   v[0] = std::min(v[0], v_start);
-  for (std::size_t j = 1; j < n; ++j) v[j] = std::min(v[j], std::sqrt(v[j - 1] * v[j - 1] + 2.0 * a * (s_of(j) - s_of(j - 1))));
+  for (std::size_t j = 1; j < n; ++j) {
+    v[j] = std::min(v[j], std::sqrt(ramp_v2(s[j - 1], v[j - 1] * v[j - 1], s[j], s[j].s - s[j - 1].s, lim, kRampAccelShare)));
+  }
   v[n - 1] = std::min(v[n - 1], v_end);
-  for (std::size_t j = n - 1; j-- > 0;) v[j] = std::min(v[j], std::sqrt(v[j + 1] * v[j + 1] + 2.0 * a * (s_of(j + 1) - s_of(j))));
+  for (std::size_t j = n - 1; j-- > 0;) {
+    v[j] = std::min(v[j], std::sqrt(ramp_v2(s[j + 1], v[j + 1] * v[j + 1], s[j], s[j + 1].s - s[j].s, lim, kRampAccelShare)));
+  }
+}
+
+// The same for a block's kept points: arc lengths s_of(k), accelerations acc[k] (each already
+// valid at any speed up to the point's), kRampAccelShare of the smaller of two neighbours.
+template <typename GetS>
+void block_passes(std::size_t n, GetS s_of, const std::vector<double>& acc, std::vector<double>& v) {
+  for (std::size_t j = 1; j < n; ++j) {
+    const double a = kRampAccelShare * std::min(acc[j - 1], acc[j]);
+    v[j] = std::min(v[j], std::sqrt(v[j - 1] * v[j - 1] + 2.0 * a * (s_of(j) - s_of(j - 1))));
+  }
+  for (std::size_t j = n - 1; j-- > 0;) {
+    const double a = kRampAccelShare * std::min(acc[j], acc[j + 1]);
+    v[j] = std::min(v[j], std::sqrt(v[j + 1] * v[j + 1] + 2.0 * a * (s_of(j + 1) - s_of(j))));
+  }
 }
 
 }  // namespace
@@ -115,46 +139,52 @@ const char* to_string(FeedLimit limit) {
 
 FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, double v_start, double v_end) {
   FeedSchedule out;
+  out.limits = lim;
   const NurbsView v = curve.view();
   const std::vector<double> corners = corner_knots(curve);
   const int per_span = std::max(2, lim.samples_per_span);
   // Sample parameters: every distinct knot of the domain and per_span-1 points inside each span.
   std::vector<double> us;
+  std::vector<bool> interior_knot;  // the sample is a knot inside the domain
   for (int i = v.degree; i < v.count; ++i) {
     const double a = v.knots[i];
     const double b = v.knots[i + 1];
     if (!(b > a)) continue;
-    for (int k = 0; k < per_span; ++k) us.push_back(a + (b - a) * k / per_span);
+    for (int k = 0; k < per_span; ++k) {
+      us.push_back(a + (b - a) * k / per_span);
+      interior_knot.push_back(k == 0 && a > v.u_min());
+    }
   }
   us.push_back(v.u_max());
+  interior_knot.push_back(false);
 
   out.samples.resize(us.size());
-  out.accel_mm_s2 = kInf;
   for (std::size_t j = 0; j < us.size(); ++j) {
     FeedSample& fs = out.samples[j];
     fs.u = us[j];
-    const NurbsEval at = nurbs_eval(v, fs.u);
-    NurbsEval e = at;
-    const double scale = (v.u_max() - v.u_min()) * 1e-7;
-    if (!(norm(e.d1) > 1e-9 * (norm(e.d2) * scale + 1e-300))) {
-      // Vanishing parametric speed (doubled control point): use the curve just beside it.
-      e = nurbs_eval(v, fs.u < v.u_max() ? fs.u + scale : fs.u - scale);
+    const CurveFrame f = nurbs_frame(v, fs.u);
+    fs.has_frame = f.ok;
+    fs.t = f.t;
+    fs.k = f.k;
+    SampleLimit sl = limit_at(f, lim);
+    if (f.ok && interior_knot[j]) {
+      const CurveFrame left = nurbs_frame(v, fs.u - 1e-12 * (v.u_max() - v.u_min()));
+      if (left.ok) {
+        fs.has_left = true;
+        fs.t_left = left.t;
+        fs.k_left = left.k;
+        const SampleLimit sl_left = limit_at(left, lim);
+        if (sl_left.speed < sl.speed) sl = sl_left;
+      }
     }
-    const SampleLimit sl = limit_at(e, lim);
     fs.limit = sl.speed;
     fs.binding = sl.binding;
-    if (sl.has_tangent) {
-      // the schedule holds the feed too: no override runs a NURBS block faster than fs.limit
-      out.accel_mm_s2 = std::min(out.accel_mm_s2, tangential_accel(sl.t, sl.k, sl.speed, lim));
-    }
     if (std::find(corners.begin(), corners.end(), fs.u) != corners.end()) {
       fs.limit = 0.0;
       fs.binding = FeedLimit::kCorner;
     }
     if (j > 0) fs.s = out.samples[j - 1].s + nurbs_arc_length(v, us[j - 1], fs.u);
   }
-  if (!std::isfinite(out.accel_mm_s2)) out.accel_mm_s2 = 0.0;
-  out.ramp_accel_mm_s2 = kRampAccelShare * out.accel_mm_s2;
   out.length_mm = out.samples.back().s;
 
   // The limit holds at the samples; take the smaller neighbour as well so that the linear
@@ -166,9 +196,15 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
     if (j + 1 < speed.size()) m = std::min(m, out.samples[j + 1].limit);
     speed[j] = m;
   }
-  accel_passes(
-      speed.size(), [&](std::size_t j) { return out.samples[j].s; }, speed, out.ramp_accel_mm_s2, v_start, v_end);
-  for (std::size_t j = 0; j < speed.size(); ++j) out.samples[j].speed = speed[j];
+  dense_passes(out.samples, speed, lim, v_start, v_end);
+  out.accel_mm_s2 = kInf;
+  for (std::size_t j = 0; j < speed.size(); ++j) {
+    FeedSample& fs = out.samples[j];
+    fs.speed = speed[j];
+    fs.accel = sample_accel(fs, fs.speed, lim);
+    out.accel_mm_s2 = std::min(out.accel_mm_s2, fs.accel);
+  }
+  if (!std::isfinite(out.accel_mm_s2)) out.accel_mm_s2 = 0.0;
   return out;
 }
 
@@ -194,6 +230,8 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
     for (std::size_t k = 0; k < count; ++k) {
       g.schedule_u[k] = s[first + k].u;
       g.schedule_speed[k] = s[first + k].speed;
+      g.schedule_accel[k] = s[first + k].accel;
+      g.schedule_s[k] = s[first + k].s - s[first].s;
     }
     g.schedule_count = static_cast<std::uint16_t>(count);
     return;
@@ -262,11 +300,32 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
     speed[k] = best_left;
     speed[k + 1] = best_right;
   }
-  accel_passes(
-      pick.size(), [&](std::size_t k) { return s[pick[k]].s; }, speed, schedule.ramp_accel_mm_s2, kInf, kInf);
+  // Each kept point's acceleration: the smallest that the dense samples it stands for (from its
+  // left neighbour's to its right neighbour's) allow at the speed the rt reads there (the line
+  // between the kept points, at or below the dense speed: what the axes leave is then at
+  // least the dense sample's). The rt uses the smaller of two points between them. After the
+  // passes lowered speeds, once more (it can only rise, so the passes still hold).
+  std::vector<double> acc(pick.size());
+  auto kept_accels = [&] {
+    std::vector<double> interval(pick.size(), kInf);  // interval k: pick[k] .. pick[k + 1]
+    for (std::size_t k = 0; k + 1 < pick.size(); ++k) {
+      for (std::size_t i = pick[k]; i <= pick[k + 1]; ++i) {
+        const double v = line_at(pick[k], pick[k + 1], speed[k], speed[k + 1], i);
+        interval[k] = std::min(interval[k], sample_accel(s[i], std::min(v, s[i].speed), schedule.limits));
+      }
+    }
+    for (std::size_t k = 0; k < pick.size(); ++k) {
+      acc[k] = std::min(k > 0 ? interval[k - 1] : kInf, k + 1 < pick.size() ? interval[k] : kInf);
+    }
+  };
+  kept_accels();
+  block_passes(pick.size(), [&](std::size_t k) { return s[pick[k]].s; }, acc, speed);
+  kept_accels();
   for (std::size_t k = 0; k < pick.size(); ++k) {
     g.schedule_u[k] = s[pick[k]].u;
     g.schedule_speed[k] = speed[k];
+    g.schedule_accel[k] = acc[k];
+    g.schedule_s[k] = s[pick[k]].s - s[first].s;
   }
   g.schedule_count = static_cast<std::uint16_t>(pick.size());
 }
@@ -325,7 +384,10 @@ NurbsBlocks plan_nurbs_blocks(const NurbsCurve& curve, const NurbsLimits& limits
     double vmax = 0.0;
     for (int k = 0; k < b.nurbs.schedule_count; ++k) vmax = std::max(vmax, b.nurbs.schedule_speed[k]);
     b.speed = std::min(limits.feed_mm_s, vmax);
-    b.accel = out.schedule.accel_mm_s2;
+    // the rt brakes (stop rules, feed hold) at this one value: safe all along the block
+    double amin = kInf;
+    for (int k = 0; k < b.nurbs.schedule_count; ++k) amin = std::min(amin, b.nurbs.schedule_accel[k]);
+    b.accel = amin;
     out.blocks.push_back(b);
     out.corner_after.push_back(std::find(corners.begin(), corners.end(), piece.u_max()) != corners.end());
   }

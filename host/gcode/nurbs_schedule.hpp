@@ -4,12 +4,16 @@
 // smallest of: the programmed feed; the chord-error speed (2/T) sqrt(2 rho delta - delta^2)
 // at which one sample period's chord deviates delta from a circle of the local curvature
 // radius rho; the centripetal limit sqrt(a_n,i / |kappa_i|) per axis (kappa the curvature
-// vector, a_n,i the share of axis i's acceleration kept for it); each axis's velocity limit
-// projected on the tangent. Forward and backward passes then make the tangential
-// acceleration limit hold from the start speed to the end speed. The schedule is cut into
-// the blocks' NurbsGeometry::schedule_u/schedule_speed arrays (at most kMaxFeedSchedule
-// points each, never above the dense schedule), and plan_nurbs_blocks() turns a whole
-// curve into ready-to-queue blocks.
+// vector, a_n,i the share of axis i's acceleration the normal part may take); each axis's
+// velocity limit projected on the tangent. The tangential acceleration varies along the curve:
+// at every sample it is what the axes leave after the normal part at that sample's speed and
+// curvature (per axis |t_i·a_t + k_i·v²| ≤ A_i, geometry/tangential_budget.hpp), so a bend's
+// apex may give nearly all of an axis to the centripetal part and the straights all of it to
+// the ramps. Forward and backward passes make each step between samples keep within what both
+// samples allow, from the start speed to the end speed. The schedule is cut into the blocks'
+// NurbsGeometry::schedule_u/schedule_speed/schedule_accel arrays (at most kMaxFeedSchedule
+// points each, never above the dense schedule), and plan_nurbs_blocks() turns a whole curve
+// into ready-to-queue blocks.
 #pragma once
 
 #include <string>
@@ -23,15 +27,19 @@
 
 namespace pcnc {
 
+/// The default share of an axis's acceleration a bend's centripetal part may take.
+constexpr double kNormalAccelShare = 0.7;
+
 struct NurbsLimits {
   double feed_mm_s = 0.0;             // programmed path feed
   double period_s = 0.0005;           // interpolation period T
   double chord_tolerance_mm = 0.001;  // delta
   Vec3 axis_velocity_mm_s{};          // per axis velocity limit
   Vec3 axis_accel_mm_s2{};            // per axis acceleration limit
-  // Share of each axis's acceleration reserved for the centripetal part; the rest is the
-  // tangential budget. The two never add up to more than the axis limit.
-  double normal_accel_share = 0.5;
+  // Share of each axis's acceleration the centripetal part may take at most (the speed limit
+  // of a bend); the tangential acceleration gets what is left at each sample's actual speed.
+  // Below 1 so that even a bend's apex keeps some acceleration for braking.
+  double normal_accel_share = kNormalAccelShare;
   int samples_per_span = 32;          // dense sampling of each knot span
 };
 
@@ -47,14 +55,24 @@ struct FeedSample {
   double s = 0.0;      // arc length from the curve start, mm
   double limit = 0.0;  // speed limit at u before the acceleration passes, mm/s
   double speed = 0.0;  // scheduled speed after the passes, mm/s
+  // tangential acceleration allowed here at any speed up to `speed` (a margin below what the
+  // axes leave after the normal part), mm/s²
+  double accel = 0.0;
   FeedLimit binding = FeedLimit::kFeed;
+  bool has_frame = false;  // t and k are set (the curve has a tangent here)
+  Vec3 t{}, k{};           // unit tangent, curvature vector (1/mm)
+  // At an interior knot the curvature may jump (a quadratic is only C1 there): the frame just
+  // before it too. The sample's limits hold on both sides (a block ending here is evaluated
+  // from the left, the next one from the right).
+  bool has_left = false;
+  Vec3 t_left{}, k_left{};
 };
 
 struct FeedSchedule {
   std::vector<FeedSample> samples;  // increasing u, first at u_min, last at u_max
-  double accel_mm_s2 = 0.0;         // tangential path acceleration limit (the blocks' accel)
-  double ramp_accel_mm_s2 = 0.0;    // acceleration of the passes: 90 % of it (margin for the rt)
+  double accel_mm_s2 = 0.0;         // the smallest sample accel (what braking anywhere may use)
   double length_mm = 0.0;           // arc length of the curve
+  NurbsLimits limits{};             // what it was planned with
 };
 
 /// Plans the dense schedule of a valid curve. v_start and v_end are the speeds at its ends
@@ -66,16 +84,18 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& limits,
 /// The dense schedule's speed at u (linear between samples).
 double schedule_speed_at(const FeedSchedule& schedule, double u);
 
-/// Writes the part [u0, u1] of the schedule into g.schedule_u/schedule_speed: every sample
-/// when they fit, else kMaxFeedSchedule points evenly spaced in arc length whose values are
-/// the minimum of the dense schedule around them (so the linear interpolation never exceeds
-/// it), re-passed for the acceleration limit. u0 and u1 must be sample parameters (knots).
+/// Writes the part [u0, u1] of the schedule into g.schedule_u/schedule_speed/schedule_accel:
+/// every sample when they fit, else kMaxFeedSchedule of them picked where the polyline through
+/// them deviates most, their speeds lowered so that the linear interpolation never exceeds the
+/// dense schedule, each point's acceleration the smallest of the dense samples from its left
+/// to its right neighbour, and re-passed. u0 and u1 must be sample parameters (knots).
 void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, NurbsGeometry& g);
 
 /// A whole NURBS move as ring blocks: validated, split into pieces of at most
 /// kMaxNurbsPoints control points (and at corners), each with geometry, schedule, start/end
 /// points, length, speed (programmed feed capped by the schedule's maximum), accel,
-/// direction cosines and motion class. The block schedules hold the geometric limits
+/// direction cosines and motion class; the block's accel is the smallest of its schedule's
+/// accelerations (the rt brakes with it). The block schedules hold the geometric limits
 /// (feed, chord error, centripetal, axis velocity, 0 at corners) with the acceleration passes
 /// between them but no start or end ramp: the rt's NurbsFollower ramps from the speed it
 /// enters with and to the end speed the executor asks for. seq, line and contouring are left for the caller;

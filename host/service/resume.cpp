@@ -9,6 +9,7 @@
 #include "gcode/nurbs_schedule.hpp"
 #include "gcode/preprocessor.hpp"
 #include "geometry/nurbs.hpp"
+#include "geometry/tangential_budget.hpp"
 #include "ipc/block_nurbs.hpp"
 
 namespace pcnc {
@@ -24,8 +25,12 @@ std::optional<Continuation> fail(std::string* why, std::string text) {
 // the block's own feed schedule cut at u* (its value at u* read as the rt reads it, linear
 // between points; nothing raised). The schedule holds the geometric limits only: the rt's
 // follower ramps from the speed it enters with, which is rest for the first block of the
-// resumed program, and to the end speed the next block allows, as in the original.
-std::optional<Continuation> continue_nurbs(const Block& b, const Vec3& at, double tol, double skip_tol, std::string* why) {
+// resumed program, and to the end speed the next block allows, as in the original. The new
+// first point's acceleration is the smaller of its two neighbours' (as the rt reads it), and
+// its speed and acceleration are checked against the axes at u* itself (as the block check
+// does): lowered where the curve between the two points asks for less.
+std::optional<Continuation> continue_nurbs(const Block& b, const Vec3& at, double tol, double skip_tol,
+                                           const MachineConfig& config, std::string* why) {
   Continuation c;
   const NurbsCurve curve = from_geometry(b.nurbs);
   if (std::string err = validate(curve); !err.empty()) return fail(why, "the interrupted NURBS block is invalid: " + err);
@@ -58,28 +63,50 @@ std::optional<Continuation> continue_nurbs(const Block& b, const Vec3& at, doubl
   if (g.schedule_count > 0) {
     int hint = 0;
     double first = g.schedule_speed[0];
+    double first_accel = g.schedule_accel[0];
     if (g.schedule_count > 1 && u > g.schedule_u[0]) {
       while (hint + 2 < g.schedule_count && u >= g.schedule_u[hint + 1]) ++hint;
       const double a = g.schedule_u[hint], z = g.schedule_u[hint + 1];
       const double f = std::clamp((u - a) / (z - a), 0.0, 1.0);
       first = g.schedule_speed[hint] + f * (g.schedule_speed[hint + 1] - g.schedule_speed[hint]);
+      first_accel = std::min(g.schedule_accel[hint], g.schedule_accel[hint + 1]);
     }
-    if (u >= g.schedule_u[g.schedule_count - 1]) first = g.schedule_speed[g.schedule_count - 1];
+    if (u >= g.schedule_u[g.schedule_count - 1]) {
+      first = g.schedule_speed[g.schedule_count - 1];
+      first_accel = g.schedule_accel[g.schedule_count - 1];
+    }
+    if (const CurveFrame fr = nurbs_frame(view_of(n.nurbs), u); fr.ok) {
+      AxisLimits vmax{}, amax{};
+      for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
+        vmax[i] = config.axes[i].max_velocity_mm_s;
+        amax[i] = config.axes[i].max_accel_mm_s2;
+      }
+      first = std::min(first, axis_cap(fr.t, vmax));
+      if (!(tangential_budget(fr.t, fr.k, first * first, amax) > 0.0)) first = 0.0;
+      first_accel = std::min(first_accel, tangential_budget(fr.t, fr.k, first * first, amax));
+    }
     n.nurbs.schedule_u[m] = u;
+    n.nurbs.schedule_accel[m] = first_accel;
     n.nurbs.schedule_speed[m++] = first;
     for (int i = 0; i < g.schedule_count && m < kMaxFeedSchedule; ++i) {
       if (g.schedule_u[i] > u) {
         n.nurbs.schedule_u[m] = g.schedule_u[i];
+        n.nurbs.schedule_accel[m] = g.schedule_accel[i];
         n.nurbs.schedule_speed[m++] = g.schedule_speed[i];
       }
     }
   }
   n.nurbs.schedule_count = static_cast<std::uint16_t>(m);
+  {
+    const NurbsView nv = view_of(n.nurbs);
+    for (int k = 0; k < m; ++k) n.nurbs.schedule_s[k] = k == 0 ? 0.0 : nurbs_arc_length(nv, nv.u_min(), n.nurbs.schedule_u[k]);
+  }
   set_nurbs_block_geometry(n);
   double vmax = 0.0;
   for (int k = 0; k < m; ++k) vmax = std::max(vmax, n.nurbs.schedule_speed[k]);
   n.speed = std::min(b.speed, vmax);
   n.accel = b.accel;
+  for (int k = 0; k < m; ++k) n.accel = std::min(n.accel, n.nurbs.schedule_accel[k]);
   c.block = n;
   return c;
 }
@@ -105,7 +132,7 @@ std::optional<Continuation> continue_block(const Block& b, const Vec3& at, const
       c.block.seq = 0;
       return c;
     case BlockKind::kNurbs:
-      return continue_nurbs(b, at, tol, skip_tol, why);
+      return continue_nurbs(b, at, tol, skip_tol, config, why);
     case BlockKind::kRapid:
     case BlockKind::kLine:
     case BlockKind::kArc:

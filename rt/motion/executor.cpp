@@ -127,9 +127,10 @@ double Executor::compute_exit_speed(const ExecInput& in) const {
   while (flows_after(e)) ++e;
   double v_out = 0.0;
   for (std::size_t j = e; j >= 1; --j) {
-    // the same discrete rule (with its margin) the block will be run with
+    // the same discrete rule (with its margin) the block will be run with; a NURBS block may
+    // brake at its schedule's accelerations (their mean over the block)
     const double v_in = std::min({cap_of(prep_[j], in), prep_[j].v_first,
-                                  stop_speed(prep_[j].length, v_out, prep_[j].accel, dt_, k_)});
+                                  stop_speed(prep_[j].length, v_out, prep_[j].brake_accel, dt_, k_)});
     v_out = std::min(v_in, junction_cap(j - 1, in));
   }
   return v_out;
@@ -248,16 +249,21 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   }
   const Block& blk = ring.peek(0);
   const PreparedBlock& b = prep_[0];
-  const double a = b.accel;
+  const double a = b.accel;  // the stop rules brake at this: safe all along the block
+  double a_ramp = a;         // speeding up and slowing down in this cycle
   double cap = cap_of(b, in);
-  if (b.kind == BlockKind::kNurbs && cap > 0.0) {
+  if (b.kind == BlockKind::kNurbs) {
     // the feed schedule where the machine is and where this cycle will land (floored at
-    // one cycle's acceleration, so that a 0 at a corner of the schedule cannot freeze it)
+    // one cycle's acceleration, so that a 0 at a corner of the schedule cannot freeze it),
+    // and the tangential acceleration it allows there
     const NurbsGeometry& g = blk.nurbs;
     const double d1 = norm(nurbs_at_.d1);
     const double u_next = d1 > 0.0 ? std::min(nurbs_u_ + v_ * dt_ / d1, g.knots[g.point_count]) : nurbs_u_;
-    const double sched = std::min(block_schedule_speed(g, nurbs_u_, nurbs_hint_), block_schedule_speed(g, u_next, nurbs_hint_));
-    cap = std::min(cap, std::max(sched, a * dt_));
+    if (cap > 0.0) {
+      const double sched = std::min(block_schedule_speed(g, nurbs_u_, nurbs_hint_), block_schedule_speed(g, u_next, nurbs_hint_));
+      cap = std::min(cap, std::max(sched, a * dt_));
+    }
+    a_ramp = std::max(a, std::min(block_schedule_accel(g, nurbs_u_, nurbs_hint_), block_schedule_accel(g, u_next, nurbs_hint_)));
   }
   const bool stop_at_end = !flows_after(0);
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
@@ -265,11 +271,17 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
 
   // A stop at the end of this block, with no junction-restricted cycle left: the exact
   // discrete braking rule. Otherwise the rule with the margin k for the restricted cycles.
-  const double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
-                                                     : stop_speed(remaining, v_exit, a, dt_, k_);
+  double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
+                                               : stop_speed(remaining, v_exit, a, dt_, k_);
+  if (b.kind == BlockKind::kNurbs) {
+    // A NURBS block may also brake at its schedule's accelerations along the rest of the block:
+    // what it can shed from the point k cycles ahead (at the fastest speed this cycle may take).
+    const double ahead = k_ * (v_ + a_ramp * dt_) * dt_;
+    v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * block_brake_capacity(blk.nurbs, s_ + ahead)));
+  }
   const double v_allow = std::min(cap, v_stop);
   const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
-  const double a_step = near_junction ? (1.0 - f_) * a : a;
+  const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
   double v_new = std::min(v_allow, v_ + a_step * dt_);
   v_new = std::max({v_new, v_ - a_step * dt_, 0.0});
   if (stop_at_end && cap > 0.0) {

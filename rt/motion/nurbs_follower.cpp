@@ -28,6 +28,35 @@ double block_schedule_speed(const NurbsGeometry& g, double u, int& hint) {
   return g.schedule_speed[i] + f * (g.schedule_speed[i + 1] - g.schedule_speed[i]);
 }
 
+double block_schedule_accel(const NurbsGeometry& g, double u, int& hint) {
+  const int n = g.schedule_count;
+  if (n <= 0) return 0.0;
+  if (n == 1 || u <= g.schedule_u[0]) {
+    hint = 0;
+    return g.schedule_accel[0];
+  }
+  if (u >= g.schedule_u[n - 1]) {
+    hint = n - 1;
+    return g.schedule_accel[n - 1];
+  }
+  int i = std::clamp(hint, 0, n - 2);
+  while (i > 0 && u < g.schedule_u[i]) --i;
+  while (i + 2 < n && u >= g.schedule_u[i + 1]) ++i;
+  hint = i;
+  return std::min(g.schedule_accel[i], g.schedule_accel[i + 1]);
+}
+
+double block_brake_capacity(const NurbsGeometry& g, double s) {
+  double c = 0.0;
+  for (int i = g.schedule_count - 1; i > 0; --i) {
+    const double s0 = g.schedule_s[i - 1], s1 = g.schedule_s[i];
+    if (s1 <= s) break;
+    c += std::min(g.schedule_accel[i - 1], g.schedule_accel[i]) * (s1 - std::max(s0, s));
+    if (s0 <= s) break;
+  }
+  return c;
+}
+
 void NurbsFollower::start(const Block& block, double v_start) {
   const NurbsView c = view_of(block.nurbs);
   u_ = c.u_min();
@@ -47,7 +76,7 @@ Vec3 NurbsFollower::step(const Block& block, double period_s, double v_end, doub
     return at_.p;
   }
   const NurbsView c = view_of(block.nurbs);
-  const double a = block.accel;
+  const double a = block.accel;  // braking to the end: the smallest acceleration of the block
   const double T = period_s;
   // Target: the schedule a little ahead (where this cycle's step lands), times the override.
   const double sp = norm(at_.d1);
@@ -57,10 +86,13 @@ Vec3 NurbsFollower::step(const Block& block, double period_s, double v_end, doub
   // the end: the floor of one cycle's speed change lets the end cap below finish the block.
   const double sched = std::max(a * T, std::min(block_schedule_speed(block.nurbs, u_, hint_),
                                                 block_schedule_speed(block.nurbs, u_ahead, hint_)));
+  // speeding up and slowing down here: what the schedule allows around the step
+  const double a_here = std::max(a, std::min(block_schedule_accel(block.nurbs, u_, hint_),
+                                             block_schedule_accel(block.nurbs, u_ahead, hint_)));
   // The override (and feed hold) change speed at the block's acceleration; the schedule and
   // the stopping distance are hard limits.
   const double desired = scale * sched;
-  double v_next = desired < v_ ? std::max(desired, v_ - a * T) : std::min(desired, v_ + a * T);
+  double v_next = desired < v_ ? std::max(desired, v_ - a_here * T) : std::min(desired, v_ + a_here * T);
   // Never faster than what still stops (or slows to v_end) within the remaining path when the
   // next cycle moves at this speed: v^2 + 2 a T v <= v_end^2 + 2 a rem.
   const double rem = remaining();

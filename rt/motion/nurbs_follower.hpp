@@ -24,6 +24,17 @@ namespace pcnc {
 /// by the caller between calls so that a monotone walk costs O(1); start it at 0.
 double block_schedule_speed(const NurbsGeometry& g, double u, int& hint);
 
+/// How much the block can still brake from arc length s (from its start) to its end: the
+/// integral of the schedule's acceleration over that stretch (each interval between two points
+/// at the smaller of their two), in mm²/s²: a speed v can be brought down to v_end over it
+/// when v² <= v_end² + 2·capacity. Every speed up to the schedule may brake at these
+/// accelerations (the block check verifies them against the axes).
+double block_brake_capacity(const NurbsGeometry& g, double s);
+
+/// The tangential acceleration the block schedule allows at u: the smaller of the two points
+/// around u (the point itself at or beyond the ends). `hint` as for block_schedule_speed.
+double block_schedule_accel(const NurbsGeometry& g, double u, int& hint);
+
 class NurbsFollower {
  public:
   /// Starts at the beginning of the block's curve with path speed v_start (mm/s).

@@ -9,6 +9,7 @@
 #include "geometry/arc_limits.hpp"
 #include "geometry/axis_caps.hpp"
 #include "geometry/plane.hpp"
+#include "motion/nurbs_follower.hpp"
 
 namespace pcnc {
 
@@ -67,6 +68,7 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
                        b.kind == BlockKind::kNurbs);
   pb.motion = moving && b.length > 0.0;
   pb.v_first = pb.v_last = std::numeric_limits<double>::infinity();
+  pb.brake_accel = pb.accel;
   if (!pb.motion) return pb;
   if (b.kind == BlockKind::kNurbs) {
     // The host's feed schedule already holds every axis and curvature limit: it is the cap.
@@ -76,6 +78,7 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     pb.v_machine = vmax;
     pb.v_first = g.schedule_speed[0];
     pb.v_last = g.schedule_speed[g.schedule_count - 1];
+    pb.brake_accel = std::max(pb.accel, block_brake_capacity(g, 0.0) / pb.length);
     pb.dir_start = normalized(b.dir_start);
     pb.dir_end = normalized(b.dir_end);
     return pb;
@@ -115,6 +118,7 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     pb.dir_end = pb.dir_start;
     line_caps(pb, cfg);
   }
+  pb.brake_accel = pb.accel;
   return pb;
 }
 

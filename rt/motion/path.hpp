@@ -38,6 +38,9 @@ struct PreparedBlock {
   // speed caps where the block starts and ends (NURBS: its feed schedule's first and last
   // values; +infinity for lines and arcs, whose caps are uniform)
   double v_first = 0.0, v_last = 0.0;
+  // the acceleration the stop rules may count on when braking through the whole block: accel,
+  // but for NURBS the mean of its schedule's accelerations (block_brake_capacity / length)
+  double brake_accel = 0.0;
   // arc only
   int a1 = 0, a2 = 1, an = 2;   // in-plane first, second axis; normal axis
   double c1 = 0.0, c2 = 0.0;    // centre in the plane

@@ -58,6 +58,14 @@ struct NurbsGeometry {
   // between. It already holds the forward/backward acceleration passes.
   double schedule_u[kMaxFeedSchedule]{};
   double schedule_speed[kMaxFeedSchedule]{};
+  // The tangential (path) acceleration, mm/s², allowed at u[i] at any speed up to speed[i]:
+  // what the axes leave there after the normal (centripetal) part, less a margin. Between
+  // two points the rt uses the smaller; the block check verifies every point against the
+  // axes' limits (layout version 6).
+  double schedule_accel[kMaxFeedSchedule]{};
+  // Arc length from the block's start to u[i], mm (0 at the first point, the block's length at
+  // the last): with schedule_accel, how much speed the rest of the block can shed.
+  double schedule_s[kMaxFeedSchedule]{};
   std::uint16_t point_count = 0;
   std::uint16_t knot_count = 0;
   std::uint16_t schedule_count = 0;

@@ -7,6 +7,7 @@
 
 #include "ipc/block_nurbs.hpp"
 #include "geometry/plane.hpp"
+#include "geometry/tangential_budget.hpp"
 
 namespace pcnc {
 namespace {
@@ -240,8 +241,46 @@ BlockVerdict check_nurbs(const Block& b, const MachineConfig& cfg, double tol) {
       return bad("nurbs: bad feed schedule entry", 0, g.schedule_speed[i]);
     }
     if (i > 0 && !(g.schedule_u[i] > g.schedule_u[i - 1])) return bad("nurbs: feed schedule not increasing in u");
+    if (!std::isfinite(g.schedule_accel[i]) || !(g.schedule_accel[i] > 0.0)) {
+      return bad("nurbs: feed schedule acceleration not positive", 0, g.schedule_accel[i]);
+    }
+    if (b.accel > g.schedule_accel[i] * (1.0 + kRel)) return bad("nurbs: block acceleration above its schedule's", 0, b.accel);
   }
   const NurbsView view = view_of(g);
+  const double slack = 1e-12 * (view.u_max() - view.u_min());
+  if (g.schedule_u[0] < view.u_min() - slack || g.schedule_u[m - 1] > view.u_max() + slack) {
+    return bad("nurbs: feed schedule outside the curve's parameter range");
+  }
+  // The points' arc lengths: from 0 to the block's length, and between two points at least
+  // the chord (since they end at the length, each is then at most the chord plus what the
+  // whole block's length exceeds the sum of the chords by).
+  if (std::abs(g.schedule_s[0]) > tol || std::abs(g.schedule_s[m - 1] - b.length) > tol) {
+    return bad("nurbs: feed schedule arc lengths do not run from 0 to the block length", 0, g.schedule_s[m - 1]);
+  }
+  // Every schedule point within the axes' limits: speed along the tangent, and tangential
+  // plus normal acceleration (|t_i|·a + |k_i|·v² <= A_i, geometry/tangential_budget.hpp).
+  Vec3 last{};
+  for (int j = 0; j < m; ++j) {
+    const CurveFrame f = nurbs_frame(view, g.schedule_u[j]);
+    if (!std::isfinite(g.schedule_s[j]) ||
+        (j > 0 && !(g.schedule_s[j] - g.schedule_s[j - 1] >= norm(f.p - last) * (1.0 - 1e-9) - 1e-12))) {
+      return bad("nurbs: feed schedule arc length shorter than the chord", 0, g.schedule_s[j]);
+    }
+    last = f.p;
+    if (!f.ok) continue;
+    const double v = g.schedule_speed[j], a = g.schedule_accel[j];
+    for (int i = 0; i < kAxes; ++i) {
+      if (std::abs(f.t[i]) * v > cfg.axes[i].max_velocity_mm_s * (1.0 + 1e-9) + 1e-9) {
+        return bad("nurbs: feed schedule above an axis's velocity limit", i, v);
+      }
+    }
+    for (int i = 0; i < kAxes; ++i) {
+      const AxisConfig& ax = cfg.axes[i];
+      if (std::abs(f.t[i]) * a + std::abs(f.k[i]) * v * v > ax.max_accel_mm_s2 * (1.0 + 1e-9) + 1e-9) {
+        return bad("nurbs: feed schedule above an axis's acceleration limit", i, a);
+      }
+    }
+  }
   const Vec3 c0 = nurbs_point(view, view.u_min()), c1 = nurbs_point(view, view.u_max());
   for (int i = 0; i < kAxes; ++i) {
     if (std::abs(c0[i] - b.start[i]) > tol) return bad("nurbs: curve does not begin at the block start", i, c0[i]);

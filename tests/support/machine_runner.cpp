@@ -62,6 +62,7 @@ void MachineRunner::cycle() {
   CycleRecord r;
   r.state = s.state;
   r.line = s.line;
+  r.seq = s.block_seq;
   r.cmd = s.commanded;
   r.act = s.actual;
   r.ferr = s.following_error;

@@ -14,6 +14,7 @@ namespace pcnc::test {
 struct CycleRecord {
   MachineState state = MachineState::kIdle;
   std::uint32_t line = 0;
+  std::uint64_t seq = 0;  // the block in execution (Status::block_seq)
   Vec3 cmd{}, act{}, ferr{}, truth{};
   double speed = 0.0;
 };
