@@ -98,7 +98,7 @@ PlaneFit fit_plane(const std::vector<Vec3>& points) {
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);  // eigenvalues ascending
   const Eigen::Vector3d ev = eig.eigenvalues();
-  if (!(ev(1) > 1e-24 * std::max(1.0, ev(2)))) {
+  if (!(ev(1) > 1e-12 * ev(2))) {  // also rejects coincident points (ev(2) = 0)
     out.error = "the points lie on one line: no unique plane";
     return out;
   }

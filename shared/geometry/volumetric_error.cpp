@@ -80,7 +80,7 @@ std::string column_name(const VolumetricError& layout, const Columns& c, int col
       const PitchTable& t = layout.pitch[static_cast<std::size_t>(i)];
       const int k = col - c.first[static_cast<std::size_t>(i)] + 1;
       return std::string("pitch ") + axis_name(i) + " node " + std::to_string(k) + " at " +
-             std::to_string(t.start_mm + k * t.step_mm) + " mm (no length spans it)";
+             std::to_string(t.start_mm + k * t.step_mm) + " mm (no measured point lies within a step of it)";
     }
   }
   return "?";
@@ -167,15 +167,6 @@ VolumetricCalibration calibrate_volumetric(const std::vector<LengthMeasurement>&
     add_basis(layout, c, measurements[static_cast<std::size_t>(r)].a, -1.0, d);
     basis[static_cast<std::size_t>(r)] = d;
   }
-  for (int col = 0; col < c.total; ++col) {
-    double s = 0.0;
-    for (const Eigen::MatrixXd& d : basis) s += d.col(col).squaredNorm();
-    if (s == 0.0) {
-      out.error = "the artefact does not determine " + column_name(layout, c, col);
-      return out;
-    }
-  }
-
   Eigen::VectorXd x = Eigen::VectorXd::Zero(c.total);
   Eigen::MatrixXd j(n, c.total);
   Eigen::VectorXd f(n);
@@ -188,14 +179,27 @@ VolumetricCalibration calibrate_volumetric(const std::vector<LengthMeasurement>&
       f(r) = len - m.length_mm;
       j.row(r) = (delta / len).transpose() * basis[static_cast<std::size_t>(r)];
     }
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(j);
+    // Each parameter must move some length by a fair share of how much it moves the points
+    // (a squareness seen only across an axis's own line is not determined): 1e-3.
+    Eigen::VectorXd scale(c.total);
+    for (int col = 0; col < c.total; ++col) {
+      double moves = 0.0;
+      for (const Eigen::MatrixXd& d : basis) moves = std::max(moves, d.col(col).norm());
+      const double seen = j.col(col).cwiseAbs().maxCoeff();
+      if (it == 0 && !(seen > 1e-3 * moves)) {
+        out.error = "the artefact does not determine " + column_name(layout, c, col);
+        return out;
+      }
+      scale(col) = seen > 0.0 ? 1.0 / j.col(col).norm() : 1.0;
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(j * scale.asDiagonal());
     qr.setThreshold(1e-9);
     if (qr.rank() < c.total) {
       out.error = "the artefact's lengths leave " + std::to_string(c.total - qr.rank()) +
                   " combination(s) of pitch and squareness undetermined: measure more positions or diagonals";
       return out;
     }
-    const Eigen::VectorXd step = qr.solve(-f);
+    const Eigen::VectorXd step = scale.asDiagonal() * qr.solve(-f);
     x += step;
     out.iterations = it + 1;
     if (step.lpNorm<Eigen::Infinity>() < 1e-13) break;
