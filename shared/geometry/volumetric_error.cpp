@@ -80,7 +80,7 @@ std::string column_name(const VolumetricError& layout, const Columns& c, int col
       const PitchTable& t = layout.pitch[static_cast<std::size_t>(i)];
       const int k = col - c.first[static_cast<std::size_t>(i)] + 1;
       return std::string("pitch ") + axis_name(i) + " node " + std::to_string(k) + " at " +
-             std::to_string(t.start_mm + k * t.step_mm) + " mm (no measured point lies within a step of it)";
+             std::to_string(t.start_mm + k * t.step_mm) + " mm (no measured point within a step of it)";
     }
   }
   return "?";
@@ -179,14 +179,14 @@ VolumetricCalibration calibrate_volumetric(const std::vector<LengthMeasurement>&
       f(r) = len - m.length_mm;
       j.row(r) = (delta / len).transpose() * basis[static_cast<std::size_t>(r)];
     }
-    // Each parameter must move some length by a fair share of how much it moves the points
-    // (a squareness seen only across an axis's own line is not determined): 1e-3.
+    // Each parameter must move some length enough to be told apart: a pitch node by at least
+    // 5% of its own value (a measured point within 95% of a step of it), a squareness by at
+    // least 0.05 µm per 1000 µrad (a length with 0.05 mm of travel across the leaning axis).
     Eigen::VectorXd scale(c.total);
     for (int col = 0; col < c.total; ++col) {
-      double moves = 0.0;
-      for (const Eigen::MatrixXd& d : basis) moves = std::max(moves, d.col(col).norm());
       const double seen = j.col(col).cwiseAbs().maxCoeff();
-      if (it == 0 && !(seen > 1e-3 * moves)) {
+      const double needed = col >= c.squareness ? 0.05 * kUrad : 0.05;
+      if (it == 0 && !(seen >= needed)) {
         out.error = "the artefact does not determine " + column_name(layout, c, col);
         return out;
       }
