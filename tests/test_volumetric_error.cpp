@@ -150,19 +150,20 @@ TEST(VolumetricError, CalibrationWithNoiseStaysWithinItsError) {
   const VolumetricError truth = synthetic_machine(5);
   Artefact art = artefact(truth);
   std::mt19937_64 rng(6);
-  const double sigma = 0.2e-3;
+  const double sigma = 0.05e-3;
   std::normal_distribution<double> noise(0.0, sigma);
   for (LengthMeasurement& l : art.lengths) l.length_mm += noise(rng);
   const VolumetricCalibration cal = calibrate_volumetric(art.lengths, layout_of(truth));
   ASSERT_TRUE(cal.ok()) << cal.error;
-  // each node from one length (σ); each squareness from two diagonals whose pitch ends carry
-  // ~σ each: |ΔS| ≲ 4σ / (0.707·25 mm) in rad
+  // each node from one length (σ); each squareness from two diagonals, each with its own noise
+  // and the noise of the two pitch nodes at its ends (σ·sqrt(2) together), seen over a lever of
+  // 0.707·25 mm: σ_S ≈ σ·sqrt(2)/17.7 mm/sqrt(2) = σ/17.7 mm; bound 4σ_S
   for (int a = 0; a < kAxes; ++a)
     for (int k = 1; k < kNodes; ++k) {
       const auto& t = truth.pitch[static_cast<std::size_t>(a)].error_mm;
       EXPECT_NEAR(cal.model.pitch[static_cast<std::size_t>(a)].error_mm[static_cast<std::size_t>(k)], t[static_cast<std::size_t>(k)] - t[0], 5 * sigma);
     }
-  const double s_tol = 5.0 * 4.0 * sigma / (0.707 * 25.0) * 1e6;
+  const double s_tol = 4.0 * sigma / (0.707 * 25.0) * 1e6;  // 11 µrad
   EXPECT_NEAR(cal.model.squareness_xy_urad, 40.0, s_tol);
   EXPECT_NEAR(cal.model.squareness_yz_urad, -25.0, s_tol);
   EXPECT_NEAR(cal.model.squareness_zx_urad, 15.0, s_tol);
