@@ -1,14 +1,14 @@
 // bench_probe_math.cpp — figures for the measurement mathematics of issue 15 item 3 (never
 // pass/fail; docs/measurement.md quotes them):
-//  1. the slope error of a 1 mm ball probed straight down on a 7 × 7 grid over X/Y 2.5..22.5 on
+//  1. the probe calibration on a 6 mm reference sphere: lobed pre-travel (axial, lateral,
+//     three-lobed), seeded repeatability noise; residuals, and the error of r_eff(d) against the
+//     truth over random directions, with the sphere's centre known and fitted;
+//  2. the slope error of a 1 mm ball probed straight down on a 7 × 7 grid over X/Y 2.5..22.5 on
 //     a surface with slopes up to 45°, on the plane z = x and on an under-sampled wavy surface:
 //     the naive reading (centre Z − r, at the centre's X/Y) against the contact point moved back
 //     along the normal of the B-spline through the centres, with the calibrated r_eff; the true
 //     latched centres are computed from the surface's own normal (q + r_eff n(q) on the probe's
 //     vertical, Newton), independently of the library;
-//  2. the probe calibration on a 6 mm reference sphere: lobed pre-travel (axial, lateral,
-//     three-lobed), seeded repeatability noise; residuals, and the error of r_eff(d) against the
-//     truth over random directions, with the sphere's centre known and fitted;
 //  3. the volumetric error of a synthetic machine (pitch ±5 µm, squareness 40/-25/15 µrad)
 //     before and after compensation by the model calibrated on an artefact (step gauges along
 //     X, Y, Z, two diagonals per plane, lengths with seeded noise), over random points, relative
@@ -104,7 +104,7 @@ struct Stats {
 };
 
 ProbeCalibration section_calibration(std::uint64_t seed, double noise_um) {
-  std::printf("2. probe calibration on a 6 mm reference sphere (pre-travel axial %.0f, lateral %.0f, lobe %.0f µm; "
+  std::printf("1. probe calibration on a 6 mm reference sphere (pre-travel axial %.0f, lateral %.0f, lobe %.0f µm; "
               "repeatability %.2f µm; 7 polar nodes x order 4; 16 azimuths a ring, 3 repeats: 289 touches)\n",
               um(kAxial), um(kLateral), um(kLobe), noise_um);
   const Vec3 centre{20.0, 5.0, 2.0};
@@ -142,7 +142,7 @@ ProbeCalibration section_calibration(std::uint64_t seed, double noise_um) {
 }
 
 void section_slope(const ProbeCalibration& cal) {
-  std::printf("\n1. ball correction, 1 mm ball straight down, 7 x 7 grid over X/Y 2.5..22.5, r_eff(-Z) = %.4f mm calibrated "
+  std::printf("\n2. ball correction, 1 mm ball straight down, 7 x 7 grid over X/Y 2.5..22.5, r_eff(-Z) = %.4f mm calibrated "
               "(true %.4f)\n", effective_radius(cal, {0, 0, -1}), true_reff({0, 0, -1}));
   std::printf("  %-30s %6s %11s %13s %11s %12s %13s\n", "surface", "slope", "naive max", "normal error", "corr. Z max",
               "corr. Z RMS", "corr. to q max");
