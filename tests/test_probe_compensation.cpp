@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geometry/probe_compensation.hpp"
+#include "geometry/probe_grid_plan.hpp"
 
 namespace pcnc {
 namespace {
@@ -113,6 +114,70 @@ TEST(ProbeCompensation, DirectionDependentRadiusUsesTheApproach) {
   EXPECT_NEAR(contact_point({0, 0, 1.0}, n, {0, 0, -1}, cal.cal)[2], 0.0, 1e-12);
   const Vec3 slanted = normalized(Vec3{1, 0, -1});  // θ = 45°: r_eff = 1 − 0.01·π/4
   EXPECT_NEAR(contact_point({0, 0, 1.0}, n, slanted, cal.cal)[2], 1.0 - (1.0 - 0.01 * std::numbers::pi / 4), 1e-12);
+}
+
+TEST(ProbeCompensation, PlanCalibrateProbeCompensateOnASphereCap) {
+  // The chain: a lobed probe calibrated on a reference sphere, a 7 × 7 plan along the normals
+  // of a design estimate of a dome, each touch latched where the moving ball's centre comes
+  // within r_eff(d) of the dome (|s + t d − O| = Rp + r_eff(d), solved here), then compensated
+  // with per-point approaches. The dome's true contact is O + Rp·(p − O)/|p − O|.
+  auto reff_true = [](const Vec3& d) {
+    const ApproachAngles a = approach_angles(d);
+    const double c = std::cos(a.polar), s = std::sin(a.polar);
+    return 1.0 - (0.002 * c * c + (0.008 + 0.003 * std::cos(3.0 * a.azimuth)) * s * s);
+  };
+  const CalibrationLayout layout;
+  const Vec3 ref{30, 30, 0};
+  std::vector<ProbeTouch> touches;
+  for (const Vec3& d : calibration_directions(layout, 12)) touches.push_back({ref - (6.0 + reff_true(d)) * d, d});
+  const ProbeCalibrationResult cal = calibrate_probe(touches, 6.0, layout, &ref);
+  ASSERT_TRUE(cal.ok()) << cal.error;
+
+  const Vec3 o{12.5, 12.5, -20.0};
+  const double rp = 30.0;
+  PointGrid design;  // the estimate: the dome itself, as a B-spline through 9 × 9 points
+  design.cols = design.rows = 9;
+  for (int r = 0; r < 9; ++r)
+    for (int c = 0; c < 9; ++c) {
+      const double x = 2.5 + 2.5 * c, y = 2.5 + 2.5 * r;
+      design.points.push_back({x, y, o[2] + std::sqrt(rp * rp - std::pow(x - o[0], 2) - std::pow(y - o[1], 2))});
+    }
+  const SurfaceFit est_fit = interpolate_grid(design, 3, 1.0);
+  ASSERT_TRUE(est_fit.ok()) << est_fit.error;
+  SurfaceEstimate est;
+  est.surface = &est_fit.surface;
+  const ProbeGridPlan plan = plan_probe_grid(ProbeGridSpec{4, 21, 4, 21, 7, 7, 1.0, 1.0, 1.0}, est);
+  ASSERT_TRUE(plan.ok()) << plan.error;
+
+  PointGrid centres;
+  centres.cols = centres.rows = 7;
+  std::vector<Vec3> approaches;
+  for (const ProbePoint& p : plan.points) {
+    // the smaller root t of |start + t d − O|² = (Rp + r_eff)²
+    const double rr = rp + reff_true(p.approach);
+    const Vec3 w = p.start - o;
+    const double b = dot(w, p.approach), c = dot(w, w) - rr * rr;
+    const double t = -b - std::sqrt(b * b - c);
+    ASSERT_GT(t, 0.0);
+    centres.points.push_back(p.start + t * p.approach);
+    approaches.push_back(p.approach);
+  }
+  const GridCompensation comp = compensate_grid(centres, approaches, cal.cal);
+  ASSERT_TRUE(comp.ok()) << comp.error;
+  // the calibration's bound in θ: h²/8 · 2(axial + lateral + lobe), h = 15° (0.22 µm)
+  const double interp = std::pow(std::numbers::pi / 12, 2) / 8.0 * 2.0 * (0.002 + 0.008 + 0.003);
+  double worst_off = 0.0, worst_across = 0.0, worst_angle = 0.0;
+  for (std::size_t i = 0; i < centres.points.size(); ++i) {
+    const Vec3 n_true = normalized(centres.points[i] - o);
+    const Vec3 truth = o + rp * n_true;
+    const Vec3 err = comp.contacts.points[i] - truth;
+    worst_off = std::max(worst_off, std::abs(dot(err, n_true)));
+    worst_across = std::max(worst_across, norm(err - dot(err, n_true) * n_true));
+    worst_angle = std::max(worst_angle, std::acos(std::min(1.0, dot(comp.normals[i], n_true))));
+  }
+  EXPECT_LT(worst_angle, 2e-3);
+  EXPECT_LT(worst_off, interp + 1.0 * worst_angle * worst_angle);  // radial: r_eff's error + rΔ²/2 (×2)
+  EXPECT_LT(worst_across, 1.0 * worst_angle * 1.01 + 1e-9);       // tangential: rΔ
 }
 
 TEST(ProbeCompensation, LocalNormalFromNeighboursAndRefusals) {
