@@ -138,6 +138,18 @@ ProbeCalibration section_calibration(std::uint64_t seed, double noise_um) {
     std::printf("\n");
     if (!fitted) known_cal = r.cal;
   }
+  // The seed's Fig. 2: pre-travel R_ball − r_eff by direction, calibrated (known centre) / true.
+  std::printf("  pre-travel by direction, µm, calibrated / true (polar θ from -Z down the rows, azimuth ψ across):\n  %8s", "");
+  for (int psi = 0; psi < 360; psi += 45) std::printf("    ψ=%3d°   ", psi);
+  std::printf("\n");
+  for (int th = 0; th <= 90; th += 30) {
+    std::printf("  θ=%3d° ", th);
+    for (int psi = 0; psi < 360; psi += 45) {
+      const Vec3 d = approach_direction(th * std::numbers::pi / 180, psi * std::numbers::pi / 180);
+      std::printf(" %5.2f/%5.2f", um(kBall - effective_radius(known_cal, d)), um(kBall - true_reff(d)));
+    }
+    std::printf("\n");
+  }
   return known_cal;
 }
 
