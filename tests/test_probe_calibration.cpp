@@ -59,6 +59,21 @@ TEST(ProbeCalibration, ConstantCalibrationIsTheRadiusEverywhere) {
     EXPECT_DOUBLE_EQ(effective_radius(c, d), 0.9876);
 }
 
+TEST(ProbeCalibration, ValidateAndOutOfRangeTables) {
+  EXPECT_EQ(validate(constant_calibration(1.0)), "");
+  ProbeCalibration c = constant_calibration(1.0);
+  c.harmonics = kMaxHarmonic + 1;
+  EXPECT_EQ(validate(c).rfind("harmonics:", 0), 0u);
+  EXPECT_EQ(effective_radius(c, {0, 0, -1}), 0.0);  // never reads past the arrays
+  c = constant_calibration(1.0);
+  c.polar_nodes = kMaxPolarNodes + 1;
+  EXPECT_EQ(validate(c).rfind("polar_nodes:", 0), 0u);
+  EXPECT_EQ(effective_radius(c, {0, 0, -1}), 0.0);
+  c = constant_calibration(1.0);
+  c.coeff[1][0] = std::nan("");
+  EXPECT_EQ(validate(c).rfind("coeff:", 0), 0u);
+}
+
 TEST(ProbeCalibration, KnownCentreRecoversTheLobedPretravel) {
   const CalibrationLayout layout;  // 7 polar nodes (15°), order 4
   const ProbeCalibrationResult r = calibrate_probe(touches(layout, 12), kSphere, layout, &kCentre);

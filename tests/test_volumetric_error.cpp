@@ -169,6 +169,22 @@ TEST(VolumetricError, CalibrationWithNoiseStaysWithinItsError) {
   EXPECT_NEAR(cal.model.squareness_zx_urad, 15.0, s_tol);
 }
 
+TEST(VolumetricError, ValidateNamesTheField) {
+  EXPECT_EQ(validate(synthetic_machine(1)), "");
+  VolumetricError m = synthetic_machine(1);
+  m.pitch[1].step_mm = 0.0;
+  EXPECT_EQ(validate(m).rfind("pitch_y:", 0), 0u) << validate(m);
+  m = synthetic_machine(1);
+  m.pitch[2].error_mm[4] = 0.1;  // 0.1 mm over a 2.5 mm step: 4 %
+  EXPECT_EQ(validate(m).rfind("pitch_z:", 0), 0u) << validate(m);
+  m = synthetic_machine(1);
+  m.squareness_zx_urad = std::nan("");
+  EXPECT_EQ(validate(m).rfind("squareness:", 0), 0u) << validate(m);
+  m = synthetic_machine(1);
+  m.pitch[0].count = kMaxPitchNodes + 1;
+  EXPECT_EQ(validate(m).rfind("pitch_x:", 0), 0u) << validate(m);
+}
+
 TEST(VolumetricError, RefusesArtefactsThatLeaveAParameterOpen) {
   const VolumetricError truth = synthetic_machine(7);
   const VolumetricCalibration no_xy = calibrate_volumetric(artefact(truth, false).lengths, layout_of(truth));

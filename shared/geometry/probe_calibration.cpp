@@ -39,6 +39,18 @@ int column(int k, int j, int harmonics) { return k == 0 ? 0 : 1 + (k - 1) * (2 *
 
 }  // namespace
 
+std::string validate(const ProbeCalibration& cal) {
+  if (cal.polar_nodes < 2 || cal.polar_nodes > kMaxPolarNodes)
+    return "polar_nodes: must be 2.." + std::to_string(kMaxPolarNodes);
+  if (cal.harmonics < 0 || cal.harmonics > kMaxHarmonic) return "harmonics: must be 0.." + std::to_string(kMaxHarmonic);
+  if (!(cal.polar_max_rad > 0.0 && cal.polar_max_rad <= std::numbers::pi)) return "polar_max_rad: must be in (0, pi]";
+  for (int k = 0; k < cal.polar_nodes; ++k)
+    for (int j = 0; j <= 2 * cal.harmonics; ++j)
+      if (!std::isfinite(cal.coeff[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)]))
+        return "coeff: node " + std::to_string(k) + " holds a number that is not finite";
+  return {};
+}
+
 ProbeCalibration constant_calibration(double radius) {
   ProbeCalibration c;
   c.polar_nodes = 2;
@@ -61,7 +73,8 @@ Vec3 approach_direction(double polar, double azimuth) {
 }
 
 double effective_radius(const ProbeCalibration& cal, const Vec3& approach) {
-  if (cal.polar_nodes < 2) return 0.0;
+  if (cal.polar_nodes < 2 || cal.polar_nodes > kMaxPolarNodes || cal.harmonics < 0 || cal.harmonics > kMaxHarmonic)
+    return 0.0;
   const ApproachAngles a = approach_angles(approach);
   int k = 0;
   double w = 0.0;

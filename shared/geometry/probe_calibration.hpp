@@ -36,6 +36,10 @@ struct ProbeCalibration {
   std::array<std::array<double, 2 * kMaxHarmonic + 1>, kMaxPolarNodes> coeff{};
 };
 
+/// Why `cal` is not a usable table ("<field>: <why>"), or an empty string: polar_nodes
+/// 2..kMaxPolarNodes, harmonics 0..kMaxHarmonic, polar_max_rad in (0, π], finite coefficients.
+std::string validate(const ProbeCalibration& cal);
+
 /// A probe without lobing: r_eff = `radius` in every direction.
 ProbeCalibration constant_calibration(double radius);
 
@@ -49,7 +53,8 @@ ApproachAngles approach_angles(const Vec3& approach);
 /// The unit approach direction of (θ, ψ): (sin θ cos ψ, sin θ sin ψ, −cos θ).
 Vec3 approach_direction(double polar, double azimuth);
 
-/// r_eff for a probe moving along `approach` (mm). Allocation-free.
+/// r_eff for a probe moving along `approach` (mm). Allocation-free. A table with polar_nodes
+/// or harmonics out of range gives 0 (validate() says why).
 double effective_radius(const ProbeCalibration& cal, const Vec3& approach);
 
 /// One touch: the latched ball centre (mm) and the direction the probe was moving in.

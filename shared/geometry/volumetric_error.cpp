@@ -107,6 +107,31 @@ double PitchTable::at(double position_mm) const {
   return (1.0 - w) * error_mm[static_cast<std::size_t>(k)] + w * error_mm[static_cast<std::size_t>(k + 1)];
 }
 
+std::string validate(const VolumetricError& m) {
+  for (int i = 0; i < kAxes; ++i) {
+    const PitchTable& t = m.pitch[static_cast<std::size_t>(i)];
+    const std::string key = std::string("pitch_") + static_cast<char>('x' + i);
+    if (t.count < 0 || t.count > kMaxPitchNodes) return key + ": count must be 0.." + std::to_string(kMaxPitchNodes);
+    if (!std::isfinite(t.start_mm) || (t.count >= 2 && !(t.step_mm > 0.0 && std::isfinite(t.step_mm))))
+      return key + ": start must be finite and the step > 0";
+    for (int k = 0; k < t.count; ++k) {
+      if (!std::isfinite(t.error_mm[static_cast<std::size_t>(k)])) return key + ": an error is not a finite number";
+      if (k > 0 && std::abs(t.error_mm[static_cast<std::size_t>(k)] - t.error_mm[static_cast<std::size_t>(k - 1)]) >= 0.01 * t.step_mm)
+        return key + ": the error changes by 1 % of the travel or more between nodes " + std::to_string(k - 1) + " and " +
+               std::to_string(k);
+    }
+  }
+  for (double s : {m.squareness_xy_urad, m.squareness_yz_urad, m.squareness_zx_urad})
+    if (!(std::abs(s) < 1e4)) return "squareness: must be finite and below 10000 µrad";
+  for (int i = 0; i < kAxes; ++i) {
+    const std::size_t a = static_cast<std::size_t>(i);
+    if (!std::isfinite(m.growth_per_K[a]) || !std::isfinite(m.origin_drift_mm[a]) ||
+        !(std::abs(m.growth_per_K[a] * m.temperature_offset_K) < 0.01))
+      return "thermal: growth, temperature offset and drift must be finite, growth x offset below 0.01";
+  }
+  return {};
+}
+
 Vec3 volumetric_offset(const VolumetricError& m, const Vec3& p) {
   const double dt = m.temperature_offset_K;
   Vec3 e{};

@@ -51,6 +51,12 @@ struct VolumetricError {
   Vec3 origin_drift_mm{0.0, 0.0, 0.0};
 };
 
+/// Why `m` is not a usable model, as "<field>: <why>", or an empty string: table counts
+/// 0..kMaxPitchNodes, a step > 0 where count >= 2, finite numbers, and a pitch slope plus the
+/// squarenesses far below 1 (each table's slope between nodes below 0.01, each squareness
+/// below 10000 µrad), which is what makes the inverse's fixed point converge.
+std::string validate(const VolumetricError& m);
+
 /// E(nominal), mm.
 Vec3 volumetric_offset(const VolumetricError& m, const Vec3& nominal);
 /// nominal + E(nominal): where the machine is when the encoders read `nominal`.
