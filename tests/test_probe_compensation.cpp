@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "geometry/probe_compensation.hpp"
@@ -178,6 +179,41 @@ TEST(ProbeCompensation, PlanCalibrateProbeCompensateOnASphereCap) {
   EXPECT_LT(worst_angle, 2e-3);
   EXPECT_LT(worst_off, interp + 1.0 * worst_angle * worst_angle);  // radial: r_eff's error + rΔ²/2 (×2)
   EXPECT_LT(worst_across, 1.0 * worst_angle * 1.01 + 1e-9);       // tangential: rΔ
+}
+
+TEST(ProbeCompensation, ScatteredPointsOnAPlaneAndADome) {
+  // a tilted plane, points scattered (a seeded jitter): the plane's contacts exactly
+  const Plane pl{0.5, 0.3, 0.2};
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> jitter(-0.8, 0.8);
+  std::vector<Vec3> centres;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) centres.push_back(pl.centre(3.0 * i + jitter(rng), 3.0 * j + jitter(rng), 1.0));
+  const PointsCompensation comp = compensate_points(centres, kDown, constant_calibration(1.0));
+  ASSERT_TRUE(comp.ok()) << comp.error;
+  for (std::size_t i = 0; i < centres.size(); ++i) EXPECT_LT(norm(comp.contacts[i] - (centres[i] - pl.n())), 1e-9);
+  // a dome (R 30 mm, centres on R' = 31 mm): off the surface each point errs by
+  // |q − O| − R ≈ r·(R'/R)·angle²/2 (|q − O|² = (R' − r)² + 2rR'(1 − cos angle))
+  const Vec3 o{10, 10, -25};
+  std::vector<Vec3> dome;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      const double x = 2.0 + 3.0 * i + jitter(rng), y = 2.0 + 3.0 * j + jitter(rng);
+      dome.push_back({x, y, o[2] + std::sqrt(31.0 * 31.0 - std::pow(x - o[0], 2) - std::pow(y - o[1], 2))});
+    }
+  const PointsCompensation dc = compensate_points(dome, kDown, constant_calibration(1.0));
+  ASSERT_TRUE(dc.ok()) << dc.error;
+  for (std::size_t i = 0; i < dome.size(); ++i) {
+    const Vec3 n_true = normalized(dome[i] - o);
+    const double angle = std::acos(std::min(1.0, dot(dc.normals[i], n_true)));
+    // a plane through neighbours on one side (a corner) tilts by about the curvature times
+    // their distance: ≈ 4 mm / 31 mm
+    EXPECT_LT(angle, 0.15);
+    const double rr = std::sqrt(30.0 * 30.0 + 2.0 * 31.0 * (1.0 - std::cos(angle)));
+    EXPECT_NEAR(norm(dc.contacts[i] - o), rr, 1e-9);
+  }
+  EXPECT_FALSE(compensate_points({{0, 0, 0}, {1, 0, 0}}, kDown, constant_calibration(1.0)).ok());
+  EXPECT_FALSE(compensate_points({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}}, kDown, constant_calibration(1.0)).ok());
 }
 
 TEST(ProbeCompensation, LocalNormalFromNeighboursAndRefusals) {

@@ -65,4 +65,30 @@ Vec3 local_normal(const std::vector<Vec3>& centres, std::size_t index, int neigh
   return n;
 }
 
+PointsCompensation compensate_points(const std::vector<Vec3>& centres, const std::vector<Vec3>& approaches,
+                                     const ProbeCalibration& cal, int neighbours) {
+  PointsCompensation out;
+  if (centres.size() < 3) {
+    out.error = "at least 3 points are needed for normals";
+    return out;
+  }
+  if (approaches.size() != 1 && approaches.size() != centres.size()) {
+    out.error = std::to_string(approaches.size()) + " approach directions for " + std::to_string(centres.size()) + " points";
+    return out;
+  }
+  for (std::size_t i = 0; i < centres.size(); ++i) {
+    const Vec3& d = approaches.size() == 1 ? approaches[0] : approaches[i];
+    const Vec3 n = local_normal(centres, i, neighbours, d);
+    if (!(norm(n) > 0.0)) {
+      out.error = "point " + std::to_string(i) + ": its neighbours lie on one line, no normal";
+      out.contacts.clear();
+      out.normals.clear();
+      return out;
+    }
+    out.normals.push_back(n);
+    out.contacts.push_back(contact_point(centres[i], n, d, cal));
+  }
+  return out;
+}
+
 }  // namespace pcnc

@@ -39,6 +39,20 @@ struct GridCompensation {
 GridCompensation compensate_grid(const PointGrid& centres, const std::vector<Vec3>& approaches,
                                  const ProbeCalibration& cal);
 
+struct PointsCompensation {
+  std::vector<Vec3> contacts;  // the compensated points, in the centres' order
+  std::vector<Vec3> normals;   // unit outward normal at each (local_normal)
+  std::string error;
+  bool ok() const { return error.empty(); }
+};
+
+/// Compensates a scattered list of latched centres, each along the normal of the plane through
+/// it and its `neighbours` nearest others (local_normal). `approaches`: one per point or one
+/// for all. Refuses fewer than 3 points, sizes that do not match, and a point whose neighbours
+/// lie on one line.
+PointsCompensation compensate_points(const std::vector<Vec3>& centres, const std::vector<Vec3>& approaches,
+                                     const ProbeCalibration& cal, int neighbours = 6);
+
 /// The unit normal at centres[index] of a scattered list: the plane through it and its
 /// `neighbours` nearest others (at least 2), oriented against `approach`. Zero when the
 /// neighbours lie on one line.
