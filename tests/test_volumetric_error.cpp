@@ -120,6 +120,27 @@ TEST(VolumetricError, ForwardAndInverseAreInverse) {
   }
 }
 
+TEST(VolumetricError, InverseConvergesAtTheValidateLimits) {
+  // every slope just inside validate's limits: a saw-tooth pitch of slope ±0.0099, squareness
+  // 9999 µrad, growth × ΔT 0.0099 (E's max-norm Lipschitz constant just below 0.04)
+  VolumetricError m;
+  for (PitchTable& t : m.pitch) {
+    t.step_mm = 2.5;
+    t.count = 11;
+    for (int k = 0; k < 11; ++k) t.error_mm[static_cast<std::size_t>(k)] = (k % 2) * 0.0099 * 2.5;
+  }
+  m.squareness_xy_urad = m.squareness_yz_urad = m.squareness_zx_urad = 9999.0;
+  m.growth_per_K = {0.00099, 0.00099, 0.00099};
+  m.temperature_offset_K = 10.0;
+  ASSERT_EQ(validate(m), "");
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(0.0, 25.0);
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 p{u(rng), u(rng), u(rng)};
+    EXPECT_LT(norm(actual_position(m, nominal_position(m, p)) - p), 1e-11);
+  }
+}
+
 TEST(VolumetricError, CalibrationRecoversPitchAndSquareness) {
   const VolumetricError truth = synthetic_machine(3);
   const Artefact art = artefact(truth);
