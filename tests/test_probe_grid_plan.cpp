@@ -77,6 +77,19 @@ TEST(ProbeGridPlan, BSplineEstimateGivesItsNormals) {
   }
 }
 
+TEST(ProbeGridPlan, OnePointIsTheGridsPoint) {
+  const SurfaceEstimate plane{1.0, 0.5, -0.25, nullptr};
+  const ProbeGridSpec s{0, 10, 0, 10, 3, 3, 1.0, 2.0, 0.5};
+  const ProbeGridPlan grid = plan_probe_grid(s, plane);
+  ASSERT_TRUE(grid.ok()) << grid.error;
+  const ProbePoint one = plan_probe_point(5.0, 10.0, s, plane);  // column 1 of row 2
+  const ProbePoint& g = grid.points[7];
+  EXPECT_EQ(one.start, g.start);
+  EXPECT_EQ(one.end, g.end);
+  EXPECT_EQ(one.normal, g.normal);
+  EXPECT_DOUBLE_EQ(one.expected_contact[2], 1.0 + 0.5 * 5.0 - 0.25 * 10.0);
+}
+
 TEST(ProbeGridPlan, RefusesBadSpecs) {
   const SurfaceEstimate flat;
   EXPECT_FALSE(plan_probe_grid(ProbeGridSpec{0, 10, 0, 10, 0, 3, 1, 1, 1}, flat).ok());

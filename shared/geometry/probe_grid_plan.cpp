@@ -17,6 +17,17 @@ void estimate_at(const SurfaceEstimate& s, double x, double y, double& z, Vec3& 
   normal = normalized(Vec3{-s.slope_x, -s.slope_y, 1.0});
 }
 
+ProbePoint plan_probe_point(double x, double y, const ProbeGridSpec& spec, const SurfaceEstimate& estimate) {
+  ProbePoint p;
+  double z = 0.0;
+  estimate_at(estimate, x, y, z, p.normal);
+  p.expected_contact = {x, y, z};
+  p.approach = -1.0 * p.normal;
+  p.start = p.expected_contact + (spec.ball_radius_mm + spec.clearance_mm) * p.normal;
+  p.end = p.expected_contact + (spec.ball_radius_mm - spec.probe_distance_mm) * p.normal;
+  return p;
+}
+
 ProbeGridPlan plan_probe_grid(const ProbeGridSpec& spec, const SurfaceEstimate& estimate) {
   ProbeGridPlan out;
   if (spec.nx < 1 || spec.ny < 1) {
@@ -37,15 +48,9 @@ ProbeGridPlan plan_probe_grid(const ProbeGridSpec& spec, const SurfaceEstimate& 
     const double y = spec.ny == 1 ? spec.y0_mm : spec.y0_mm + (spec.y1_mm - spec.y0_mm) * r / (spec.ny - 1);
     for (int c = 0; c < spec.nx; ++c) {
       const double x = spec.nx == 1 ? spec.x0_mm : spec.x0_mm + (spec.x1_mm - spec.x0_mm) * c / (spec.nx - 1);
-      ProbePoint p;
+      ProbePoint p = plan_probe_point(x, y, spec, estimate);
       p.col = c;
       p.row = r;
-      double z = 0.0;
-      estimate_at(estimate, x, y, z, p.normal);
-      p.expected_contact = {x, y, z};
-      p.approach = -1.0 * p.normal;
-      p.start = p.expected_contact + (spec.ball_radius_mm + spec.clearance_mm) * p.normal;
-      p.end = p.expected_contact + (spec.ball_radius_mm - spec.probe_distance_mm) * p.normal;
       out.points.push_back(p);
     }
   }

@@ -5,7 +5,8 @@
 // touching position) and where it ends (the probing distance beyond it):
 //   start = q + (R + clearance)·n,   end = q + (R − probe_distance)·n,   R the ball radius.
 // Order: the CSV order of issue 15 item 3: rows of constant y, y increasing, x increasing
-// within a row. Pure mathematics: std and geometry/.
+// within a row. A list of points is planned one point at a time (plan_probe_point).
+// Pure mathematics: std and geometry/.
 #pragma once
 
 #include <string>
@@ -54,5 +55,9 @@ struct ProbeGridPlan {
 void estimate_at(const SurfaceEstimate& s, double x, double y, double& z, Vec3& normal);
 
 ProbeGridPlan plan_probe_grid(const ProbeGridSpec& spec, const SurfaceEstimate& estimate);
+
+/// One touch at (x, y) (a list of points: col is its index, row 0), with the spec's ball
+/// radius, clearance and probing distance (its rectangle and counts are not used).
+ProbePoint plan_probe_point(double x, double y, const ProbeGridSpec& spec, const SurfaceEstimate& estimate);
 
 }  // namespace pcnc
