@@ -30,6 +30,10 @@ struct JobProgress {
 struct BlockSource {
   std::function<bool(Block&)> next;  // false after the last block (the End block included)
   std::function<JobProgress()> progress;  // lines/bytes so far (status is filled in by the runner)
+  // Called when next() returned false with everything sent (optional): a source that stopped
+  // at a sync point (a probing move, docs/probe.md) waits for what it needs and says whether it
+  // has more ("" and true), has ended ("" and false), or cannot go on (the reason).
+  std::function<std::string(const std::atomic<bool>& interrupt, bool& more)> resume;
 };
 
 class JobRunner {

@@ -10,7 +10,7 @@
 namespace pcnc {
 
 Machine::Impl::Impl(const MachineConfig& c)
-    : cfg(c), dt(c.cycle_period_s()), exec(c), jog(c), drive(c), sm(cfg, st, sp, exec, jog, ovr, drive) {
+    : cfg(c), dt(c.cycle_period_s()), exec(c), jog(c), drive(c), probe(c), sm(cfg, st, sp, exec, jog, ovr, drive) {
   sp.pos = exec.position();
   st.actual = drive.encoder();
   st.commanded = sp.pos;

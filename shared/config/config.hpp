@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/probe_contact.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -135,6 +136,13 @@ struct ProcessConfig {
   bool trace_failure_stops = true;
 };
 
+// [probe], optional: a touch-trigger probe in the spindle whose ball centre is the controlled
+// point (docs/probe.md). Absent: the machine has no probe and G38.x is refused.
+struct ProbeConfig {
+  bool present = false;
+  ProbeModel model{};
+};
+
 struct MachineConfig {
   std::string name = "desktop-mill";
   std::string source_path;  // the file it came from
@@ -143,6 +151,8 @@ struct MachineConfig {
   GcodeConfig gcode{};
   CutterCompConfig cutter_comp{};
   ProcessConfig process{};
+  ProbeConfig probe{};
+  TableScene table{};  // [workpiece], optional: what the probe can touch (docs/probe.md)
 
   double cycle_period_s() const { return 1.0 / motion.cycle_hz; }
   Vec3 travel_min() const { return {axes[0].travel_min_mm, axes[1].travel_min_mm, axes[2].travel_min_mm}; }

@@ -1,0 +1,85 @@
+// test_proc_probe.cpp — probing on the two real processes (pcnc run: pcnc-rt + pcnc-host) on the
+// default machine's flat workpiece (configs/desktop-mill.toml: its top at machine Z 15, program
+// Z -10; a 1 mm ball): G38.2 stops on it, #5063 read back by the following lines moves the
+// machine, the probe log holds the point; a G38.2 that misses ends the run with file:line:col.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <string>
+
+#include "config/config.hpp"
+#include "subprocess.hpp"
+#include "test_paths.hpp"
+
+namespace pcnc::test {
+namespace {
+
+std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
+
+TEST(ProcProbe, G38_2OnTheFlatWorkpieceAndReadingTheResultBack) {
+  const std::string dir = make_temp_dir("probe");
+  const std::string config = write_test_config(dir, "probe");
+  const MachineConfig c = load_config(config);
+  const std::string prog = dir + "/probe.ngc";
+  std::ofstream(prog) << "(PROBEOPEN probe-log.txt)\n"
+                         "G21 G90 G54 F50\n"
+                         "G0 X2 Y3 Z-5\n"
+                         "G38.2 Z-15\n"
+                         "(PRINT,probed z=#5063 ok=#5070)\n"
+                         "G0 Z[#5063 + 3]\n"
+                         "(PROBECLOSE)\n"
+                         "M2\n";
+  const ProcessResult check = run_process({pcnc_exe(), "check", prog, "--config", config});
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  EXPECT_NE(check.out.find("probing: 1 probing move (first at line 4): the rest checked assuming contact"), std::string::npos)
+      << check.out;
+
+  const ProcessResult r = run_process({pcnc_exe(), "run", prog, "--clock", "virtual", "--config", config}, 120);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  // where the ball centre triggers: R minus the axial pre-travel above the top, program Z
+  const double top = c.table.z_mm - c.gcode.work_offsets[0][2];
+  const double expected = top + c.probe.model.ball_radius_mm - c.probe.model.pretravel_axial_mm;
+  std::smatch m;
+  const std::regex printed(R"(probed z=(-?[0-9.]+) ok=([0-9.]+))");
+  ASSERT_TRUE(std::regex_search(r.err, m, printed)) << r.err;
+  const double z = std::stod(m[1]);
+  EXPECT_NEAR(z, expected, 6 * c.probe.model.repeatability_mm + 0.001) << r.err;
+  EXPECT_NE(z, -15.0) << "not the commanded end";
+  EXPECT_EQ(std::stod(m[2]), 1.0);
+  // the line after the probe moved to #5063 + 3
+  const std::regex final_pos(R"(program X(-?[0-9.]+) Y(-?[0-9.]+) Z(-?[0-9.]+))");
+  ASSERT_TRUE(std::regex_search(r.out, m, final_pos)) << r.out;
+  EXPECT_NEAR(std::stod(m[1]), 2.0, 1e-3);
+  EXPECT_NEAR(std::stod(m[3]), z + 3.0, 2e-3) << r.out;
+  // the probe log: LinuxCNC's nine numbers, the probed point in work coordinates
+  const std::string log = read_file(dir + "/probe-log.txt");
+  double v[9];
+  ASSERT_EQ(std::sscanf(log.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6],
+                        &v[7], &v[8]),
+            9)
+      << log;
+  EXPECT_NEAR(v[0], 2.0, 1e-6);
+  EXPECT_NEAR(v[1], 3.0, 1e-6);
+  EXPECT_NEAR(v[2], z, 1e-4) << "the log and #5063 agree";
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1);
+}
+
+TEST(ProcProbe, AG38_2ThatMissesStopsTheRunAtItsLine) {
+  const std::string dir = make_temp_dir("probemiss");
+  const std::string config = write_test_config(dir, "probemiss");
+  const std::string prog = dir + "/miss.ngc";
+  std::ofstream(prog) << "G21 G90 G54 F50\nG0 X2 Y3 Z-5\nG38.2 Z-6\nG0 Z0\nM2\n";
+  const ProcessResult r = run_process({pcnc_exe(), "run", prog, "--clock", "virtual", "--config", config}, 120);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE((r.out + r.err).find("miss.ngc:3:1: error: G38.2 reached its end without the probe triggering"),
+            std::string::npos)
+      << r.out << r.err;
+}
+
+}  // namespace
+}  // namespace pcnc::test
