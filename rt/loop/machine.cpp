@@ -32,6 +32,8 @@ bool Machine::wants_more_blocks(const MotionRing& ring) const {
   for (std::size_t i = 0; i < n; ++i) {
     if (ring.peek(i).kind == BlockKind::kEnd) return false;
   }
+  // nothing follows a probing move until its result is read (docs/probe.md)
+  if (n > 0 && ring.peek(n - 1).probe_rule != kProbeNone) return false;
   return true;
 }
 
