@@ -13,6 +13,7 @@
 #include <string>
 
 #include "config/config.hpp"
+#include "service_procs.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 
@@ -85,6 +86,39 @@ TEST(ProcProbe, AG38_2ThatMissesStopsTheRunAtItsLine) {
   EXPECT_NE((r.out + r.err).find("miss.ngc:3:1: error: G38.2 reached its end without the probe triggering"),
             std::string::npos)
       << r.out << r.err;
+}
+
+// `pcnc ctl probe` over the control socket of `pcnc-host --serve` (an MDI G38.x).
+TEST(ProcProbe, CtlProbeDownTouchesTheWorkpieceAndUpReleasesIt) {
+  ServicePair pair("ctlprobe");
+  ASSERT_TRUE(pair.start("virtual")) << pair.host_log() << pair.rt_log();
+  const MachineConfig c = load_config(pair.config());
+  const double z_trigger = c.table.z_mm + c.probe.model.ball_radius_mm - c.probe.model.pretravel_axial_mm;
+  const double noise = 6 * c.probe.model.repeatability_mm;
+
+  const ProcessResult down = pair.ctl({"probe", "Z-", "--feed", "50"});
+  ASSERT_EQ(down.exit_code, 0) << down.out << down.err << pair.host_log();
+  EXPECT_NE(down.out.find("probe G38.2: contact; latched at machine"), std::string::npos) << down.out;
+  json st = pair.status();
+  EXPECT_EQ(st["probe"]["outcome"], "contact") << st.dump();
+  EXPECT_NEAR(st["probe"]["latched"]["z"].get<double>(), z_trigger, noise + 0.001) << st.dump();
+  EXPECT_NEAR(st["probe"]["latched"]["x"].get<double>(), 12.5, 1e-9);
+  EXPECT_LT(st["probe"]["stop"]["z"].get<double>(), st["probe"]["latched"]["z"].get<double>());
+  EXPECT_TRUE(st["probe"]["input"].get<bool>()) << "the stylus stays deflected where it stopped";
+  EXPECT_EQ(st["state"], "IDLE");
+
+  const ProcessResult up = pair.ctl({"probe", "Z+", "--code", "G38.4", "--feed", "20", "--distance", "2"});
+  ASSERT_EQ(up.exit_code, 0) << up.out << up.err << pair.host_log();
+  st = pair.status();
+  EXPECT_EQ(st["probe"]["outcome"], "contact");
+  EXPECT_FALSE(st["probe"]["input"].get<bool>());
+  EXPECT_NEAR(st["probe"]["latched"]["z"].get<double>(), z_trigger, noise + 0.001);
+
+  // nothing along +X within 2 mm: G38.2 reports no contact and ctl exits 1
+  const ProcessResult miss = pair.ctl({"probe", "X+", "--distance", "2"});
+  EXPECT_EQ(miss.exit_code, 1) << miss.out << miss.err;
+  EXPECT_NE(miss.out.find("probe G38.2: no contact"), std::string::npos) << miss.out;
+  EXPECT_EQ(pair.ctl({"probe", "Q+"}).exit_code, 2);
 }
 
 }  // namespace
