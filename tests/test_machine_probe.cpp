@@ -153,6 +153,52 @@ TEST(MachineProbe, TheProbingSpeedMustStopWithinTheOvertravel) {
   EXPECT_STREQ(run.machine().fault_reason(), "probing speed would not stop within the probe's overtravel");
 }
 
+// Horizontal touches: the gauge block's face along +X and the reference sphere along an
+// azimuth of 120 deg trigger at R minus the lobed lateral pre-travel, as computed here.
+TEST(MachineProbe, SideTouchesOnTheGaugeBlockAndTheSphereFollowTheLobing) {
+  MachineConfig c = quiet_probe_config();
+  c.table.has_surface = false;
+  c.table.has_gauge = true;
+  c.table.gauge_min = {15.0, 5.0, 0.0};
+  c.table.gauge_max = {20.0, 10.0, 20.0};
+  c.table.sphere_center = {8.0, 18.0, 15.0};
+  c.table.sphere_radius_mm = 3.0;
+  const ProbeModel& pm = c.probe.model;
+  const double feed = 1.0;
+  {
+    Probed t(c);
+    test::ProgramBuilder p(c, test::home(c));
+    p.rapid({10.0, 7.5, 15.0});
+    std::vector<Block> blocks = p.blocks();
+    const auto probe = renumbered(probe_move(c, {10.0, 7.5, 15.0}, {16.0, 7.5, 15.0}, feed, kProbeTowardError), 1);
+    blocks.insert(blocks.end(), probe.begin(), probe.end());
+    t.until_result(blocks);
+    ASSERT_EQ(t.run.status().probe_outcome, ProbeOutcome::kContact);
+    // along +X: azimuth 0, lateral + lobe
+    const double x_trigger = 15.0 - (pm.ball_radius_mm - (pm.pretravel_lateral_mm + pm.pretravel_lobe_mm));
+    EXPECT_LE(t.run.status().probe_latched[0], x_trigger + 1e-12);
+    EXPECT_GT(t.run.status().probe_latched[0], x_trigger - feed * t.run.dt() - 1e-12);
+  }
+  {
+    Probed t(c);
+    const double az = 2.0 * 3.14159265358979323846 / 3.0;  // approach direction: 120 deg
+    const Vec3 d{std::cos(az), std::sin(az), 0.0};
+    const Vec3 start = c.table.sphere_center - 6.0 * d;
+    test::ProgramBuilder p(c, test::home(c));
+    p.rapid(start);
+    std::vector<Block> blocks = p.blocks();
+    const auto probe = renumbered(probe_move(c, start, c.table.sphere_center, feed, kProbeTowardError), 1);
+    blocks.insert(blocks.end(), probe.begin(), probe.end());
+    t.until_result(blocks);
+    ASSERT_EQ(t.run.status().probe_outcome, ProbeOutcome::kContact);
+    // cos(3 * 120 deg) = 1: the same pre-travel as along +X; the centre stops at 3 + R - delta
+    const double r_trigger = 3.0 + pm.ball_radius_mm - (pm.pretravel_lateral_mm + pm.pretravel_lobe_mm);
+    const double dist = norm(t.run.status().probe_latched - c.table.sphere_center);
+    EXPECT_LE(dist, r_trigger + 1e-9);
+    EXPECT_GT(dist, r_trigger - feed * t.run.dt() - 1e-9);
+  }
+}
+
 // Repeatability: one Gaussian draw per touch, from the configured seed: the same run twice gives
 // the same points, and over many touches their spread is about the configured sigma.
 TEST(MachineProbe, RepeatabilityNoiseIsDeterministicAndOfTheConfiguredSize) {
