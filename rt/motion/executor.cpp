@@ -246,6 +246,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const Block& blk = ring.peek(0);
   const bool probing = blk.probe_rule != kProbeNone;
   const bool sought = probe_toward(blk.probe_rule);  // the input state that ends the move
+  const bool first_cycle = fresh_;
   if (fresh_) {
     if (after_motion_ && ended_at_rest_) ++out.junction_stops;
     ended_at_rest_ = false;
@@ -265,7 +266,8 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   }
   const PreparedBlock& b = prep_[0];
   const double a = b.accel;
-  if (probing && !probe_tripped_ && !probe_arm_ && in.probe_input == sought) {
+  // (not in the block's first cycle: that input was sensed before the probe was armed for it)
+  if (probing && !probe_tripped_ && !first_cycle && in.probe_input == sought) {
     probe_tripped_ = true;  // sensed at last cycle's setpoint, where the machine was then
     probe_latched_ = pos_;
   }
