@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -119,6 +120,30 @@ TEST(ProcProbe, CtlProbeDownTouchesTheWorkpieceAndUpReleasesIt) {
   EXPECT_EQ(miss.exit_code, 1) << miss.out << miss.err;
   EXPECT_NE(miss.out.find("probe G38.2: no contact"), std::string::npos) << miss.out;
   EXPECT_EQ(pair.ctl({"probe", "Q+"}).exit_code, 2);
+}
+
+// A program that has probed is not resumed after the host's loss: the journal does not record
+// the probe results yet, and the blocks after a probing move depend on them (docs/probe.md).
+TEST(ProcProbe, AProgramThatProbedIsNotResumedWithoutItsResults) {
+  ServicePair pair("proberesume");
+  ASSERT_TRUE(pair.start("real")) << pair.host_log() << pair.rt_log();
+  const std::string prog = pair.dir() + "/probe-then-cut.ngc";
+  std::ofstream(prog) << "G21 G90 G54 F50\nG0 X0 Y0 Z-8.5\nG38.2 Z-11\nG1 X10 F60\nG1 Y10\nM2\n";
+  ASSERT_TRUE(pair.call("run", {{"file", prog}}).contains("result"));
+  const json cutting = pair.wait_status([](const json& s) { return s["state"] == "RUNNING" && s["line"] == 4; }, 30);
+  ASSERT_EQ(cutting["line"], 4) << cutting.dump();
+  EXPECT_EQ(cutting["probe"]["outcome"], "contact");
+  pair.kill_host(SIGKILL);
+  ASSERT_EQ(wait_rt_state(pair.tag(), MachineState::kHostLost).state, MachineState::kHostLost);
+  ASSERT_TRUE(pair.start_host()) << pair.host_log();
+  pair.wait_status([](const json& x) { return x["rt"]["state"] == "attached"; }, 10);
+  const json r = pair.call("resume", json::object(), 60);
+  ASSERT_TRUE(r.contains("error")) << r.dump();
+  EXPECT_NE(r["error"]["message"].get<std::string>().find(
+                "probes (G38.x at line 3): resuming it needs the probe results, which the journal does not record yet"),
+            std::string::npos)
+      << r.dump();
+  EXPECT_TRUE(pair.call("stop").contains("result"));  // abandon it
 }
 
 }  // namespace

@@ -409,6 +409,11 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
   }
   const CheckResult check = check_program(jj.file, cfg, opts);
   if (!check.ok) return fail(jj.file + " no longer passes preflight");
+  if (!check.assumed_probe_lines.empty()) {
+    // its blocks after a probing move depend on the probe's result (docs/probe.md)
+    return fail(jj.file + " probes (G38.x at line " + std::to_string(check.assumed_probe_lines.front()) +
+                "): resuming it needs the probe results, which the journal does not record yet");
+  }
   if (check.transform.offset != jj.transform_offset || check.transform.scale != jj.transform_scale) {
     return fail("the program's placement (offset and scale) differs from the one it started with");
   }
