@@ -122,28 +122,30 @@ TEST(ProcProbe, CtlProbeDownTouchesTheWorkpieceAndUpReleasesIt) {
   EXPECT_EQ(pair.ctl({"probe", "Q+"}).exit_code, 2);
 }
 
-// A program that has probed is not resumed after the host's loss: the journal does not record
-// the probe results yet, and the blocks after a probing move depend on them (docs/probe.md).
-TEST(ProcProbe, AProgramThatProbedIsNotResumedWithoutItsResults) {
+// The journal records each probe result: a program killed with its host after probing is
+// resumed and interprets the lines after the probe with the real result (docs/probe.md).
+TEST(ProcProbe, AResumedProgramReadsTheJournalsProbeResult) {
   ServicePair pair("proberesume");
   ASSERT_TRUE(pair.start("real")) << pair.host_log() << pair.rt_log();
   const std::string prog = pair.dir() + "/probe-then-cut.ngc";
-  std::ofstream(prog) << "G21 G90 G54 F50\nG0 X0 Y0 Z-8.5\nG38.2 Z-11\nG1 X10 F60\nG1 Y10\nM2\n";
+  std::ofstream(prog) << "G21 G90 G54 F50\nG0 X0 Y0 Z-8.5\nG38.2 Z-11\nG1 X6 F60\nG0 Z[#5063 + 2]\nM2\n";
   ASSERT_TRUE(pair.call("run", {{"file", prog}}).contains("result"));
   const json cutting = pair.wait_status([](const json& s) { return s["state"] == "RUNNING" && s["line"] == 4; }, 30);
   ASSERT_EQ(cutting["line"], 4) << cutting.dump();
-  EXPECT_EQ(cutting["probe"]["outcome"], "contact");
+  ASSERT_EQ(cutting["probe"]["outcome"], "contact");
+  const double latched_z = cutting["probe"]["latched"]["z"].get<double>();
   pair.kill_host(SIGKILL);
   ASSERT_EQ(wait_rt_state(pair.tag(), MachineState::kHostLost).state, MachineState::kHostLost);
   ASSERT_TRUE(pair.start_host()) << pair.host_log();
   pair.wait_status([](const json& x) { return x["rt"]["state"] == "attached"; }, 10);
   const json r = pair.call("resume", json::object(), 60);
-  ASSERT_TRUE(r.contains("error")) << r.dump();
-  EXPECT_NE(r["error"]["message"].get<std::string>().find(
-                "probes (G38.x at line 3): resuming it needs the probe results, which the journal does not record yet"),
-            std::string::npos)
-      << r.dump();
-  EXPECT_TRUE(pair.call("stop").contains("result"));  // abandon it
+  ASSERT_TRUE(r.contains("result")) << r.dump() << pair.host_log();
+  const json s = pair.wait_status(
+      [](const json& x) { return x["state"] == "IDLE" && !x["job"]["active"].get<bool>() && x["last_job"].is_object(); }, 60);
+  EXPECT_EQ(s["last_job"]["end"], "completed") << s.dump();
+  // #5063 + 2 in G54 is the latched machine Z + 2 (an assumed contact at Z-11 would give 16)
+  EXPECT_NEAR(s["commanded"]["z"].get<double>(), latched_z + 2.0, 1e-6) << s.dump();
+  EXPECT_NEAR(s["commanded"]["x"].get<double>(), 12.5 + 6.0, 1e-6);
 }
 
 }  // namespace

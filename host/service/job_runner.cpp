@@ -41,6 +41,7 @@ bool JobRunner::wait_until_state(const std::function<bool(const Status&)>& done,
 JobResult JobRunner::run(const std::string& path, const JobOptions& options, const CheckResult& check,
                          const std::atomic<bool>& interrupt, const std::function<void(const JobProgress&)>& progress) {
   ProbeSync sync(link_, config_, path, options, check.transform);
+  if (on_probe_result_) sync.set_on_result(on_probe_result_);
   BlockSource source;
   source.next = [&](Block& b) { return sync.next(b); };
   source.progress = [&] {

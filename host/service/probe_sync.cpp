@@ -47,13 +47,13 @@ std::string ProbeSync::resume(const std::atomic<bool>& interrupt, bool& more) {
   more = false;
   if (!stream_->probe_sync()) return "";
   // Everything up to the probing block is sent: wait for its result.
-  const std::uint64_t expected = probe_count_at_start_ + results_->known.size() + 1;
+  const std::uint64_t expected = probe_count_at_start_ + 1;
   Status s;
   const auto t0 = std::chrono::steady_clock::now();
   bool seen_active = false;  // the rt may not have taken the program start yet
   for (;;) {
     s = link_.status();
-    if (s.probe_count >= expected && s.probe_seq == last_seq_) break;
+    if (s.probe_count >= expected && s.probe_seq + seq_base_ == last_seq_) break;
     seen_active = seen_active || s.program_active;
     const bool idle = !s.program_active && s.state == MachineState::kIdle &&
                       (seen_active || std::chrono::steady_clock::now() - t0 > std::chrono::seconds(2));
@@ -69,6 +69,8 @@ std::string ProbeSync::resume(const std::atomic<bool>& interrupt, bool& more) {
   r.stop = s.probe_stop;
   if (const std::string why = write_log(r); !why.empty()) return why;
   results_->known.push_back(r);
+  probe_count_at_start_ = s.probe_count;  // the next result is the one after this
+  if (on_result_) on_result_(*results_);
 
   // The rest of the program with this result, checked before any of it moves.
   JobOptions check_options = options_;

@@ -16,6 +16,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <set>
 #include <string>
@@ -35,6 +36,14 @@ class ProbeSync {
   /// After next() returned false and everything was sent (see BlockSource::resume).
   std::string resume(const std::atomic<bool>& interrupt, bool& more);
   const BlockStream& stream() const { return *stream_; }
+  /// Called with all results known each time one arrives (the service's journal).
+  void set_on_result(std::function<void(const ProbeResults&)> fn) { on_result_ = std::move(fn); }
+  /// A resumed run: the blocks up to program block `through` are not handed out again, and the
+  /// rt numbers this run's blocks from 1, so program seq = rt seq + `seq_base`.
+  void resume_after(std::uint64_t through, std::uint64_t seq_base) {
+    skip_through_ = through;
+    seq_base_ = seq_base;
+  }
   /// The results so far (the journal's, for a resumed program).
   const ProbeResults& results() const { return *results_; }
 
@@ -55,6 +64,8 @@ class ProbeSync {
   std::uint64_t messages_seen_ = 0;  // by the current stream
   std::uint64_t probe_count_at_start_ = 0;
   std::set<std::string> logs_written_;  // probe logs this run has created
+  std::uint64_t seq_base_ = 0;
+  std::function<void(const ProbeResults&)> on_result_;
 };
 
 }  // namespace pcnc
