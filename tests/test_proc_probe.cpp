@@ -115,10 +115,23 @@ TEST(ProcProbe, CtlProbeDownTouchesTheWorkpieceAndUpReleasesIt) {
   EXPECT_FALSE(st["probe"]["input"].get<bool>());
   EXPECT_NEAR(st["probe"]["latched"]["z"].get<double>(), z_trigger, noise + 0.001);
 
-  // nothing along +X within 2 mm: G38.2 reports no contact and ctl exits 1
+  // an MDI of several lines syncs at its probe: the line after it reads #5063 (program Z)
+  const ProcessResult mdi = pair.ctl({"mdi", "G21 G90 G54 F50", "G38.2 Z-12", "G0 Z[#5063 + 1.5]"});
+  ASSERT_EQ(mdi.exit_code, 0) << mdi.out << mdi.err << pair.host_log();
+  st = pair.status();
+  EXPECT_EQ(st["probe"]["outcome"], "contact");
+  EXPECT_NEAR(st["commanded"]["z"].get<double>(), st["probe"]["latched"]["z"].get<double>() + 1.5, 1e-6) << st.dump();
+
+  // nothing along +X within 2 mm: G38.2 without contact is an error at its line, ctl exits 1
   const ProcessResult miss = pair.ctl({"probe", "X+", "--distance", "2"});
   EXPECT_EQ(miss.exit_code, 1) << miss.out << miss.err;
-  EXPECT_NE(miss.out.find("probe G38.2: no contact"), std::string::npos) << miss.out;
+  EXPECT_NE(miss.err.find("mdi:1:9: error: G38.2 reached its end without the probe triggering"), std::string::npos)
+      << miss.out << "\n" << miss.err;
+  EXPECT_EQ(pair.status()["probe"]["outcome"], "no contact");
+  // G38.3 may miss: no error, the outcome printed
+  const ProcessResult miss3 = pair.ctl({"probe", "X+", "--distance", "2", "--code", "G38.3"});
+  EXPECT_EQ(miss3.exit_code, 0) << miss3.out << miss3.err;
+  EXPECT_NE(miss3.out.find("probe G38.3: no contact"), std::string::npos) << miss3.out;
   EXPECT_EQ(pair.ctl({"probe", "Q+"}).exit_code, 2);
 }
 

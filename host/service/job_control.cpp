@@ -295,10 +295,15 @@ void JobControl::mdi_job(ClientId client, const json& id, const std::string& tex
       warnings.push_back(format_diagnostic(d));
     }
   }
-  auto stream = std::make_shared<BlockStream>(BlockStream::FromText{}, text, kName, cfg, opts, check.transform);
+  // through its probing moves' sync points, as a file runs (docs/probe.md)
+  auto sync = std::make_shared<ProbeSync>(*l, cfg, ProbeSync::FromText{}, text, kName, opts, check.transform);
   BlockSource source;
-  source.next = [stream](Block& b) { return stream->next(b); };
-  source.progress = [stream] { return JobProgress{stream->lines_read(), stream->bytes_read(), stream->total_bytes(), Status{}}; };
+  source.next = [sync](Block& b) { return sync->next(b); };
+  source.progress = [sync] {
+    const BlockStream& s = sync->stream();
+    return JobProgress{s.lines_read(), s.bytes_read(), s.total_bytes(), Status{}};
+  };
+  source.resume = [sync](const std::atomic<bool>& stop, bool& more) { return sync->resume(stop, more); };
   json started = {{"started", true},         {"mdi", true},
                   {"lines", check.lines},     {"moves", check.moves},
                   {"planned_time_s", check.planned_time_s}, {"warnings", warnings}};
@@ -306,7 +311,7 @@ void JobControl::mdi_job(ClientId client, const json& id, const std::string& tex
   follow_job(
       client, id, l, cfg, started, "MDI",
       [&](JobRunner& runner) { return runner.run_source(source, contouring, interrupt_, progress_fn(check.planned_time_s)); },
-      &ws, [stream](const JobRunner&) { return std::optional<WorkState>(stream->work_state()); });
+      &ws, [sync](const JobRunner&) { return std::optional<WorkState>(sync->stream().work_state()); });
 }
 
 // The job's progress in the status object; with the check's planned time, the planned time of

@@ -18,6 +18,17 @@ ProbeSync::ProbeSync(RtLink& link, const MachineConfig& config, std::string path
   open_stream();
 }
 
+ProbeSync::ProbeSync(RtLink& link, const MachineConfig& config, FromText, std::string text, std::string name,
+                     const JobOptions& options, const Transform& transform)
+    : link_(link), config_(config), path_(std::move(name)), from_text_(true), text_(std::move(text)), options_(options),
+      transform_(transform) {
+  results_ = std::make_shared<ProbeResults>();
+  if (options.probe) *results_ = *options.probe;
+  results_->stop_at_unknown = true;
+  probe_count_at_start_ = link_.status().probe_count;
+  open_stream();
+}
+
 void ProbeSync::open_stream() {
   JobOptions o = options_;
   o.probe = std::make_shared<const ProbeResults>(*results_);
@@ -31,7 +42,8 @@ void ProbeSync::open_stream() {
       }
     };
   }
-  stream_ = std::make_unique<BlockStream>(path_, config_, o, transform_);
+  stream_ = from_text_ ? std::make_unique<BlockStream>(BlockStream::FromText{}, text_, path_, config_, o, transform_)
+                      : std::make_unique<BlockStream>(path_, config_, o, transform_);
 }
 
 bool ProbeSync::next(Block& out) {
@@ -78,7 +90,8 @@ std::string ProbeSync::resume(const std::atomic<bool>& interrupt, bool& more) {
   known->stop_at_unknown = false;
   check_options.probe = known;
   check_options.on_message = nullptr;
-  const CheckResult check = check_program(path_, config_, check_options);
+  const CheckResult check = from_text_ ? check_program_text(text_, path_, config_, check_options)
+                                       : check_program(path_, config_, check_options);
   if (!check.ok) {
     for (const Diagnostic& d : check.diagnostics) {
       if (d.severity == Diagnostic::Severity::kError) return format_diagnostic(d);
@@ -98,7 +111,7 @@ std::string ProbeSync::write_log(const ProbeResult& r) {
   if (name.empty()) return "";
   namespace fs = std::filesystem;
   fs::path file(name);
-  if (file.is_relative()) file = fs::path(path_).parent_path() / file;
+  if (file.is_relative() && !from_text_) file = fs::path(path_).parent_path() / file;
   const bool first = logs_written_.insert(file.string()).second;
   std::FILE* f = std::fopen(file.c_str(), first ? "w" : "a");
   if (!f) return "cannot write the probe log " + file.string() + " (PROBEOPEN)";

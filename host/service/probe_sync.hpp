@@ -30,6 +30,11 @@ class ProbeSync {
  public:
   ProbeSync(RtLink& link, const MachineConfig& config, std::string path, const JobOptions& options,
             const Transform& transform);
+  /// An MDI: the program is `text`, named `name` in messages (a probe log's relative name is
+  /// then taken from the service's working directory).
+  struct FromText {};
+  ProbeSync(RtLink& link, const MachineConfig& config, FromText, std::string text, std::string name,
+            const JobOptions& options, const Transform& transform);
 
   /// The next block to send; false at the end of the program or at a sync point.
   bool next(Block& out);
@@ -54,6 +59,8 @@ class ProbeSync {
   RtLink& link_;
   const MachineConfig& config_;
   std::string path_;
+  bool from_text_ = false;
+  std::string text_;  // FromText: the program
   JobOptions options_;
   Transform transform_;
   std::shared_ptr<ProbeResults> results_;
