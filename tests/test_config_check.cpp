@@ -29,6 +29,8 @@ TEST(ConfigCheck, PrintsTheDefaultMachineAsUnderstood) {
   EXPECT_TRUE(has(text, "\n  X     45       4500         0.14933    800  ")) << "Kp, Ki, Kd, filter: " << text;
   EXPECT_TRUE(has(text, "timing       host lost after 0.1 s, rt lost after 0.1 s, jog dead-man 0.5 s")) << text;
   EXPECT_TRUE(has(text, "offsets      G54 (12.5, 12.5, 25) mm")) << text;
+  EXPECT_TRUE(has(text, "probe        ball R 1 mm, pre-travel axial 0.004 mm, lateral 0.008 + 0.003 x cos 3az mm")) << text;
+  EXPECT_TRUE(has(text, "table        workpiece top z = 15 + 0 x + 0 y mm\n")) << text;
   EXPECT_TRUE(err.str().empty()) << "no warning for the shipped machine: " << err.str();
 }
 

@@ -131,7 +131,7 @@ TEST(Corpus, LinuxCncBadRejectedWithOurReason) {
       {"nested.ngc", "nested"},
       {"no-feed-rate.ngc", "no feed rate"},
       {"no-ijr.ngc", "I, J, K and R words all missing"},
-      {"probe-no-axes.ngc", "probing"},
+      {"probe-no-axes.ngc", "G38.2 without axis words"},
   };
   const MachineConfig c = linuxcnc_arc_config();
   JobOptions o;

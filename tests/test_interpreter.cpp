@@ -323,7 +323,7 @@ INSTANTIATE_TEST_SUITE_P(
         RejectCase{"G41.1 D1\nG18", "cannot change the plane", 2, "G18"},
         RejectCase{"G42.1", "with no D word", 1, "G42"}, RejectCase{"G93 G1 X1", "F word missing with inverse time G1 move", 1, "G1 "},
         RejectCase{"G95", "feed per revolution", 1, "G95"}, RejectCase{"G10 L3 P1 X0", "L3 is not supported", 1, "L3"},
-        RejectCase{"G92", "without axis words", 1, "G92"}, RejectCase{"G38.2 Z-1 F1", "probing", 1, "G38"},
+        RejectCase{"G92", "without axis words", 1, "G92"}, RejectCase{"G38.2 F1", "without axis words", 1, "G38"},
         RejectCase{"G33 Z-1 K1", "spindle-synchronized", 1, "G33"}, RejectCase{"G10 L2 P1 R30 X0", "rotation", 1, "R30"},
         RejectCase{"G43.2 H2", "G43.2", 1, "G43"}, RejectCase{"G43.2 H1", "G43.2", 1, "G43"},
         RejectCase{"G96 S100", "constant surface speed", 1, "G96"}, RejectCase{"G7", "lathe", 1, "G7"},

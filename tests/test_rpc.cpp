@@ -128,7 +128,7 @@ TEST(RpcParse, UnknownMethodListsTheKnownOnes) {
 
 TEST(RpcParse, EveryDocumentedMethodIsKnown) {
   for (const char* m : {"status", "run", "pause", "resume", "stop", "estop", "reset", "override", "jog", "jog_keepalive", "jog_stop",
-                        "set_offset", "mdi", "touch_off", "subscribe", "capture", "stream_open", "stream_lines", "stream_close"}) {
+                        "set_offset", "mdi", "touch_off", "subscribe", "capture", "stream_open", "stream_lines", "stream_close", "probe"}) {
     EXPECT_TRUE(rpc::is_method(m)) << m;
   }
 }

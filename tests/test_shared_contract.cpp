@@ -68,19 +68,21 @@ TEST(Seqlock, ReaderNeverSeesATornSnapshot) {
   EXPECT_GT(reads, 0u);
 }
 
-// Layout version 6 (issue 14): a NURBS block's schedule carries the tangential acceleration
+// Layout version 7 (issue 15): a block's probe rule and the status's probe fields; 6 (issue 14): a NURBS block's schedule carries the tangential acceleration
 // and the arc length of each point; 5 (issue 14): a block carries its path tolerance; 4 (issue 20): the segment
 // ends with the scope's ring (3, issue 19: Status carries trace_failed). Any change of Block, Command, Status or the segment bumps
 // kLayoutVersion, so that a host and an rt of different builds refuse each other, and a
 // restarted rt takes no position from a segment it cannot read.
-TEST(SharedContract, LayoutVersionSixCarriesTheScheduleAcceleration) {
-  EXPECT_EQ(kLayoutVersion, 6u);
+TEST(SharedContract, LayoutVersionSevenCarriesTheScheduleAccelerationAndTheProbe) {
+  EXPECT_EQ(kLayoutVersion, 7u);
   const Block b{};
   EXPECT_EQ(b.nurbs.schedule_accel[0], 0.0);
   EXPECT_EQ(b.nurbs.schedule_accel[kMaxFeedSchedule - 1], 0.0);
   EXPECT_EQ(b.nurbs.schedule_s[0], 0.0);
   EXPECT_EQ(offsetof(NurbsGeometry, schedule_accel), offsetof(NurbsGeometry, schedule_speed) + sizeof(b.nurbs.schedule_speed));
   EXPECT_EQ(offsetof(NurbsGeometry, schedule_s), offsetof(NurbsGeometry, schedule_accel) + sizeof(b.nurbs.schedule_accel));
+  EXPECT_EQ(b.probe_rule, 0);
+  EXPECT_EQ(Status{}.probe_count, 0u);
   EXPECT_EQ(Block{}.path_tolerance_mm, 0.0f);
   Status s{};
   EXPECT_EQ(s.trace_failed, 0);

@@ -121,6 +121,12 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
         << f4(r.min_point[1]) << " .. " << f4(r.max_point[1]) << ", Z " << f4(r.min_point[2]) << " .. "
         << f4(r.max_point[2]) << " mm\n";
     out << "  feed time (length/F, no acceleration): " << f4(r.feed_length_time_s) << " s\n";
+    if (!r.assumed_probe_lines.empty()) {
+      // docs/probe.md: each probing move is a sync point; a run interprets the rest again with its result
+      out << "  probing: " << r.assumed_probe_lines.size() << " probing move" << (r.assumed_probe_lines.size() == 1 ? "" : "s")
+          << " (first at line " << r.assumed_probe_lines.front()
+          << "): the rest checked assuming contact at each move's commanded end; a run checks it again with the real result\n";
+    }
     if (r.comp.sessions > 0) {
       const CompFigures& c = r.comp;
       out << "  cutter compensation: " << c.sessions << " entr" << (c.sessions == 1 ? "y" : "ies") << ", tool diameter up to "

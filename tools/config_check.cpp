@@ -133,6 +133,35 @@ void print_machine(const MachineConfig& c, std::ostream& out) {
   out << "  files        socket " << (c.process.socket_path.empty() ? std::string("(default runtime directory)") : c.process.socket_path)
       << ", journal " << (c.process.state_dir.empty() ? std::string("(default state directory)") : c.process.state_dir)
       << "; trace failure: " << (c.process.trace_failure_stops ? "stop" : "continue") << "\n";
+  if (c.probe.present) {  // docs/probe.md
+    const ProbeModel& p = c.probe.model;
+    out << "  probe        ball R " << num(p.ball_radius_mm) << " mm, pre-travel axial " << num(p.pretravel_axial_mm)
+        << " mm, lateral " << num(p.pretravel_lateral_mm) << " + " << num(p.pretravel_lobe_mm)
+        << " x cos 3az mm, repeatability " << num(p.repeatability_mm) << " mm (seed " << p.seed << "), overtravel "
+        << num(p.overtravel_mm) << " mm\n";
+  } else {
+    out << "  probe        none (G38.x refused)\n";
+  }
+  const TableScene& t = c.table;
+  out << "  table        ";
+  if (t.has_surface) {
+    out << "workpiece top z = " << num(t.z_mm) << " + " << num(t.slope_x) << " x + " << num(t.slope_y) << " y mm";
+    if (t.bump_height_mm != 0.0) {
+      out << " + bump " << num(t.bump_height_mm) << " mm (sigma " << num(t.bump_sigma_mm) << " mm) at (" << num(t.bump_x_mm)
+          << ", " << num(t.bump_y_mm) << ")";
+    }
+  } else {
+    out << "no workpiece";
+  }
+  if (t.sphere_radius_mm > 0.0) {
+    out << "; sphere R " << num(t.sphere_radius_mm) << " mm at (" << num(t.sphere_center[0]) << ", " << num(t.sphere_center[1])
+        << ", " << num(t.sphere_center[2]) << ")";
+  }
+  if (t.has_gauge) {
+    out << "; gauge block (" << num(t.gauge_min[0]) << ", " << num(t.gauge_min[1]) << ", " << num(t.gauge_min[2]) << ") .. ("
+        << num(t.gauge_max[0]) << ", " << num(t.gauge_max[1]) << ", " << num(t.gauge_max[2]) << ")";
+  }
+  out << "\n";
 }
 
 // Plausibility notes that do not refuse the config (stderr).

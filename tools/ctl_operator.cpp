@@ -80,6 +80,51 @@ void add_operator_subcommands(CLI::App& ctl, const CtlOptions& o, int& exit_code
     });
   });
 
+  // probe (docs/probe.md)
+  auto* probe = ctl.add_subcommand("probe", "one probing move for a person at the machine: `probe Z- --feed 50` moves down "
+                                            "until the probe triggers (G38.2) and prints where");
+  static std::string direction;
+  static double feed = 50.0;
+  static double distance = 0.0;
+  static std::string code = "G38.2";
+  probe->add_option("DIRECTION", direction, "axis and sign: X+, X-, Y+, Y-, Z+ or Z-")->required();
+  probe->add_option("--feed", feed, "mm/min (capped so that the stop fits the probe's overtravel)");
+  probe->add_option("--distance", distance, "how far at most, mm (default: to the end of the travel)");
+  probe->add_option("--code", code, "G38.2 (default), G38.3, G38.4 or G38.5");
+  probe->callback([&exit_code, &o] {
+    if (direction.size() != 2 || std::string("XYZxyz").find(direction[0]) == std::string::npos ||
+        (direction[1] != '+' && direction[1] != '-')) {
+      std::fprintf(stderr, "pcnc ctl probe: DIRECTION '%s': expected an axis and a sign, e.g. Z-\n", direction.c_str());
+      exit_code = kExitBadInput;
+      return;
+    }
+    json params = {{"axis", std::string(1, direction[0])}, {"direction", direction[1] == '-' ? -1 : 1}, {"feed", feed}, {"code", code}};
+    if (distance > 0.0) params["distance"] = distance;
+    ctl::install_interrupt();
+    exit_code = ctl::with_client(o, [&](CtlClient& c) {
+      json ended;
+      c.on_notification = [&](const json& n) {
+        if (n.value("method", "") == "event" && n["params"].value("event", "") == "program_end") ended = n["params"];
+      };
+      c.call("subscribe", json{{"rate_hz", 1}}, o.timeout_s);
+      const int rc = ctl::report(o, c.call("probe", params, o.timeout_s), [](const json&) {});
+      if (rc != 0) return rc;
+      int end = wait_mdi_end(o, c, ended);
+      const json s = c.call("status", json::object(), o.timeout_s);
+      const json p = s.contains("result") ? s["result"].value("probe", json::object()) : json::object();
+      const std::string outcome = p.value("outcome", "none");
+      if (end == kExitOk && outcome != "contact" && (code == "G38.2" || code == "G38.4")) end = kExitFault;
+      if (o.json_output) {
+        std::printf("%s\n", p.dump().c_str());
+      } else {
+        std::printf("probe %s: %s; latched at machine %s, stopped at %s\n", code.c_str(), outcome.c_str(),
+                    ctl::xyz(p.value("latched", json())).c_str(), ctl::xyz(p.value("stop", json())).c_str());
+      }
+      std::fflush(stdout);
+      return end;
+    });
+  });
+
   // touch-off
   auto* touch = ctl.add_subcommand("touch-off", "set the active work offset so that the current position reads VALUE on AXIS "
                                                 "(G10 L20): `touch-off Z 0`; kept across restarts");

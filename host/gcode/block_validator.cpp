@@ -7,11 +7,15 @@ namespace pcnc {
 
 BlockVerdict BlockValidator::check(Block& b) {
   b.seq = next_seq_;
-  const BlockVerdict verdict = check_block(b, tail_, next_seq_, config_);
-  if (verdict.fault != FaultCode::kNone) return verdict;
+  // After a probing move the next block starts where the probe stopped, which the rt knows and
+  // checks exactly (docs/probe.md); here it continues from wherever the interpreter put it.
   const bool moving = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc ||
                       b.kind == BlockKind::kNurbs;
+  if (after_probe_ && moving) tail_ = b.start;
+  const BlockVerdict verdict = check_block(b, tail_, next_seq_, config_);
+  if (verdict.fault != FaultCode::kNone) return verdict;
   if (moving && b.length > 0.0) tail_ = b.end;  // as the rt's prepare_block sets PreparedBlock::motion
+  if (moving) after_probe_ = b.probe_rule != 0;
   ++next_seq_;
   return verdict;
 }

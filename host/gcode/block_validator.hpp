@@ -35,6 +35,7 @@ class BlockValidator {
   const MachineConfig& config_;
   Vec3 tail_;
   std::uint64_t next_seq_ = 1;
+  bool after_probe_ = false;  // the last motion block was a probing move
 };
 
 /// The error text for a refused block: its number, kind, the rt's reason, axis and value.

@@ -118,7 +118,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
   const int normal = plane_word == 180 ? 1 : plane_word == 190 ? 0 : plane_word == 170 ? 2 : normal_axis_;
 
   std::uint32_t allowed = bit('N') | bit('F') | bit('S') | bit('T');
-  if (nonmodal == 280 || nonmodal == 300 || is_straight(motion) || is_arc(motion)) allowed |= kAxisBits;
+  if (nonmodal == 280 || nonmodal == 300 || is_straight(motion) || is_arc(motion) || is_probe(motion)) allowed |= kAxisBits;
   // The common line (a move in the mode in effect) needs no more: the rest only widens `allowed`.
   if ((l.present & ~allowed) == 0) return true;
   if (nonmodal == 100) allowed |= kAxisBits | bit('L') | bit('P') | bit('R');
@@ -308,6 +308,10 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     ok = straight(l, motion_, false, out);
   } else if (is_arc(motion_) && (axis_words(l) || (l.present & (bit('I') | bit('J') | bit('K') | bit('R'))) != 0)) {
     ok = arc(l, motion_, out);
+  } else if (is_probe(motion_) && axis_words(l)) {
+    ok = probe(l, motion_, out);
+  } else if (is_probe(motion_) && motion_word >= 0) {
+    ok = fail(l, l.g_col[kGMotion], g_name(motion_word) + " without axis words; expected X, Y or Z: the point to probe toward");
   } else if (is_cycle(motion_) && axis_words(l)) {
     ok = cycle(l, motion_, previous_motion != motion_, out);
   }

@@ -27,6 +27,7 @@
 #include "gcode/move.hpp"
 #include "gcode/parameters.hpp"
 #include "gcode/parser.hpp"
+#include "gcode/probe_results.hpp"
 #include "gcode/tool_table.hpp"
 #include "geometry/bspline_surface.hpp"
 
@@ -48,6 +49,9 @@ struct JobFrame {
   // --surface: the measured surface the pipeline corrects Z by (gcode/surface_correction.hpp);
   // null: none. The reference is its height at `offset`'s X/Y.
   std::shared_ptr<const BSplineSurface> surface;
+  // The results of the program's probing moves known so far (docs/probe.md); null: none known,
+  // each probing move assumed to touch at its commanded end (check).
+  std::shared_ptr<const ProbeResults> probe;
 };
 
 /// The moves one line makes (a canned cycle with repeats makes many); reused line after line.
@@ -95,6 +99,19 @@ class Interpreter : public SystemParameters {
   bool numbered(int number, double& value) const override;
   bool named(std::string_view name, double& value) const override;
 
+  // Probing (G38.2-G38.5, interpreter_probe.cpp; docs/probe.md).
+  /// A probing move beyond the known results ran with ProbeResults::stop_at_unknown: nothing
+  /// after it may be interpreted until its result is known.
+  bool probe_sync() const { return probe_sync_; }
+  /// Probing moves executed so far; the source lines of those assumed to touch at their end.
+  int probes() const { return probes_; }
+  const std::vector<int>& assumed_probe_lines() const { return assumed_probe_lines_; }
+  /// (PROBEOPEN name) / (PROBECLOSE): the probe log in effect ("" none).
+  void set_probe_log(std::string name) { probe_log_ = std::move(name); }
+  const std::string& probe_log() const { return probe_log_; }
+  /// A machine point in the current work coordinates and units (what #5061-#5063 hold).
+  Vec3 to_program(const Vec3& machine) const;
+
  private:
   bool check_words(const ParsedLine& l);
   bool nurbs_open(const ParsedLine& l, int motion, MoveList& out);
@@ -108,6 +125,7 @@ class Interpreter : public SystemParameters {
   bool arc(const ParsedLine& l, int motion, MoveList& out);
   bool home(const ParsedLine& l, MoveList& out);  // G28/G30 and their .1 forms
   bool path_tolerance(const ParsedLine& l);       // G64 [P]
+  bool probe(const ParsedLine& l, int motion, MoveList& out);  // G38.2-G38.5
   bool set_offsets(const ParsedLine& l);   // G10 L1/L2/L10/L11/L20
   bool axis_offset(const ParsedLine& l);   // G52, G92, G92.1-G92.3
   bool tool_words(const ParsedLine& l);    // T, M6, M61, G43/G43.1/G49
@@ -180,6 +198,10 @@ class Interpreter : public SystemParameters {
   bool contouring_ = false;
   double path_tolerance_ = 0.0;  // mm: G64 P, else the config's (an operator's --tolerance in it)
   bool ended_ = false;
+  int probes_ = 0;             // probing moves executed
+  bool probe_sync_ = false;
+  std::vector<int> assumed_probe_lines_;
+  std::string probe_log_;
   MoveComp comp_{};  // cutter radius compensation, carried on every move
 
   // An open NURBS group: LinuxCNC's G5.2 ... G5.3 or Fanuc's G6.2 ... closing knot-only lines.

@@ -28,6 +28,7 @@ inline std::string num(double v) {
 /// Motion modes by G number (x10): G2/G3 arcs, G0/G1 straight moves.
 inline bool is_arc(int motion) { return motion == 20 || motion == 30; }
 inline bool is_straight(int motion) { return motion == 0 || motion == 10; }
+inline bool is_probe(int motion) { return motion >= 382 && motion <= 385; }  // G38.2-G38.5
 /// The canned cycles pcnc expands (G73, G81, G82, G83, G85, G89).
 inline bool is_cycle(int motion) {
   return motion == 730 || motion == 810 || motion == 820 || motion == 830 || motion == 850 || motion == 890;

@@ -175,7 +175,9 @@ class LineLexer {
       MessageKind kind;
     };
     static constexpr Kind kKinds[] = {
-        {"msg,", MessageKind::kMsg}, {"debug,", MessageKind::kDebug}, {"print,", MessageKind::kPrint}};
+        {"msg,", MessageKind::kMsg},          {"debug,", MessageKind::kDebug},
+        {"print,", MessageKind::kPrint},      {"probeopen ", MessageKind::kProbeOpen},
+        {"probeclose", MessageKind::kProbeClose}};
     for (const Kind& k : kKinds) {
       const std::string_view p(k.prefix);
       if (text.size() - i < p.size()) continue;

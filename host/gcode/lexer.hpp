@@ -68,7 +68,8 @@ struct OWord {
   std::vector<double> args;  // call arguments, in order
 };
 
-enum class MessageKind : std::uint8_t { kNone, kMsg, kDebug, kPrint };
+// kProbeOpen/kProbeClose: LinuxCNC's probe log comments (PROBEOPEN name) and (PROBECLOSE).
+enum class MessageKind : std::uint8_t { kNone, kMsg, kDebug, kPrint, kProbeOpen, kProbeClose };
 
 struct LexedLine {
   static constexpr int kMaxWords = 64;

@@ -53,6 +53,7 @@ struct Move {
   double dwell_s = 0.0;        // kDwell
   double path_tolerance_mm = 0.0;  // G64 P / --tolerance / motion.path_tolerance_mm when it was made (mm)
   bool smoothed = false;       // kNurbs made by the smoothing stage from a run of G1 moves
+  std::uint8_t probe_rule = 0; // kLine: a probing move G38.2-G38.5 (ipc/block.hpp ProbeRule); 0: none
 
   // kArc: center on the start point's level along the normal axis, radius (start radius),
   // signed sweep (> 0 counter-clockwise seen from +normal), normal axis 2 = Z (G17),

@@ -21,6 +21,7 @@ MoveSource::MoveSource(LineReader& reader, const MachineConfig& config, const Jo
 bool MoveSource::next(Move& m) {
   while (pos_ >= pending_.count) {
     if (done_) return false;
+    if (interp_.probe_sync()) return false;  // a probing move whose result is not known yet: stop here
     pending_.clear();
     pos_ = 0;
     read_line();
@@ -117,6 +118,14 @@ bool MoveSource::apply_assignments(int line_no) {
 
 void MoveSource::message(int line_no) {
   if (lexed_.message == MessageKind::kNone) return;
+  if (lexed_.message == MessageKind::kProbeOpen || lexed_.message == MessageKind::kProbeClose) {
+    // the probe log (docs/probe.md): the name as written, trimmed; the runner writes the file
+    std::string name = lexed_.message == MessageKind::kProbeOpen ? lexed_.message_text : std::string();
+    const auto first = name.find_first_not_of(" \t");
+    const auto last = name.find_last_not_of(" \t");
+    interp_.set_probe_log(first == std::string::npos ? std::string() : name.substr(first, last - first + 1));
+    return;
+  }
   ProgramMessage m;
   m.kind = lexed_.message;
   m.line = line_no;

@@ -74,6 +74,8 @@ class Pipeline {
   void set_message_handler(MessageHandler handler) { source_.set_message_handler(std::move(handler)); }
   /// The offsets and stored positions as the program has left them so far.
   WorkState work_state() const { return source_.interpreter().work_state(); }
+  /// The interpreter as it stands (probing: the sync point, the assumed probes, the probe log).
+  const Interpreter& interpreter() const { return source_.interpreter(); }
 
   bool failed() const { return sink_.has_errors(); }
   const Preflight& preflight() const { return preflight_; }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/probe_contact.hpp"
+
 namespace pcnc {
 namespace {
 
@@ -160,6 +162,7 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
   b.driving_axis = 0;
   b.driving_dir = 1;
   for (auto& p : b.pad0_) p = 0;
+  b.probe_rule = 0;
   b.path_tolerance_mm = m.contouring ? static_cast<float>(m.path_tolerance_mm) : 0.0f;
   b.driving_speed = b.driving_accel = b.decel_start = 0.0;
   b.dir_start = b.dir_end = Vec3{0.0, 0.0, 0.0};
@@ -179,6 +182,17 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
     case MoveKind::kLine:
       b.kind = BlockKind::kLine;
       plan_line(m, cfg, b);
+      if (m.probe_rule != 0) {
+        // a probing move: the feed capped so that the stop after contact fits in the probe's
+        // overtravel (docs/probe.md); the rt's block check holds it to that
+        b.probe_rule = m.probe_rule;
+        const double v_max = probe_speed_limit(b.accel, cfg.cycle_period_s(), cfg.probe.model.overtravel_mm);
+        if (b.speed > v_max) {
+          Move capped = m;
+          capped.feed_mm_s = v_max;
+          plan_line(capped, cfg, b);
+        }
+      }
       break;
     case MoveKind::kArc:
       b.kind = BlockKind::kArc;

@@ -62,6 +62,7 @@ JobFrame make_frame(const MachineConfig& config, const JobOptions& options, cons
   f.work = start_work(config, options);
   f.tools = options.tools;
   f.surface = options.surface;
+  f.probe = options.probe;
   f.offset = t.offset;
   f.scale = t.scale;
   f.work_offset_index = std::clamp(options.work_offset_index, 0, 8);
@@ -167,6 +168,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.smoothed_curves = pipeline.smoothing().curves;
     result.smoothed_blocks = pipeline.smoothed_blocks();
     result.max_path_deviation_mm = pipeline.smoothing().max_deviation_mm;
+    result.assumed_probe_lines = pipeline.interpreter().assumed_probe_lines();
   } catch (const std::exception& e) {
     sink.error(0, 0, e.what());
   }
@@ -343,6 +345,9 @@ BlockStream::BlockStream(FromFeed, std::shared_ptr<LineFeed> feed, const std::st
 }
 
 const std::optional<Diagnostic>& BlockStream::error() const { return impl_->error; }
+bool BlockStream::probe_sync() const { return impl_->pipeline.interpreter().probe_sync(); }
+std::string BlockStream::probe_log() const { return impl_->pipeline.interpreter().probe_log(); }
+Vec3 BlockStream::to_program(const Vec3& machine) const { return impl_->pipeline.interpreter().to_program(machine); }
 bool BlockStream::failed() const { return impl_->pipeline.failed(); }
 
 WorkState BlockStream::work_state() const {
@@ -419,6 +424,7 @@ std::string format_block(const Block& b) {
       add("%s", " t1=");
       pt(b.dir_end);
       add(" m21=%d", static_cast<int>(b.contouring));
+      if (b.probe_rule != 0) add(" probe=G38.%d", static_cast<int>(b.probe_rule) + 1);
       if (b.kind == BlockKind::kNurbs) {
         add(" degree=%d points=%d knots=[", static_cast<int>(b.nurbs.degree), static_cast<int>(b.nurbs.point_count));
         for (int k = 0; k < b.nurbs.knot_count && k < kMaxNurbsKnots; ++k) add(k ? " %.6g" : "%.6g", b.nurbs.knots[k]);

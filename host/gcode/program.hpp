@@ -22,6 +22,7 @@
 #include "gcode/line_feed.hpp"
 #include "gcode/move.hpp"
 #include "gcode/move_source.hpp"
+#include "gcode/probe_results.hpp"
 #include "gcode/tool_table.hpp"
 #include "geometry/bspline_surface.hpp"
 #include "geometry/vec3.hpp"
@@ -41,6 +42,9 @@ struct JobOptions {
   std::optional<WorkState> work;
   std::shared_ptr<const ToolTable> tools;  // --tool-table / gcode.tool_table; null: none
   std::shared_ptr<const BSplineSurface> surface;  // --surface S.json; null: no surface correction
+  // Probing moves' results known so far, and whether a stream stops at the next (docs/probe.md);
+  // null: none known, every probing move assumed to touch at its commanded end.
+  std::shared_ptr<const ProbeResults> probe;
   // (MSG,...), (DEBUG,...), (PRINT,...) as their lines run (in check and in the stream).
   MessageHandler on_message;
 };
@@ -86,6 +90,9 @@ struct CheckResult {
   std::vector<LinePlan> plan;
   // What cutter radius compensation did (G41/G42), and the programmed contour it offset.
   CompFigures comp;
+  // Probing moves (docs/probe.md) whose result was not known: checked as if each touched at
+  // its commanded end; their source lines.
+  std::vector<int> assumed_probe_lines;
 };
 
 /// Pass 1: reads the whole file through the whole pipeline: parses, interprets, checks soft
@@ -144,6 +151,14 @@ class BlockStream {
   /// The offsets and stored positions as the program has left them (G10, G92, G28.1...), for
   /// the state file once the program has run to its end.
   WorkState work_state() const;
+
+  /// The stream ended at a probing move whose result is not known yet (JobOptions::probe with
+  /// stop_at_unknown): its block was the last one; the rest needs a new stream with the result.
+  bool probe_sync() const;
+  /// At the sync point: the probe log the program has open ("" none), and a machine point in
+  /// the work coordinates and units of the probing line (what #5061-#5063 hold).
+  std::string probe_log() const;
+  Vec3 to_program(const Vec3& machine) const;
 
  private:
   struct Impl;

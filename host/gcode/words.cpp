@@ -29,7 +29,7 @@ constexpr CodeInfo kGCodes[] = {
     {62, 62, 1, kGMotion, nullptr},  // G6.2 NURBS (Fanuc)
     {330, 331, 1, kGMotion,
      "spindle-synchronized motion (G33) is not supported: the machine has no spindle; expected G0/G1/G2/G3 moves"},
-    {382, 385, 1, kGMotion, "probing (G38.x) is not supported: the machine has no probe; expected G0/G1/G2/G3 moves"},
+    {382, 385, 1, kGMotion, nullptr},  // G38.2-G38.5 probing (a machine without [probe] refuses them)
     {730, 730, 1, kGMotion, nullptr},  // G73 chip-break drilling
     {740, 740, 1, kGMotion, kTapping},
     {760, 760, 1, kGMotion, kTapping},

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "service/probe_sync.hpp"
 #include "service/resume.hpp"
 #include "service/sha256.hpp"
 #include "service/work_store.hpp"
@@ -236,7 +237,13 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   };
   follow_job(
       client, id, l, cfg, started, rp.file,
-      [&](JobRunner& runner) { return runner.run(rp.file, opts, check, interrupt_, progress_fn(check.planned_time_s)); },
+      [&](JobRunner& runner) {
+        if (!sha256.empty()) {
+          // each probe result into the journal, so that a resumed run interprets with it
+          runner.set_on_probe_result([&](const ProbeResults& r) { journal_probes(jj, r); });
+        }
+        return runner.run(rp.file, opts, check, interrupt_, progress_fn(check.planned_time_s));
+      },
       &ws);
 }
 
@@ -288,10 +295,15 @@ void JobControl::mdi_job(ClientId client, const json& id, const std::string& tex
       warnings.push_back(format_diagnostic(d));
     }
   }
-  auto stream = std::make_shared<BlockStream>(BlockStream::FromText{}, text, kName, cfg, opts, check.transform);
+  // through its probing moves' sync points, as a file runs (docs/probe.md)
+  auto sync = std::make_shared<ProbeSync>(*l, cfg, ProbeSync::FromText{}, text, kName, opts, check.transform);
   BlockSource source;
-  source.next = [stream](Block& b) { return stream->next(b); };
-  source.progress = [stream] { return JobProgress{stream->lines_read(), stream->bytes_read(), stream->total_bytes(), Status{}}; };
+  source.next = [sync](Block& b) { return sync->next(b); };
+  source.progress = [sync] {
+    const BlockStream& s = sync->stream();
+    return JobProgress{s.lines_read(), s.bytes_read(), s.total_bytes(), Status{}};
+  };
+  source.resume = [sync](const std::atomic<bool>& stop, bool& more) { return sync->resume(stop, more); };
   json started = {{"started", true},         {"mdi", true},
                   {"lines", check.lines},     {"moves", check.moves},
                   {"planned_time_s", check.planned_time_s}, {"warnings", warnings}};
@@ -299,7 +311,7 @@ void JobControl::mdi_job(ClientId client, const json& id, const std::string& tex
   follow_job(
       client, id, l, cfg, started, "MDI",
       [&](JobRunner& runner) { return runner.run_source(source, contouring, interrupt_, progress_fn(check.planned_time_s)); },
-      &ws, [stream](const JobRunner&) { return std::optional<WorkState>(stream->work_state()); });
+      &ws, [sync](const JobRunner&) { return std::optional<WorkState>(sync->stream().work_state()); });
 }
 
 // The job's progress in the status object; with the check's planned time, the planned time of
@@ -382,6 +394,18 @@ Outcome JobControl::resume(ClientId client, const json& id, std::shared_ptr<RtLi
   return Outcome::later();
 }
 
+// The probe results so far into the journal (a failed write is reported as the others are).
+void JobControl::journal_probes(JobJournal& jj, const ProbeResults& r) {
+  jj.probes.clear();
+  for (const ProbeResult& p : r.known) jj.probes.push_back(JournalProbe{static_cast<int>(p.outcome), p.latched, p.stop});
+  std::string jerr;
+  if (write_journal(journal_, jj, &jerr)) {
+    journal_ok();
+  } else {
+    journal_failed(jerr);
+  }
+}
+
 void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtLink> l, const MachineConfig& cfg,
                             JobJournal jj) {
   auto fail = [&](std::string why) {
@@ -407,6 +431,12 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
     return fail("the path tolerance changed since the program started (" + std::to_string(jj.path_tolerance_mm) + " mm, now " +
                 std::to_string(cfg.motion.path_tolerance_mm) + " mm)");
   }
+  // the probing moves' results so far (docs/probe.md): the program is interpreted with them
+  auto known = std::make_shared<ProbeResults>();
+  for (const JournalProbe& p : jj.probes) {
+    known->known.push_back(ProbeResult{static_cast<ProbeOutcome>(p.outcome), p.latched, p.stop});
+  }
+  opts.probe = known;
   const CheckResult check = check_program(jj.file, cfg, opts);
   if (!check.ok) return fail(jj.file + " no longer passes preflight");
   if (check.transform.offset != jj.transform_offset || check.transform.scale != jj.transform_scale) {
@@ -419,11 +449,22 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
   // resume skipped), and the machine position on it.
   const std::uint64_t k = st.block_seq == 0 ? jj.seq_base + 1 : st.block_seq + jj.seq_base;
   const Vec3 at = st.commanded;
-  auto stream = std::make_shared<BlockStream>(jj.file, cfg, opts, check.transform);
+  JobOptions locate = opts;  // up to the interrupted block, which no unknown probe may precede
+  auto located = std::make_shared<ProbeResults>(*known);
+  located->stop_at_unknown = true;
+  locate.probe = located;
+  auto stream = std::make_shared<BlockStream>(jj.file, cfg, locate, check.transform);
   Block b{};
   for (std::uint64_t n = 0; n < k; ++n) {
-    if (!stream->next(b)) return fail("the program has fewer blocks than where the machine stopped");
+    if (!stream->next(b)) {
+      if (stream->probe_sync()) {
+        return fail("the machine stopped after a probing move whose result the journal does not hold (the host was lost "
+                    "waiting for it)");
+      }
+      return fail("the program has fewer blocks than where the machine stopped");
+    }
   }
+  if (b.probe_rule != 0) return fail("the machine stopped in a probing move (line " + std::to_string(b.line) + ")");
   std::string why;
   const double tol = std::max(10.0 * cfg.motion.block_tolerance_mm, 0.005);
   auto cont = continue_block(b, at, cfg, tol, &why);
@@ -452,16 +493,24 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
 
   auto first = std::make_shared<std::optional<Block>>();
   if (!cont->skip) *first = cont->block;
+  // the rest through the probing moves' sync points (docs/probe.md), from block k + 1 on
+  auto sync = std::make_shared<ProbeSync>(*l, cfg, jj.file, opts, check.transform);
+  sync->resume_after(k, jj.seq_base);
+  sync->set_on_result([this, &jj](const ProbeResults& r) { journal_probes(jj, r); });
   BlockSource source;
-  source.next = [stream, first](Block& out) {
+  source.next = [sync, first](Block& out) {
     if (first->has_value()) {
       out = **first;
       first->reset();
       return true;
     }
-    return stream->next(out);
+    return sync->next(out);
   };
-  source.progress = [stream] { return JobProgress{stream->lines_read(), stream->bytes_read(), stream->total_bytes(), Status{}}; };
+  source.progress = [sync] {
+    const BlockStream& s = sync->stream();
+    return JobProgress{s.lines_read(), s.bytes_read(), s.total_bytes(), Status{}};
+  };
+  source.resume = [sync](const std::atomic<bool>& stop, bool& more) { return sync->resume(stop, more); };
   const bool contouring = jj.contouring >= 0 ? jj.contouring == 1 : cfg.motion.contouring_default;
   json started = {{"resumed", true}, {"file", jj.file}, {"line", b.line}, {"block", k}, {"from", rpc::vec3_to_json(at)}};
   follow_job(client, id, l, cfg, started, jj.file,

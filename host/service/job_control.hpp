@@ -107,6 +107,7 @@ class JobControl {
                   const std::function<std::optional<WorkState>(const JobRunner&)>& work_after = {});
   std::function<void(const JobProgress&)> progress_fn(double planned_total_s = 0.0);
   void journal_failed(const std::string& why);
+  void journal_probes(JobJournal& jj, const ProbeResults& r);  // docs/probe.md
   void journal_ok();
 
   const std::string journal_;

@@ -41,7 +41,16 @@ bool write_journal(const std::string& path, const JobJournal& j, std::string* er
                     {"path_tolerance_mm", j.path_tolerance_mm},
                     {"config", j.config_path},
                     {"host_pid", j.host_pid},
-                    {"seq_base", j.seq_base}};
+                    {"seq_base", j.seq_base},
+                    {"probes", [&] {
+                       json a = json::array();
+                       for (const JournalProbe& p : j.probes) {
+                         a.push_back({{"outcome", p.outcome},
+                                      {"latched", {p.latched[0], p.latched[1], p.latched[2]}},
+                                      {"stop", {p.stop[0], p.stop[1], p.stop[2]}}});
+                       }
+                       return a;
+                     }()}};
   return write_file_atomically(path, doc.dump(2) + "\n", error);
 }
 
@@ -85,6 +94,17 @@ std::optional<JobJournal> read_journal(const std::string& path, std::string* err
     j.path_tolerance_mm = doc.value("path_tolerance_mm", 0.0);
     j.config_path = doc.value("config", std::string());
     j.seq_base = doc.value("seq_base", std::uint64_t{0});
+    if (doc.contains("probes")) {
+      for (const json& p : doc.at("probes")) {
+        JournalProbe r;
+        r.outcome = p.at("outcome").get<int>();
+        for (std::size_t k = 0; k < 3; ++k) {
+          r.latched[k] = p.at("latched").at(k).get<double>();
+          r.stop[k] = p.at("stop").at(k).get<double>();
+        }
+        j.probes.push_back(r);
+      }
+    }
     if (j.work_offset < 0 || j.work_offset > 5) throw std::runtime_error("work_offset out of range");
     return j;
   } catch (const std::exception& e) {

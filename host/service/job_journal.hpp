@@ -11,12 +11,21 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "config/atomic_file.hpp"  // write_file_atomically
 #include "config/work_state.hpp"   // WorkOffsets
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
+
+/// One probing move's result as the rt reported it (docs/probe.md): ProbeOutcome as a number,
+/// machine mm.
+struct JournalProbe {
+  int outcome = 1;
+  Vec3 latched{};
+  Vec3 stop{};
+};
 
 struct JobJournal {
   std::string file;                // absolute path of the G-code program
@@ -38,6 +47,9 @@ struct JobJournal {
   // Program blocks before the current run's first block: a resumed run numbers its blocks
   // from 1 again, so program block = rt block_seq + seq_base.
   std::uint64_t seq_base = 0;
+  // The results of the program's probing moves so far, in order: a resumed run interprets the
+  // program with them (docs/probe.md).
+  std::vector<JournalProbe> probes;
 };
 
 /// Where the journal lives in the service's private state directory (runtime_paths.hpp).

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "gcode/planned_time.hpp"
+#include "service/probe_sync.hpp"
 #include <thread>
 
 namespace pcnc {
@@ -39,13 +40,18 @@ bool JobRunner::wait_until_state(const std::function<bool(const Status&)>& done,
 
 JobResult JobRunner::run(const std::string& path, const JobOptions& options, const CheckResult& check,
                          const std::atomic<bool>& interrupt, const std::function<void(const JobProgress&)>& progress) {
-  BlockStream stream(path, config_, options, check.transform);
+  ProbeSync sync(link_, config_, path, options, check.transform);
+  if (on_probe_result_) sync.set_on_result(on_probe_result_);
   BlockSource source;
-  source.next = [&](Block& b) { return stream.next(b); };
-  source.progress = [&] { return JobProgress{stream.lines_read(), stream.bytes_read(), stream.total_bytes(), Status{}}; };
+  source.next = [&](Block& b) { return sync.next(b); };
+  source.progress = [&] {
+    const BlockStream& s = sync.stream();
+    return JobProgress{s.lines_read(), s.bytes_read(), s.total_bytes(), Status{}};
+  };
+  source.resume = [&](const std::atomic<bool>& stop, bool& more) { return sync.resume(stop, more); };
   work_after_.reset();
   JobResult r = run_source(source, options.contouring.value_or(config_.motion.contouring_default), interrupt, progress);
-  if (r.end == JobEnd::kCompleted) work_after_ = stream.work_state();
+  if (r.end == JobEnd::kCompleted) work_after_ = sync.stream().work_state();
   return r;
 }
 
@@ -118,6 +124,23 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
 
   for (;;) {
     const FeedResult r = feeder.push(next_block, &interrupt);
+    if (r == FeedResult::kEndOfInput && source.resume && !interrupt.load()) {
+      bool more = false;
+      const std::string why = source.resume(interrupt, more);
+      if (!why.empty()) {  // e.g. G38.2 without contact: the program ends here
+        Command stop;
+        stop.kind = CommandKind::kStop;
+        link_.send(stop);
+        wait_until_state([&](const Status& s) { return s.state != MachineState::kStopping && s.state != MachineState::kRunning; },
+                         std::atomic<bool>{false}, 10.0, st);
+        result.blocks_sent = feeder.pushed();
+        return finish(JobEnd::kStopped, why);
+      }
+      if (more) {
+        feeder.resume_input();
+        continue;
+      }
+    }
     if (r == FeedResult::kEndOfInput) break;
     if (r == FeedResult::kRtLost) return finish(JobEnd::kRtLost, "pcnc-rt stopped responding");
     if (r == FeedResult::kAborted || interrupt.load()) break;

@@ -30,6 +30,10 @@ struct JobProgress {
 struct BlockSource {
   std::function<bool(Block&)> next;  // false after the last block (the End block included)
   std::function<JobProgress()> progress;  // lines/bytes so far (status is filled in by the runner)
+  // Called when next() returned false with everything sent (optional): a source that stopped
+  // at a sync point (a probing move, docs/probe.md) waits for what it needs and says whether it
+  // has more ("" and true), has ended ("" and false), or cannot go on (the reason).
+  std::function<std::string(const std::atomic<bool>& interrupt, bool& more)> resume;
 };
 
 class JobRunner {
@@ -48,6 +52,8 @@ class JobRunner {
                        const std::function<void(const JobProgress&)>& progress = {});
   /// The ring feeder's staging (ring_feeder.hpp); off for a streamed program.
   void set_staging(bool on) { staging_ = on; }
+  /// Called with every probe result of run()'s program so far, as each arrives (docs/probe.md).
+  void set_on_probe_result(std::function<void(const ProbeResults&)> fn) { on_probe_result_ = std::move(fn); }
   /// Called once the rt has taken the program start (the program is under way).
   void set_on_started(std::function<void()> fn) { on_started_ = std::move(fn); }
 
@@ -58,6 +64,7 @@ class JobRunner {
   RtLink& link_;
   const MachineConfig& config_;
   std::function<void()> on_started_;
+  std::function<void(const ProbeResults&)> on_probe_result_;
   bool staging_ = true;
 };
 

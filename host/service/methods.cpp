@@ -4,6 +4,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cstdio>
 #include <string>
 
 #include "service/scope_signals.hpp"
@@ -217,6 +218,20 @@ std::vector<Method> method_table(ServiceParts parts) {
       {"stream_lines", kParams, kNoRt,
        with_params(rpc::check_stream_lines_params, [s](Call&, const rpc::StreamLinesParams& p) { return s.jobs.stream_lines(p.text); })},
       {"stream_close", kNoParams, kNoRt, [s](Call&) { return s.jobs.stream_close(); }},
+      {"probe", kParams, kRt,
+       with_params(rpc::check_probe_params,
+                   [s](Call& c, const rpc::ProbeParams& p) {
+                     // one G38.x move, incremental, as an MDI (docs/probe.md): by default to the
+                     // end of the travel in that direction
+                     const AxisConfig& ax = s.config.axes[static_cast<std::size_t>(p.axis)];
+                     const double at = c.status.commanded[static_cast<std::size_t>(p.axis)];
+                     const double room = p.direction < 0 ? at - ax.travel_min_mm : ax.travel_max_mm - at;
+                     const double d = p.distance_mm.value_or(room);
+                     char text[160];
+                     std::snprintf(text, sizeof text, "G21 G91 G38.%d %c%.6f F%.6f\n", p.code - 380, axis_name(p.axis),
+                                   p.direction * d, p.feed_mm_min);
+                     return s.jobs.mdi(c.client, c.id, text, c.link, c.status, s.config, s.work.state());
+                   })},
   };
 }
 

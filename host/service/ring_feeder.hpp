@@ -82,6 +82,9 @@ class RingFeeder {
 
   /// Restart numbering for a new program (the rt expects seq 1 after kProgramStart).
   void reset_sequence() { seq_ = 0; }
+  /// The fill stream has more after all (a probing move's result arrived, docs/probe.md):
+  /// push() calls it again.
+  void resume_input() { input_ended_ = false; }
   std::uint64_t pushed() const { return seq_; }
   /// Host refill latency: from the rt freeing a slot of a full ring to the next block
   /// being published, microseconds.

@@ -151,7 +151,7 @@ const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names = {"status", "run",     "pause",  "resume",        "stop",
                                                  "estop",  "reset",   "override", "jog",         "jog_keepalive",
                                                  "jog_stop", "set_offset", "mdi",     "touch_off",   "subscribe", "capture",
-                                                 "stream_open", "stream_lines", "stream_close"};
+                                                 "stream_open", "stream_lines", "stream_close", "probe"};
   return names;
 }
 
@@ -397,6 +397,30 @@ Checked<TouchOffParams> check_touch_off_params(const json& params) {
   return done(r, p);
 }
 
+Checked<ProbeParams> check_probe_params(const json& params) {
+  ParamReader r("probe", params);
+  ProbeParams p;
+  if (auto a = r.string("axis", true)) {
+    p.axis = parse_axis_name(*a);
+    if (p.axis < 0) r.fail("parameter 'axis' of probe must be X, Y or Z, got '" + *a + "'");
+  }
+  if (auto d = r.number("direction", -1.0, 1.0, true, "")) {
+    if (*d != -1.0 && *d != 1.0) r.fail("parameter 'direction' of probe must be -1 or 1");
+    p.direction = *d < 0.0 ? -1 : 1;
+  }
+  if (auto f = r.number("feed", 1e-3, 1e6, false, "mm/min")) p.feed_mm_min = *f;
+  if (auto d = r.number("distance", 1e-3, 1e4, false, "mm")) p.distance_mm = *d;
+  if (auto c = r.string("code", false)) {
+    static const char* codes[] = {"G38.2", "G38.3", "G38.4", "G38.5"};
+    bool found = false;
+    for (int i = 0; i < 4; ++i) {
+      if (*c == codes[i]) p.code = 382 + i, found = true;
+    }
+    if (!found) r.fail("parameter 'code' of probe must be G38.2, G38.3, G38.4 or G38.5, got '" + *c + "'");
+  }
+  return done(r, p);
+}
+
 Checked<SubscribeParams> check_subscribe_params(const json& params) {
   ParamReader r("subscribe", params);
   SubscribeParams p;
@@ -480,6 +504,10 @@ json status_to_json(const Status& s) {
   j["program_time_s"] = s.program_time_s;
   j["clock"] = s.clock_virtual ? "virtual" : "real";
   j["trace_failed"] = s.trace_failed != 0;
+  // the touch probe (docs/probe.md): its input, and the last probing move's result
+  j["probe"] = json{{"input", s.probe_input != 0},      {"outcome", to_string(s.probe_outcome)},
+                    {"count", s.probe_count},           {"line", s.probe_line},
+                    {"latched", vec3_to_json(s.probe_latched)}, {"stop", vec3_to_json(s.probe_stop)}};
   j["timing"] = json{{"wake_min_us", s.timing.wake_min_us},       {"wake_mean_us", s.timing.wake_mean_us},
                      {"wake_p99_us", s.timing.wake_p99_us},       {"wake_max_us", s.timing.wake_max_us},
                      {"compute_min_us", s.timing.compute_min_us}, {"compute_mean_us", s.timing.compute_mean_us},

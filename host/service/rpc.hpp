@@ -97,6 +97,15 @@ struct MdiParams {
   std::string text;  // one or more lines of G-code (a small program), at most kMaxMdiBytes
 };
 
+/// probe: one probing move for a person at the machine (docs/probe.md), run as an MDI.
+struct ProbeParams {
+  int axis = 2;                  // 0 X, 1 Y, 2 Z
+  int direction = -1;            // -1 or +1
+  double feed_mm_min = 50.0;
+  std::optional<double> distance_mm;  // how far at most; default: to the end of the travel
+  int code = 382;                // G38.2 .. G38.5 (x10)
+};
+
 struct TouchOffParams {
   int axis = 0;        // 0 X, 1 Y, 2 Z
   double value = 0.0;  // what the current position shall read in the active work system, mm
@@ -133,6 +142,7 @@ Checked<JogParams> check_jog_params(const json& params, const MachineConfig& con
 Checked<SetOffsetParams> check_set_offset_params(const json& params);
 Checked<MdiParams> check_mdi_params(const json& params);
 Checked<TouchOffParams> check_touch_off_params(const json& params);
+Checked<ProbeParams> check_probe_params(const json& params);
 Checked<SubscribeParams> check_subscribe_params(const json& params);
 Checked<StreamOpenParams> check_stream_open_params(const json& params);
 Checked<StreamLinesParams> check_stream_lines_params(const json& params);

@@ -4,6 +4,7 @@
 //      starts a program (state_machine.hpp);
 //   3. motion: the program's executor or the jog gives this cycle's setpoint, as the state says;
 //   4. safety: the setpoint put onto the travel within the block tolerance, or a soft-limit trip;
+//      the probe senses at the setpoint (the commanded ball centre, docs/probe.md);
 //   5. drive: one PID step per axis on the encoder reading, one plant step (drive/drive.hpp);
 //   6. safety: the following-error limit;
 //   7. status and the trace sample are published for the loop (rt_loop.cpp) to copy out.
@@ -40,6 +41,9 @@ void Machine::Impl::cycle(MotionRing& ring) {
     }
   }
   if (!sm.amps_on()) sp.pos = meas;  // amplifiers off: the setpoint follows the axes
+  Vec3 probe_dir{};
+  if (exec.take_probe_arm(probe_dir)) probe.arm(probe_dir);
+  st.probe_input = probe.sense(sp.pos) ? 1 : 0;  // the executor sees it next cycle, as a real input
 
   // 5. servo and plant
   const Vec3 ferr = sp.pos - meas;

@@ -10,7 +10,7 @@
 namespace pcnc {
 
 Machine::Impl::Impl(const MachineConfig& c)
-    : cfg(c), dt(c.cycle_period_s()), exec(c), jog(c), drive(c), sm(cfg, st, sp, exec, jog, ovr, drive) {
+    : cfg(c), dt(c.cycle_period_s()), exec(c), jog(c), drive(c), probe(c), sm(cfg, st, sp, exec, jog, ovr, drive) {
   sp.pos = exec.position();
   st.actual = drive.encoder();
   st.commanded = sp.pos;
@@ -32,6 +32,8 @@ bool Machine::wants_more_blocks(const MotionRing& ring) const {
   for (std::size_t i = 0; i < n; ++i) {
     if (ring.peek(i).kind == BlockKind::kEnd) return false;
   }
+  // nothing follows a probing move until its result is read (docs/probe.md)
+  if (n > 0 && ring.peek(n - 1).probe_rule != kProbeNone) return false;
   return true;
 }
 

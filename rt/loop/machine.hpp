@@ -41,8 +41,9 @@ class Machine {
   void cycle(MotionRing& ring);
 
   /// Under --clock virtual the loop does not advance time while this is true: a program is
-  /// active and the ring holds fewer blocks than the look-ahead wants (not full and no End
-  /// block queued). Under the real clock such cycles run anyway and count as underruns when
+  /// active and the ring holds fewer blocks than the look-ahead wants (not full, no End block
+  /// queued, the last block not a probing move, after which the host sends nothing until it
+  /// has read the result). Under the real clock such cycles run anyway and count as underruns when
   /// the executor actually had nothing to do.
   bool wants_more_blocks(const MotionRing& ring) const;
 

@@ -9,6 +9,7 @@
 
 #include "config/config.hpp"
 #include "drive/drive.hpp"
+#include "drive/sim_probe.hpp"
 #include "ipc/status.hpp"
 #include "loop/machine.hpp"
 #include "loop/state_machine.hpp"
@@ -31,6 +32,7 @@ struct Machine::Impl {
   Jog jog;
   FeedOverride ovr;
   Drive drive;
+  SimProbe probe;  // the touch probe's input (docs/probe.md)
   Status st{};
   TraceSample ts{};
   Setpoint sp{};  // this cycle's setpoint; its position holds while nothing moves

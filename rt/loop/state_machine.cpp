@@ -302,9 +302,18 @@ void StateMachine::run_program(MotionRing& ring) {
   in.hold = hold_;
   in.feed_override = ovr_.value();
   in.resume_pause = resume_pause_;
+  in.probe_input = st_.probe_input != 0;
   resume_pause_ = false;
   ExecResult r;
   exec_.step(ring, in, r);
+  if (r.probe_done) {  // the result of a probing block (docs/probe.md)
+    st_.probe_outcome = r.probe_outcome;
+    st_.probe_latched = r.probe_latched;
+    st_.probe_stop = exec_.position();
+    st_.probe_line = r.probe_line;
+    st_.probe_seq = r.probe_seq;
+    ++st_.probe_count;
+  }
   if (r.fault != FaultCode::kNone) {
     trip(r.fault, r.fault_axis, r.fault_value, r.fault_line, r.reason, &ring);
     return;
@@ -327,7 +336,7 @@ void StateMachine::run_program(MotionRing& ring) {
     // block has arrived (the host was descheduled between the start command and the first
     // block) nothing has moved yet, and nothing was waiting on the path.
     if (st_.program_active && st_.blocks_done > 0) {
-      ++st_.underruns;
+      if (!r.probe_wait) ++st_.underruns;  // after a probing move the host waits for its result
     } else {
       st_.state = MachineState::kIdle;  // blocks without a program start ran out
     }

@@ -68,7 +68,8 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
     if (prepared_ > 0) {
       const PreparedBlock& p = prep_[prepared_ - 1];
       const PreparedBlock& q = prep_[prepared_];
-      if (p.motion && q.motion) {
+      const bool probing = ring.peek(prepared_ - 1).probe_rule != kProbeNone || b.probe_rule != kProbeNone;
+      if (p.motion && q.motion && !probing) {  // a probing move starts and ends at rest
         JunctionRules rules = junction_;
         rules.path_tolerance_mm = p.path_tolerance;  // the tolerance the block before the junction was made with
         corner_[prepared_ - 1] = corner_speed(p.contouring, p.dir_end, q.dir_start, rules);
@@ -77,6 +78,7 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
       }
     }
     exit_valid_ = false;
+    probe_sync_ = false;
     ++expected_seq_;
     ++prepared_;
   }
@@ -196,6 +198,7 @@ void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
     hold_still();
     rest_cycle_ = false;
     out.starved = true;
+    out.probe_wait = probe_sync_;
     return;
   }
   const Block& blk = ring.peek(0);
@@ -241,17 +244,36 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     hold_still();
     return;
   }
+  const Block& blk = ring.peek(0);
+  const bool probing = blk.probe_rule != kProbeNone;
+  const bool sought = probe_toward(blk.probe_rule);  // the input state that ends the move
+  const bool first_cycle = fresh_;
   if (fresh_) {
     if (after_motion_ && ended_at_rest_) ++out.junction_stops;
     ended_at_rest_ = false;
     fresh_ = false;
-    begin_block(ring.peek(0));
+    begin_block(blk);
+    if (probing) {
+      probe_tripped_ = false;
+      probe_latched_ = pos_;
+      if (in.probe_input == sought) {  // G38.2/.3 already triggered, G38.4/.5 not triggered
+        hold_still();
+        finish_probe(ring, out, ProbeOutcome::kAlreadyTriggered);
+        return;
+      }
+      probe_arm_ = true;
+      probe_dir_ = prep_[0].dir_start;
+    }
   }
-  const Block& blk = ring.peek(0);
   const PreparedBlock& b = prep_[0];
   const double a = b.accel;  // the stop rules brake at this: safe all along the block
   double a_ramp = a;         // speeding up and slowing down in this cycle
-  double cap = cap_of(b, in);
+  // (not in the block's first cycle: that input was sensed before the probe was armed for it)
+  if (probing && !probe_tripped_ && !first_cycle && in.probe_input == sought) {
+    probe_tripped_ = true;  // sensed at last cycle's setpoint, where the machine was then
+    probe_latched_ = pos_;
+  }
+  double cap = probing && probe_tripped_ ? 0.0 : cap_of(b, in);
   if (b.kind == BlockKind::kNurbs) {
     // the feed schedule where the machine is and where this cycle will land (floored at
     // one cycle's acceleration, so that a 0 at a corner of the schedule cannot freeze it),
@@ -284,6 +306,11 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
   double v_new = std::min(v_allow, v_ + a_step * dt_);
   v_new = std::max({v_new, v_ - a_step * dt_, 0.0});
+  if (probing && probe_tripped_ && v_new <= 0.0) {  // came to rest after the contact
+    hold_still();
+    finish_probe(ring, out, ProbeOutcome::kContact);
+    return;
+  }
   if (stop_at_end && cap > 0.0) {
     // Final approach: reach the end exactly this cycle when that takes no more than one
     // cycle's acceleration either way (and the stop after it is within a·dt too).
@@ -302,6 +329,10 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
       pos_ = prep_[0].end;
       vel_ = v_new * prep_[0].dir_end;
       acc_ = ((v_new - v_old) / dt_) * prep_[0].dir_end;
+      if (probing) {  // the end reached: the probe never changed (or only just now)
+        finish_probe(ring, out, probe_tripped_ ? ProbeOutcome::kContact : ProbeOutcome::kNoContact);
+        return;
+      }
       pop(ring, out);
       rest_cycle_ = true;
       ended_at_rest_ = true;

@@ -50,6 +50,7 @@ struct ExecInput {
   bool hold = false;          // feed hold, stop or host lost: decelerate to rest on the path
   double feed_override = 1.0; // 0 .. 2
   bool resume_pause = false;  // leave an M00/M01 block
+  bool probe_input = false;   // the probe's input as sensed in the last cycle (docs/probe.md)
 };
 
 struct ExecResult {
@@ -64,6 +65,13 @@ struct ExecResult {
   int blocks_done = 0;
   int junction_stops = 0;
   int junction_flows = 0;
+  // A probing block finished this cycle (docs/probe.md): how, and the position latched.
+  bool probe_done = false;
+  ProbeOutcome probe_outcome = ProbeOutcome::kNone;
+  Vec3 probe_latched{};
+  std::uint32_t probe_line = 0;
+  std::uint64_t probe_seq = 0;
+  bool probe_wait = false;  // starved right after a probing block: the host is at its sync point
 };
 
 class Executor {
@@ -95,6 +103,13 @@ class Executor {
   const PreparedBlock* current_motion() const { return prepared_ > 0 && prep_[0].motion ? &prep_[0] : nullptr; }
   double progress() const { return s_; }
   const PreparedBlock* previous_motion() const { return has_prev_ ? &prev_ : nullptr; }
+  /// A probing block began moving this cycle along `dir`: the probe is to be armed (read once).
+  bool take_probe_arm(Vec3& dir) {
+    if (!probe_arm_) return false;
+    probe_arm_ = false;
+    dir = probe_dir_;
+    return true;
+  }
 
  private:
   bool prepare_visible(const MotionRing& ring, ExecResult& out);
@@ -111,6 +126,8 @@ class Executor {
   /// distance left over past it in `leftover`.
   bool advance(const Block& blk, double ds, double& leftover);
   void begin_block(const Block& blk);  // s_ = 0 (NURBS: parameter at its start)
+  /// Ends the probing block in execution where the machine stands (executor_probe.cpp).
+  void finish_probe(MotionRing& ring, ExecResult& out, ProbeOutcome outcome);
 
   MachineConfig cfg_;
   double dt_;
@@ -148,6 +165,13 @@ class Executor {
   NurbsEval nurbs_at_{};
   int nurbs_hint_ = 0;
   Vec3 tangent_{}, curvature_{};
+
+  // probing block in execution (docs/probe.md)
+  bool probe_tripped_ = false;  // the input reached the state sought: braking
+  Vec3 probe_latched_{};        // the position sensed in the cycle it did
+  bool probe_arm_ = false;
+  Vec3 probe_dir_{};
+  bool probe_sync_ = false;     // the last block was a probing one and nothing follows yet
 
   Vec3 pos_{}, vel_{}, acc_{};
   std::uint32_t line_ = 0;

@@ -371,6 +371,75 @@ std::string resolve_beside(const std::string& path, const std::string& config_or
   return dir.empty() ? path : (dir / path).lexically_normal().string();
 }
 
+// [probe] and [workpiece] (docs/probe.md): both optional sections, every key in them required
+// except the bump's and the reference objects'.
+void read_probe(Section& top, MachineConfig& c, std::vector<std::string>& problems) {
+  {
+    const toml::table* t = top.subtable("probe");
+    Section p(t, "probe", top.origin(), problems);
+    c.probe.present = t != nullptr;
+    if (t) {
+      ProbeModel& m = c.probe.model;
+      const bool r_ok = p.number("ball_radius_mm", m.ball_radius_mm, 0.01, 25.0, "mm");
+      const bool ax_ok = p.number("pretravel_axial_mm", m.pretravel_axial_mm, 0.0, 0.5, "mm");
+      const bool lat_ok = p.number("pretravel_lateral_mm", m.pretravel_lateral_mm, 0.0, 0.5, "mm");
+      const bool lobe_ok = p.number("pretravel_lobe_mm", m.pretravel_lobe_mm, 0.0, 0.5, "mm");
+      p.number("repeatability_mm", m.repeatability_mm, 0.0, 0.1, "mm");
+      int seed = 1;
+      if (p.integer("seed", seed, 0, 2147483647L, "of the repeatability noise")) m.seed = static_cast<std::uint64_t>(seed);
+      p.number("overtravel_mm", m.overtravel_mm, 0.01, 25.0, "mm");
+      if (lat_ok && lobe_ok && m.pretravel_lobe_mm > m.pretravel_lateral_mm) {
+        p.problem("pretravel_lobe_mm (" + show(m.pretravel_lobe_mm) + " mm) must not exceed pretravel_lateral_mm (" +
+                      show(m.pretravel_lateral_mm) + " mm): the pre-travel would turn negative",
+                  "pretravel_lobe_mm");
+      }
+      if (r_ok && ax_ok && lat_ok && lobe_ok &&
+          std::max(m.pretravel_axial_mm, m.pretravel_lateral_mm + m.pretravel_lobe_mm) >= m.ball_radius_mm) {
+        p.problem("the pre-travel must stay below the ball radius", "ball_radius_mm");
+      }
+      p.finish();
+    }
+  }
+  const toml::table* t = top.subtable("workpiece");
+  if (!t) return;
+  Section w(t, "workpiece", top.origin(), problems);
+  TableScene& s = c.table;
+  std::string surface = "plane";
+  if (w.string("surface", surface)) {
+    if (surface != "plane" && surface != "bump" && surface != "none") {
+      w.problem("surface '" + surface + "' must be \"plane\", \"bump\" or \"none\"", "surface");
+    }
+  }
+  s.has_surface = surface != "none";
+  const Need surf = s.has_surface ? Need::kRequired : Need::kOptional;
+  w.number("z_mm", s.z_mm, -1e4, 1e4, "mm", surf);
+  w.number("slope_x", s.slope_x, -10.0, 10.0, "dz/dx", Need::kOptional);
+  w.number("slope_y", s.slope_y, -10.0, 10.0, "dz/dy", Need::kOptional);
+  const Need bump = surface == "bump" ? Need::kRequired : Need::kOptional;
+  w.number("bump_x_mm", s.bump_x_mm, -1e4, 1e4, "mm", bump);
+  w.number("bump_y_mm", s.bump_y_mm, -1e4, 1e4, "mm", bump);
+  w.number("bump_height_mm", s.bump_height_mm, -100.0, 100.0, "mm", bump);
+  w.number("bump_sigma_mm", s.bump_sigma_mm, 0.01, 1e4, "mm", bump);
+  if (surface != "bump") s.bump_height_mm = 0.0;
+  w.vec3("sphere_center_mm", s.sphere_center, -1e4, 1e4, "mm", Need::kOptional);
+  w.number("sphere_radius_mm", s.sphere_radius_mm, 0.0, 1e3, "mm", Need::kOptional);
+  const bool lo = w.vec3("gauge_min_mm", s.gauge_min, -1e4, 1e4, "mm", Need::kOptional);
+  const bool hi = w.vec3("gauge_max_mm", s.gauge_max, -1e4, 1e4, "mm", Need::kOptional);
+  if (lo != hi) {
+    w.problem("gauge_min_mm and gauge_max_mm go together (the gauge block's opposite corners)",
+              lo ? "gauge_min_mm" : "gauge_max_mm");
+  } else if (lo) {
+    s.has_gauge = true;
+    for (int i = 0; i < kAxes; ++i) {
+      if (!(s.gauge_max[i] > s.gauge_min[i])) {
+        w.problem("gauge_max_mm must exceed gauge_min_mm on every axis", "gauge_max_mm");
+        break;
+      }
+    }
+  }
+  w.finish();
+}
+
 }  // namespace
 
 MachineConfig parse_config(const std::string& toml_text, const std::string& origin) {
@@ -480,6 +549,7 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     }
     p.finish();
   }
+  read_probe(top, c, problems);
   top.finish();
   if (!problems.empty()) {
     // in the file's order: the file-wide ones (a missing section or top-level key) first

@@ -11,6 +11,7 @@
 
 #include "config/rotary_config.hpp"
 #include "geometry/kinematics.hpp"
+#include "geometry/probe_contact.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -138,6 +139,13 @@ struct ProcessConfig {
   bool trace_failure_stops = true;
 };
 
+// [probe], optional: a touch-trigger probe in the spindle whose ball centre is the controlled
+// point (docs/probe.md). Absent: the machine has no probe and G38.x is refused.
+struct ProbeConfig {
+  bool present = false;
+  ProbeModel model{};
+};
+
 struct MachineConfig {
   std::string name = "desktop-mill";
   std::string source_path;  // the file it came from
@@ -150,6 +158,8 @@ struct MachineConfig {
   // (default: trivial, the 3-axis mill). The tool length is the tool table's, not the config's.
   std::array<std::optional<RotaryAxisConfig>, kRotaryAxes> rotary{};
   Kinematics kinematics{};
+  ProbeConfig probe{};
+  TableScene table{};  // [workpiece], optional: what the probe can touch (docs/probe.md)
 
   double cycle_period_s() const { return 1.0 / motion.cycle_hz; }
   /// The kinematics' tilt joint (A of table-table, B of head-table) and its rotary joint (C);

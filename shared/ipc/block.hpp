@@ -98,7 +98,9 @@ struct Block {
   // control polygon) and its flag; speed, accel and decel_start are 0 (the schedule plans).
   std::uint8_t driving_axis = 0;
   std::int8_t driving_dir = 1;  // +1: the driving coordinate increases toward end
-  std::uint8_t pad0_[2]{};
+  // A probing move (kLine only, docs/probe.md): its stop rule, ProbeRule; 0: an ordinary line.
+  std::uint8_t probe_rule = 0;
+  std::uint8_t pad0_[1]{};
   // The path tolerance this block was made with (G64 P, --tolerance or motion.path_tolerance_mm;
   // 0: the seed's contouring rule alone). Under M21 the rt passes the junction after this block
   // at least at the junction-deviation speed for it (rt/motion/junction.hpp).
@@ -117,6 +119,17 @@ struct Block {
   ArcGeometry arc{};      // kArc only
   NurbsGeometry nurbs{};  // kNurbs only
 };
+
+/// Block::probe_rule: G38.2-G38.5 (LinuxCNC's semantics, docs/probe.md). Toward: stop when the
+/// probe triggers; away: stop when it releases. "Error" rules make no contact an error.
+enum ProbeRule : std::uint8_t {
+  kProbeNone = 0,
+  kProbeTowardError = 1,  // G38.2
+  kProbeToward = 2,       // G38.3
+  kProbeAwayError = 3,    // G38.4
+  kProbeAway = 4,         // G38.5
+};
+inline bool probe_toward(std::uint8_t rule) { return rule == kProbeTowardError || rule == kProbeToward; }
 
 static_assert(std::is_trivially_copyable_v<Block>, "Block lives in shared memory");
 static_assert(std::is_standard_layout_v<Block>, "Block lives in shared memory");

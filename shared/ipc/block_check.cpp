@@ -7,6 +7,7 @@
 
 #include "ipc/block_nurbs.hpp"
 #include "geometry/plane.hpp"
+#include "geometry/probe_contact.hpp"
 #include "geometry/tangential_budget.hpp"
 
 namespace pcnc {
@@ -343,6 +344,12 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
   if (!(b.length >= 0.0)) return bad("negative length", 0, b.length);
   if (!(b.speed > 0.0)) return bad("speed <= 0 on a motion block", 0, b.speed);
   if (!(b.accel > 0.0)) return bad("acceleration <= 0 on a motion block", 0, b.accel);
+  if (b.probe_rule != kProbeNone) {
+    if (b.kind != BlockKind::kLine || b.probe_rule > kProbeAway) return bad("probe rule on a block that is not a line, or unknown", 0, b.probe_rule);
+    if (!cfg.probe.present) return bad("probing move on a machine without a probe ([probe] in the config)");
+    const double v_max = probe_speed_limit(b.accel, cfg.cycle_period_s(), cfg.probe.model.overtravel_mm);
+    if (b.speed > v_max * (1.0 + 1e-9)) return bad("probing speed would not stop within the probe's overtravel", 0, b.speed);
+  }
   if (b.kind == BlockKind::kArc) return check_arc(b, cfg, tol);
   if (b.kind == BlockKind::kNurbs) return check_nurbs(b, cfg, tol);
   const double chord = norm(b.end - b.start);

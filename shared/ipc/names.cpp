@@ -72,4 +72,14 @@ const char* to_string(FaultCode code) {
   return "?";
 }
 
+const char* to_string(ProbeOutcome outcome) {
+  switch (outcome) {
+    case ProbeOutcome::kNone: return "none";
+    case ProbeOutcome::kContact: return "contact";
+    case ProbeOutcome::kNoContact: return "no contact";
+    case ProbeOutcome::kAlreadyTriggered: return "already in the state sought";
+  }
+  return "?";
+}
+
 }  // namespace pcnc

@@ -29,6 +29,14 @@ enum class FaultCode : std::uint8_t {
   kSequence = 4,        // a block arrived out of sequence
 };
 
+/// How the last probing block ended (Status::probe_outcome, docs/probe.md).
+enum class ProbeOutcome : std::uint8_t {
+  kNone = 0,
+  kContact = 1,           // the probe changed state: stopped within the overtravel, position latched
+  kNoContact = 2,         // the move reached its end without the change
+  kAlreadyTriggered = 3,  // the probe was already in the state sought when the move began: no motion
+};
+
 /// Timing figures of the cycle, microseconds, over a sliding window or the whole run.
 struct TimingStats {
   double wake_min_us = 0.0, wake_mean_us = 0.0, wake_p99_us = 0.0, wake_max_us = 0.0;
@@ -74,11 +82,22 @@ struct Status {
   double feed_override = 1.0;  // 0.0 .. 2.0
 
   TimingStats timing{};
+
+  // The touch probe (docs/probe.md): its input this cycle, and the result of the last probing
+  // block (a new result when probe_count grows).
+  std::uint8_t probe_input = 0;    // 1: the stylus is deflected (triggered)
+  ProbeOutcome probe_outcome = ProbeOutcome::kNone;
+  std::uint32_t probe_line = 0;    // source line of that block
+  std::uint64_t probe_count = 0;   // probing blocks finished since pcnc-rt started
+  std::uint64_t probe_seq = 0;     // seq of that block
+  Vec3 probe_latched{};            // commanded ball centre in the cycle the input changed, mm
+  Vec3 probe_stop{};               // where the probing move came to rest, mm
 };
 
 static_assert(std::is_trivially_copyable_v<Status>, "Status lives in shared memory");
 
 const char* to_string(MachineState state);
 const char* to_string(FaultCode code);
+const char* to_string(ProbeOutcome outcome);
 
 }  // namespace pcnc
