@@ -168,5 +168,29 @@ TEST(GcodeProbe, ARunsStreamStopsAtAProbeWithoutAResult) {
   EXPECT_EQ(all[3].kind, BlockKind::kEnd);
 }
 
+
+// A streamed program (the grbl port) cannot wait for a probe's result before the lines after it
+// are answered: a probing move there is an error at its line, not a move whose end is guessed.
+TEST(GcodeProbe, AStreamedProgramRefusesAProbingMove) {
+  const std::string text = "F60\nG0 X1\nG38.2 Z-5\nG0 X#5063\nM2\n";
+  const MachineConfig c = wide_config();
+  JobOptions o;
+  auto refuse = std::make_shared<ProbeResults>();
+  refuse->refuse_unknown = true;
+  o.probe = refuse;
+  o.start_position = Vec3{0.0, 0.0, 0.0};
+  const CheckResult check = check_program_text(text, "stream", c, o);
+  ASSERT_FALSE(check.ok);
+  const Diagnostic* d = nullptr;
+  for (const Diagnostic& x : check.diagnostics) {
+    if (x.severity == Diagnostic::Severity::kError && !d) d = &x;
+  }
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(d->line, 3);
+  EXPECT_NE(d->message.find("streamed program"), std::string::npos) << d->message;
+  // the same program checked as a file assumes contact and passes
+  EXPECT_TRUE(check_program_text(text, "test.ngc", c, JobOptions{}).ok);
+}
+
 }  // namespace
 }  // namespace pcnc::test

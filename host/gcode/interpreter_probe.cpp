@@ -56,6 +56,9 @@ bool Interpreter::probe(const ParsedLine& l, int motion, MoveList& out) {
   const ProbeResults* known_results = frame_.probe.get();
   if (known_results && index < static_cast<int>(known_results->known.size())) {
     r = known_results->known[static_cast<std::size_t>(index)];
+  } else if (known_results && known_results->refuse_unknown) {
+    return fail(l, at, name + " is not supported in a streamed program: lines sent one by one cannot wait for the probe's result; "
+                              "expected the program run as a file (pcnc run, pcnc ctl run) or pcnc ctl probe");
   } else if (known_results && known_results->stop_at_unknown) {
     probe_sync_ = true;
   } else {

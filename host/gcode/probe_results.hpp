@@ -25,6 +25,9 @@ struct ProbeResults {
   // Run: the stream ends after the first probing move beyond `known` (BlockStream::probe_sync).
   // Check (false): that move and any later are assumed to touch at their commanded end.
   bool stop_at_unknown = false;
+  // A streamed program (the grbl port's lines, which arrive one by one and are answered as they
+  // pass): no sync point is possible, so a probing move beyond `known` is an error.
+  bool refuse_unknown = false;
 };
 
 }  // namespace pcnc

@@ -66,6 +66,11 @@ void JobControl::stream_job(ClientId client, const json& id, bool check, std::sh
   opts.work = ws;
   opts.work_offset_index = ws.active;
   opts.start_position = start;
+  if (!check) {  // a probing move cannot be a sync point in a stream (docs/probe.md)
+    auto probe = std::make_shared<ProbeResults>();
+    probe->refuse_unknown = true;
+    opts.probe = probe;
+  }
   opts.on_message = [this, n](const ProgramMessage& m) {
     notices_.event(json{{"event", "message"}, {"file", "stream"}, {"stream", n}, {"line", m.line}, {"text", m.text}});
   };
