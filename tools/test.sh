@@ -21,7 +21,7 @@ export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
 # more, and a test that fails twice fails the suite.
 RETRY=(--repeat until-pass:2)
 
-step() { printf '\n==== %s ====\n' "$*"; }
+step() { printf '\n==== %s (at %d s) ====\n' "$*" "$SECONDS"; }
 
 # The suite must leave nothing behind: no shared-memory segment, no temporary folder.
 leftovers() { { ls -d /dev/shm/pcnc-* /tmp/pcnc-test-* 2>/dev/null || true; } | sort; }
@@ -60,7 +60,7 @@ if [ "${PCNC_SKIP_SANITIZERS:-0}" != "1" ]; then
   step "AddressSanitizer + UndefinedBehaviorSanitizer build and ctest"
   # Debug (assertions on) at -O1: ASan's usual level; at -O0 the corpus-wide tests took minutes.
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
-    -DPCNC_SANITIZE=address,undefined >/dev/null
+    -DPCNC_SANITIZE=address,undefined -DPCNC_BENCH=OFF >/dev/null
   cmake --build build-asan -j "$JOBS"
   PCNC_RING_TEST_BLOCKS=200000 ctest --test-dir build-asan --output-on-failure -j "$JOBS" "${RETRY[@]}"
   check_leftovers ASan
