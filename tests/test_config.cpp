@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "config_text.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 
@@ -28,51 +29,8 @@ const std::set<std::string> kOptionalKeys = {
     "rt_priority",         "rt_spin_us",       "on_trace_failure", "max_executed_lines", "tool_table",
     "pause_on_tool_change"};
 
-// One `key = value` line of the shipped text.
-struct KeyLine {
-  int line = 0;         // 1-based
-  std::string section;  // "axis.x", "" at the top
-  int section_line = 0; // the section header's line
-  std::string key;
-  std::string value;
-};
-
-std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::size_t at = 0;
-  while (at <= text.size()) {
-    const std::size_t nl = text.find('\n', at);
-    lines.push_back(text.substr(at, nl == std::string::npos ? std::string::npos : nl - at));
-    if (nl == std::string::npos) break;
-    at = nl + 1;
-  }
-  return lines;
-}
-
-std::string join_lines(const std::vector<std::string>& lines) {
-  std::string text;
-  for (std::size_t i = 0; i < lines.size(); ++i) text += lines[i] + (i + 1 < lines.size() ? "\n" : "");
-  return text;
-}
-
-std::vector<KeyLine> key_lines(const std::string& text) {
-  const std::regex header(R"(^\[([a-z._]+)\])");
-  const std::regex key(R"(^([a-z_0-9]+) = ([^#]*[^# ]))");
-  std::vector<KeyLine> keys;
-  std::string section;
-  int section_line = 0;
-  const auto lines = split_lines(text);
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    std::smatch m;
-    if (std::regex_search(lines[i], m, header)) {
-      section = m[1];
-      section_line = static_cast<int>(i) + 1;
-    } else if (std::regex_search(lines[i], m, key)) {
-      keys.push_back({static_cast<int>(i) + 1, section, section_line, m[1], m[2]});
-    }
-  }
-  return keys;
-}
+using test::KeyLine;
+using test::key_lines;
 
 std::string shipped_text() { return test::read_file(test::default_config()); }
 
@@ -120,7 +78,7 @@ TEST(Config, DefaultConfigLoadsWithItsTravel) {
 }
 
 TEST_P(ShippedConfig, EachSectionDeletedIsRefusedNamingFileSectionAndKeys) {
-  const auto lines = split_lines(text());
+  const auto lines = test::config_lines(text());
   std::vector<std::pair<std::size_t, std::string>> headers;  // index, name
   const std::regex header(R"(^\[([a-z._]+)\])");
   for (std::size_t i = 0; i < lines.size(); ++i) {
@@ -138,7 +96,7 @@ TEST_P(ShippedConfig, EachSectionDeletedIsRefusedNamingFileSectionAndKeys) {
     std::vector<std::string> variant(lines.begin(), lines.begin() + static_cast<long>(headers[h].first));
     variant.insert(variant.end(), lines.begin() + static_cast<long>(end), lines.end());
     const std::string name = headers[h].second;
-    const std::string message = refusal(join_lines(variant));
+    const std::string message = refusal(test::join_config_lines(variant));
     if (optional_sections.count(name)) {
       EXPECT_EQ(message, "") << "[" << name << "] is optional";
       continue;
@@ -154,12 +112,12 @@ TEST_P(ShippedConfig, EachSectionDeletedIsRefusedNamingFileSectionAndKeys) {
 }
 
 TEST_P(ShippedConfig, EachKeyDeletedIsRefusedUnlessOptional) {
-  const auto lines = split_lines(text());
+  const auto lines = test::config_lines(text());
   int required = 0;
   for (const KeyLine& k : key_lines(text())) {
     std::vector<std::string> variant = lines;
     variant.erase(variant.begin() + k.line - 1);
-    const std::string message = refusal(join_lines(variant));
+    const std::string message = refusal(test::join_config_lines(variant));
     if (kOptionalKeys.count(k.key)) {
       EXPECT_EQ(message, "") << k.key << " is optional";
       continue;
@@ -175,12 +133,12 @@ TEST_P(ShippedConfig, EachKeyDeletedIsRefusedUnlessOptional) {
 }
 
 TEST_P(ShippedConfig, EachKeyMisspeltIsRefusedWithFileLineAndColumn) {
-  const auto lines = split_lines(text());
+  const auto lines = test::config_lines(text());
   for (const KeyLine& k : key_lines(text())) {
     std::vector<std::string> variant = lines;
     const std::string typo = k.key + k.key.substr(k.key.size() - 1);  // last letter doubled
     variant[static_cast<std::size_t>(k.line - 1)].replace(0, k.key.size(), typo);
-    const std::string message = refusal(join_lines(variant));
+    const std::string message = refusal(test::join_config_lines(variant));
     const std::string section = k.section.empty() ? "(top level)" : "[" + k.section + "]";
     EXPECT_TRUE(has(message, kOrigin + ":" + std::to_string(k.line) + ":1: " + section + ": unknown key '" + typo + "'"))
         << k.key << ": " << message;
@@ -207,7 +165,7 @@ std::string unit_of(const std::string& key) {
 }
 
 TEST_P(ShippedConfig, EachNumberOutOfRangeIsRefusedWithItsUnitAndPosition) {
-  const auto lines = split_lines(text());
+  const auto lines = test::config_lines(text());
   int checked = 0;
   for (const KeyLine& k : key_lines(text())) {
     // floating-point numbers only (integers, booleans, strings and arrays have their own tests)
@@ -216,7 +174,7 @@ TEST_P(ShippedConfig, EachNumberOutOfRangeIsRefusedWithItsUnitAndPosition) {
     std::string& line = variant[static_cast<std::size_t>(k.line - 1)];
     const std::size_t at = line.find(k.value, k.key.size());
     line.replace(at, k.value.size(), "-1e9");
-    const std::string message = refusal(join_lines(variant));
+    const std::string message = refusal(test::join_config_lines(variant));
     const std::string section = k.section.empty() ? "(top level)" : "[" + k.section + "]";
     const std::string unit = unit_of(k.key);
     const std::string value = "-1e+09" + (unit.empty() ? "" : " " + unit + ": out of range, must be ");

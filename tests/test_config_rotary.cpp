@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "config_text.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 
@@ -40,49 +41,13 @@ std::string with(std::string text, const std::string& from, const std::string& t
   return text.replace(at, from.size(), to);
 }
 
-struct KeyLine {
-  int line = 0;
-  std::string section;
-  int section_line = 0;
-  std::string key;
-  std::string value;
-};
-
-std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::size_t at = 0;
-  for (;;) {
-    const std::size_t nl = text.find('\n', at);
-    lines.push_back(text.substr(at, nl == std::string::npos ? std::string::npos : nl - at));
-    if (nl == std::string::npos) break;
-    at = nl + 1;
-  }
-  return lines;
-}
-
-std::string join_lines(const std::vector<std::string>& lines) {
-  std::string text;
-  for (const auto& l : lines) text += l + "\n";
-  return text;
-}
+using test::KeyLine;
 
 // The key lines of the rotary sections and [kinematics].
 std::vector<KeyLine> rotary_keys(const std::string& text) {
-  const std::regex header(R"(^\[([a-z._]+)\])");
-  const std::regex key(R"(^([a-z_0-9]+) = ([^#]*[^# ]))");
   std::vector<KeyLine> keys;
-  std::string section;
-  int section_line = 0;
-  const auto lines = split_lines(text);
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    std::smatch m;
-    if (std::regex_search(lines[i], m, header)) {
-      section = m[1];
-      section_line = static_cast<int>(i) + 1;
-    } else if (std::regex_search(lines[i], m, key) &&
-               (section == "axis.a" || section == "axis.c" || section == "kinematics")) {
-      keys.push_back({static_cast<int>(i) + 1, section, section_line, m[1], m[2]});
-    }
+  for (const KeyLine& k : test::key_lines(text)) {
+    if (k.section == "axis.a" || k.section == "axis.c" || k.section == "kinematics") keys.push_back(k);
   }
   return keys;
 }
@@ -155,13 +120,13 @@ TEST(ConfigRotary, GainsFollowThePolePlacementRule) {
 
 TEST(ConfigRotary, EachRotaryKeyDeletedIsRefusedNamingIt) {
   const std::string text = five_text();
-  const auto lines = split_lines(text);
+  const auto lines = test::config_lines(text);
   const auto keys = rotary_keys(text);
   ASSERT_GE(keys.size(), 40u);
   for (const KeyLine& k : keys) {
     std::vector<std::string> variant = lines;
     variant.erase(variant.begin() + k.line - 1);
-    const std::string message = refusal(join_lines(variant));
+    const std::string message = refusal(test::join_config_lines(variant));
     ASSERT_FALSE(message.empty()) << "deleting " << k.section << "." << k.key << " must be refused";
     if (k.key == "continuous" || k.key == "kind") {
       // C without `continuous` needs its travel; without `kind` the machine is trivial and A, C
@@ -179,12 +144,12 @@ TEST(ConfigRotary, EachRotaryKeyDeletedIsRefusedNamingIt) {
 
 TEST(ConfigRotary, EachRotaryKeyMisspeltIsRefusedWithLineAndColumn) {
   const std::string text = five_text();
-  const auto lines = split_lines(text);
+  const auto lines = test::config_lines(text);
   for (const KeyLine& k : rotary_keys(text)) {
     std::vector<std::string> variant = lines;
     const std::string typo = k.key + k.key.substr(k.key.size() - 1);
     variant[static_cast<std::size_t>(k.line - 1)].replace(0, k.key.size(), typo);
-    const std::string message = refusal(join_lines(variant));
+    const std::string message = refusal(test::join_config_lines(variant));
     EXPECT_TRUE(has(message, kOrigin + ":" + std::to_string(k.line) + ":1: [" + k.section + "]: unknown key '" + typo +
                                  "' (did you mean '" + k.key + "'?)"))
         << message;
@@ -210,7 +175,7 @@ std::string rotary_unit(const std::string& key) {
 
 TEST(ConfigRotary, EachRotaryNumberOutOfRangeIsRefusedWithItsUnit) {
   const std::string text = five_text();
-  const auto lines = split_lines(text);
+  const auto lines = test::config_lines(text);
   int checked = 0;
   for (const KeyLine& k : rotary_keys(text)) {
     if (k.value.find_first_not_of("0123456789.-e") != std::string::npos || k.value.find('.') == std::string::npos) continue;
@@ -218,7 +183,7 @@ TEST(ConfigRotary, EachRotaryNumberOutOfRangeIsRefusedWithItsUnit) {
     std::string& line = variant[static_cast<std::size_t>(k.line - 1)];
     const std::size_t at = line.find(k.value, k.key.size());
     line.replace(at, k.value.size(), "-1e9");
-    const std::string message = refusal(join_lines(variant));
+    const std::string message = refusal(test::join_config_lines(variant));
     const std::string unit = rotary_unit(k.key);
     ASSERT_FALSE(unit.empty()) << k.key;
     EXPECT_TRUE(has(message, kOrigin + ":" + std::to_string(k.line) + ":" + std::to_string(at + 1) + ": [" + k.section +
