@@ -110,6 +110,11 @@ void add_operator_subcommands(CLI::App& ctl, const CtlOptions& o, int& exit_code
       const int rc = ctl::report(o, c.call("probe", params, o.timeout_s), [](const json&) {});
       if (rc != 0) return rc;
       int end = wait_mdi_end(o, c, ended);
+      // the job's error (a G38.2 without contact is refused by the check after the sync point)
+      // reaches us in its end event when the request was already answered "started"
+      if (end != kExitOk && !ended.value("message", std::string()).empty()) {
+        std::fprintf(stderr, "%s\n", ended.value("message", std::string()).c_str());
+      }
       const json s = c.call("status", json::object(), o.timeout_s);
       const json p = s.contains("result") ? s["result"].value("probe", json::object()) : json::object();
       const std::string outcome = p.value("outcome", "none");
