@@ -15,7 +15,8 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 shared="${PCNC_SHARED_DIR:-$root/../shared}"
 build="$root/build-fuzz"
 
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DPCNC_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DPCNC_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" >/dev/null  # line tables: enough for a crash report
 cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}"
 
 summary=()

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
+#include <memory>
 
 #include "service/probe_sync.hpp"
 #include "service/resume.hpp"
@@ -347,10 +349,19 @@ void JobControl::follow_job(ClientId client, const json& id, std::shared_ptr<RtL
     notices_.event(json{{"event", "program_started"}, {"file", file}});
   });
   const JobResult r = body(runner);
-  // What the program left (G10, G92...) is kept, as LinuxCNC's var file keeps it; delivered
-  // before the program_end event (both go to the loop thread in order).
+  // What the program left (G10, G92...) is kept, as LinuxCNC's var file keeps it. The loop
+  // thread applies it; the job is not over (end_job, the reply, the program_end event) until
+  // it has, or a status read between the two would show the job done with the old offsets.
+  // The wait is bounded: a loop thread that is shutting down never answers.
   if (r.end == JobEnd::kCompleted && work_before && notices_.work_after) {
-    if (auto w = work_after ? work_after(runner) : runner.work_after()) notices_.work_after(*work_before, *w);
+    if (auto w = work_after ? work_after(runner) : runner.work_after()) {
+      auto applied = std::make_shared<std::promise<void>>();
+      std::future<void> done = applied->get_future();
+      notices_.work_after(*work_before, *w, [applied] { applied->set_value(); });
+      if (done.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+        spdlog::warn("the service did not take the work offsets the program left within 10 s");
+      }
+    }
   }
   const bool host_lost = r.final_status.state == MachineState::kHostLost;
   if (!host_lost) remove_journal(journal_);  // before end_job: a next job writes its own

@@ -37,8 +37,10 @@ struct JobNotices {
   std::function<void(ClientId client, rpc::json id, Outcome outcome)> reply;
   std::function<void(rpc::json event)> event;
   // A program or MDI ran to its end: the work state it started with and the one it left (G10,
-  // G92, G28.1...), for the service's WorkStore (merge_work_change). May be empty.
-  std::function<void(WorkState before, WorkState after)> work_after;
+  // G92, G28.1...), for the service's WorkStore (merge_work_change). `applied` is called on
+  // the loop thread once the store holds it: the job's end is not published before that, so
+  // a client that sees the job over also sees its offsets. May be empty.
+  std::function<void(WorkState before, WorkState after, std::function<void()> applied)> work_after;
 };
 
 class JobControl {

@@ -51,7 +51,9 @@ struct Service::Impl {
         jobs(journal_path(state_dir(c)),
              JobNotices{[this](ClientId client, json id, Outcome o) { post_reply(client, std::move(id), std::move(o)); },
                         [this](json event) { post_event(std::move(event)); },
-                        [this](WorkState before, WorkState after) { post_work(std::move(before), std::move(after)); }}),
+                        [this](WorkState before, WorkState after, std::function<void()> applied) {
+                          post_work(std::move(before), std::move(after), std::move(applied));
+                        }}),
         jogs(config, rt, [this](ClientId client, const json& id, const Outcome& o) { reply(client, id, o); },
              [this](const json& event) { subs.broadcast_event(event); }),
         captures(c.motion.cycle_hz,
@@ -102,15 +104,17 @@ struct Service::Impl {
 
   // What a program or MDI changed (G10, G92...) goes into the service's work state and is
   // saved; what set_offset changed meanwhile stays (merge_work_change).
-  void post_work(WorkState before, WorkState after) {
-    server->post([this, before, after] {
+  void post_work(WorkState before, WorkState after, std::function<void()> applied) {
+    server->post([this, before, after, applied = std::move(applied)] {
       const WorkState next = merge_work_change(work.state(), before, after);
-      if (next == work.state()) return;
-      if (auto error = work.replace(next)) {
-        spdlog::error("the work offsets the program left were not saved: {}", *error);
-      } else {
-        spdlog::info("work offsets as the program left them saved in {}", work.path().empty() ? "memory only" : work.path());
+      if (!(next == work.state())) {
+        if (auto error = work.replace(next)) {
+          spdlog::error("the work offsets the program left were not saved: {}", *error);
+        } else {
+          spdlog::info("work offsets as the program left them saved in {}", work.path().empty() ? "memory only" : work.path());
+        }
       }
+      if (applied) applied();
     });
   }
 
