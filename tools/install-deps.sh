@@ -9,7 +9,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libboost-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libtomlplusplus-dev nlohmann-json3-dev
-  clang libclang-rt-14-dev stress-ng
+  clang libclang-rt-14-dev lld stress-ng
   zlib1g-dev # the run report packs its 3D view's script and data (gzip)
   libjs-three # three.js, inlined into the run report's interactive 3D view
   chromium   # headless rendering test of the HTML run report (tests/test_report_html.cpp)
