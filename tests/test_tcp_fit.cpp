@@ -147,6 +147,32 @@ TEST(TcpFit, TheExamplesFitAsWritten) {
   }
 }
 
+TEST(TcpFit, ScalesThatFitNeedNotStartAtZero) {
+  // The tool horizontal, pointing -Y at one end and +Y at the other: the gauge point (Z joint)
+  // is (tip - pivot)·axis, which a Z travel of 2..25 keeps between 2 and 25 at both ends, so the
+  // ends must lie at least 4 mm and at most 50 mm apart along Y: with 60 mm programmed, s lies
+  // in [1/15, 5/6]. At s = 0 nothing fits: the fit must still find 5/6.
+  Kinematics kin;
+  kin.kind = KinematicsKind::kTableTable;
+  kin.tilt_pivot = kin.rotary_pivot = {12.5, 12.5, 0.0};
+  JointTravel t;
+  t.min = {0.0, 0.0, 2.0};
+  t.max = {25.0, 25.0, 25.0};
+  const std::vector<FitPose> p = {FitPose{ToolPose{{0, -30, 5}, axis_at(90 * kDeg, 0)}, true, 0, 0, 1},
+                                  FitPose{ToolPose{{0, 30, 5}, axis_at(-90 * kDeg, 0)}, true, 0, 0, 2}};
+  const TcpFitResult r = fit_tcp_program(p, kin, t, {12.5, 12.5, 25.0, 0.0, 0.0});
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_NEAR(r.scale, 25.0 / 30.0, 1e-6);
+  // both ends' Z joints inside 2..25 at (s, o)
+  for (const FitPose& f : p) {
+    const Joints j = inverse(kin, ToolPose{r.scale * f.pose.tip + r.offset, f.pose.axis}, {12.5, 12.5, 25.0, 0.0, 0.0});
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_GE(j[i], t.min[i] - 1e-6) << f.line << " joint " << i;
+      EXPECT_LE(j[i], t.max[i] + 1e-6) << f.line << " joint " << i;
+    }
+  }
+}
+
 TEST(TcpFit, ATcpOffProgramThatTurnsARotaryJointIsRefused) {
   const MachineConfig c = machine();
   const std::vector<FitPose> p = {FitPose{ToolPose{{0, 0, -10}, {0, 0, 1}}, false, 0.0, 0.0, 3},

@@ -57,7 +57,7 @@ struct Tableau {
 
   // Minimises the priced cost over columns below `enter_limit`. false: unbounded or too many steps.
   bool run(std::size_t enter_limit) {
-    const std::size_t max_steps = 50 * (cols + 10);
+    const std::size_t max_steps = 20000;  // 4 rows: a few hundred pivots at most in practice
     std::size_t stalled = 0;
     for (std::size_t step = 0; step < max_steps; ++step) {
       const bool bland = stalled > 50;

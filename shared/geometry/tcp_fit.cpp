@@ -135,8 +135,10 @@ TcpFitResult fit_tcp_program(const std::vector<FitPose>& poses, const Kinematics
   out.samples = static_cast<int>(dense.size());
 
   std::vector<MinMaxRow> rows;
+  bool unsolved = false;  // a linear program that did not converge: no answer rather than a wrong one
   auto fits = [&](double s, MinMaxResult& r) {
     r = best_offset(active, travel, s, rows);
+    unsolved |= !r.ok;
     return r.ok && r.value <= 1e-12;
   };
   // the smallest margin over every dense sample at (s, o); the samples below 0 join `active`
@@ -165,10 +167,38 @@ TcpFitResult fit_tcp_program(const std::vector<FitPose>& poses, const Kinematics
       lo = hi;
       at_lo = at_hi;
     } else {
-      if (!fits(0.0, at_lo)) {
-        out.error = "no offset puts the program's tool axes within the joints' travel at any scale: at some two "
-                    "poses the tilt and rotary joints need the tip in places the X, Y, Z travel cannot both reach";
-        return out;
+      if (!fits(0.0, at_lo) && !unsolved) {
+        // the scales that fit are an interval that does not start at 0: its lowest violation
+        // (convex in s) by golden section, then the interval's upper end as below
+        MinMaxResult r1, r2;
+        double a = 0.0, b = hi;
+        constexpr double kG = 0.6180339887498949;
+        double s1 = b - kG * (b - a), s2 = a + kG * (b - a);
+        fits(s1, r1);
+        fits(s2, r2);
+        while (b - a > tolerance && !unsolved) {
+          if (r1.value <= 1e-12 || r2.value <= 1e-12) break;
+          if (r1.value < r2.value) {
+            b = s2, s2 = s1, r2 = r1;
+            s1 = b - kG * (b - a);
+            fits(s1, r1);
+          } else {
+            a = s1, s1 = s2, r1 = r2;
+            s2 = a + kG * (b - a);
+            fits(s2, r2);
+          }
+        }
+        const bool first = r1.value <= r2.value;
+        if (unsolved || (first ? r1.value : r2.value) > 1e-12) {
+          if (!unsolved) {
+            out.error = "no offset puts the program's tool axes within the joints' travel at any scale: at some "
+                        "two poses the tilt and rotary joints need the tip in places the X, Y, Z travel cannot both reach";
+            return out;
+          }
+        } else {
+          lo = first ? s1 : s2;
+          at_lo = first ? r1 : r2;
+        }
       }
       MinMaxResult trial;
       while (hi - lo > tolerance) {
@@ -180,6 +210,10 @@ TcpFitResult fit_tcp_program(const std::vector<FitPose>& poses, const Kinematics
           hi = mid;
         }
       }
+    }
+    if (unsolved) {
+      out.error = "the offset's linear program did not converge (geometry/minmax_lp.hpp); --fit found no scale";
+      return out;
     }
     const std::size_t before = active.size();
     const double margin = verify(lo, at_lo.x);

@@ -2,7 +2,8 @@
 // (M428 ... M429, G0/G1 X Y Z A C F, G93/G94) with the project's lexer (host/gcode/lexer.hpp),
 // for tests that check examples/5axis/ against the kinematics: the interpreter does not take
 // M428 or A/C words on its own yet (issue 16, built on another branch), so the tests read the
-// words and follow the modal state themselves. Header only.
+// words and follow the modal state themselves. Every line but M428/M429 must also pass the
+// parser (host/gcode/parser.hpp: its G and M words known, none twice). Header only.
 #pragma once
 
 
@@ -12,6 +13,7 @@
 
 #include "gcode/diagnostics.hpp"
 #include "gcode/lexer.hpp"
+#include "gcode/parser.hpp"
 #include "geometry/vec3.hpp"
 #include "text_lines.hpp"
 
@@ -51,6 +53,11 @@ inline ReadProgram read_five_axis_program(const std::string& text) {
       r.errors.push_back("line " + std::to_string(n) + " does not lex");
       continue;
     }
+    bool tcp_word = false;
+    for (int i = 0; i < lx.count; ++i)
+      tcp_word |= lx.words[i].letter == 'M' && (lx.words[i].value == 428.0 || lx.words[i].value == 429.0);
+    ParsedLine parsed;
+    if (!tcp_word && !parse_line(lx, n, parsed, sink)) r.errors.push_back("line " + std::to_string(n) + " does not parse");
     bool motion = false;
     for (int i = 0; i < lx.count; ++i) {
       const Word& w = lx.words[i];
