@@ -12,6 +12,7 @@
 #include "check.hpp"
 #include "config_check.hpp"
 #include "ctl.hpp"
+#include "five_axis_examples_tool.hpp"
 #include "config/config.hpp"
 #include "config/exit_status.hpp"
 #include "config/output_path.hpp"
@@ -168,6 +169,7 @@ int main(int argc, char** argv) {
   pcnc::add_surface_subcommand(app, exit_code);
   pcnc::add_biarc_subcommand(app, exit_code);
   pcnc::add_ruled_subcommand(app, exit_code);
+  pcnc::add_five_axis_examples_subcommand(app, exit_code);
 
   pcnc::add_exit_status_help(app);
   if (const int parse_status = pcnc::parse_command_line(app, argc, argv); parse_status >= 0) return parse_status;

@@ -4,6 +4,7 @@
 #include "report/path_view_3d.hpp"
 #include "report/report_plots.hpp"
 #include "report/svg_text.hpp"
+#include "report/tool_axis_view.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -572,6 +573,21 @@ std::string render_report_html(const ReportPage& page) {
   o << render_time_causes(page);
   o << "<section class=\"card\"><h2>Following error over time</h2>\n" << render_time_plot(ferr_plot(d));
   o << "<p class=\"note\">Setpoint minus encoder per axis, minimum to maximum within each time slice.</p></section>\n";
+  if (!d.joints.letters.empty()) {
+    // a 5-axis trace: the tool seen from the workpiece, and the rotary joints' following error
+    const JointDigest& j = d.joints;
+    o << "<section class=\"card dark\" id=\"tool-axis\"><h2>Tool tip and tool axis (workpiece coordinates)</h2>\n<p>"
+      << "From the forward kinematics of the commanded joints with the machine's config: the tool tip's path ("
+      << fixed(j.tip_path_mm, 1) << " mm) and the tool axis every " << fixed(j.axis_every_mm, 2) << " mm of it ("
+      << j.marks.size() << " marks), drawn from the tip towards the spindle.</p>\n"
+      << render_tool_axis_svg(j) << "</section>\n";
+    o << "<section class=\"card\" id=\"joint-ferr\"><h2>Rotary joints' following error over time</h2>\n"
+      << render_time_plot(joint_ferr_plot(j)) << "<p class=\"note\">Setpoint minus encoder per rotary joint, in "
+      << "millidegrees, minimum to maximum within each time slice. Largest:";
+    for (std::size_t i = 0; i < j.letters.size() && i < kMaxTraceJoints; ++i)
+      o << (i ? ", " : " ") << j.letters[i] << " " << fixed(j.ferr_abs_max[i] * 1000.0, 2) << " m°";
+    o << ".</p></section>\n";
+  }
 
   o << "<footer>Written by pcnc after both processes ended, from the host's run summary";
   if (page.has_trace) o << " and " << page.trace.rows << " trace rows (" << page.trace.program_rows << " in the program)";

@@ -218,4 +218,23 @@ TimePlot ferr_plot(const TraceDigest& d) {
   return p;
 }
 
+TimePlot joint_ferr_plot(const JointDigest& d) {
+  static const char* kJointColours[kMaxTraceJoints] = {"#e08a1e", "#8e5bd6", "#1aa6b7"};
+  TimePlot p;
+  p.css_class = "joint-ferr-plot";
+  p.label = "rotary joints' following error over time";
+  p.unit = "following error, millidegrees";
+  p.symmetric = true;
+  const std::size_t n = std::min(d.letters.size(), kMaxTraceJoints);
+  for (std::size_t i = 0; i < n; ++i) p.series.push_back({std::string(1, d.letters[i]), kJointColours[i], {}, {}, {}});
+  for (const JointBucket& b : d.buckets) {
+    p.t.push_back((b.t0 + b.t1) / 2);
+    for (std::size_t i = 0; i < n; ++i) {
+      p.series[i].lo.push_back(b.ferr_min[i] * 1000.0);
+      p.series[i].hi.push_back(b.ferr_max[i] * 1000.0);
+    }
+  }
+  return p;
+}
+
 }  // namespace pcnc

@@ -39,5 +39,7 @@ std::string render_time_plot(const TimePlot& p);
 TimePlot speed_plot(const TraceDigest& d);
 /// The following error per axis (µm).
 TimePlot ferr_plot(const TraceDigest& d);
+/// The following error per rotary joint of a 5-axis trace (millidegrees), like ferr_plot.
+TimePlot joint_ferr_plot(const JointDigest& d);
 
 }  // namespace pcnc

@@ -35,6 +35,22 @@ ReportPage load_report_page(const std::string& summary_path, const std::string& 
   if (!page.summary.plan.empty()) {
     d.cause_of = [&classifier](const TraceSample& row, double prev) { return classifier.classify(row, prev); };
   }
+  // a 5-axis trace's tool axis: the forward kinematics of the machine the run used (its config
+  // file as the summary names it; the tool length is the config's, the tool table's is not known here)
+  try {
+    if (!page.summary.config_path.empty()) {
+      const MachineConfig config = load_config(page.summary.config_path);
+      d.joints.kinematics = config.kinematics;
+      d.joints.has_kinematics = config.kinematics.kind != KinematicsKind::kTrivial;
+    }
+  } catch (const std::exception&) {
+    d.joints.has_kinematics = false;  // the joint plots are still drawn; the view says why there is no axis
+  }
+  const double part = std::max({size[0], size[1], size[2], 1.0});
+  d.joints.axis_every_mm = part / 60.0;
+  d.joints.axis_length_mm = part / 8.0;
+  d.joints.tip_tolerance_mm = d.path_tolerance_mm;
+  d.joints.max_buckets = d.max_buckets;
   // the compact trace pcnc-rt keeps for the report (--trace-digest), or the full CSV (--trace)
   page.trace = is_compact_trace_file(trace_path) ? digest_compact_trace(trace_path, d) : digest_trace(trace_path, d);
   page.has_trace = true;

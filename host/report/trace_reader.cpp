@@ -47,7 +47,7 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
   }
   std::string_view h(buf_.data());
   while (!h.empty() && (h.back() == '\n' || h.back() == '\r')) h.remove_suffix(1);
-  if (h != kTraceCsvHeader) {
+  if (!parse_trace_joint_header(h, joint_letters_)) {
     std::fclose(file_);
     throw std::runtime_error("'" + path + "' is not a pcnc trace: its first line is not the trace header");
   }
@@ -68,7 +68,8 @@ bool TraceReader::next(TraceSample& row) {
     }
     s.remove_suffix(1);
     if (s.empty()) continue;
-    if (!parse_trace_row(s, row)) {
+    std::string_view base = s;
+    if (!split_trace_joint_row(s, joint_letters_.size(), base, joint_row_) || !parse_trace_row(base, row)) {
       throw std::runtime_error(path_ + ": line " + std::to_string(rows_ + 2) + " is not a trace row: " + std::string(s));
     }
     ++rows_;
@@ -214,8 +215,18 @@ TraceDigest digest_trace(const std::string& path, const DigestOptions& options) 
   TraceReader reader(path);
   TraceDigester digester(options);
   TraceSample row;
-  while (reader.next(row)) digester.add(row);
-  return digester.finish();
+  if (reader.joint_letters().empty()) {
+    while (reader.next(row)) digester.add(row);
+    return digester.finish();
+  }
+  JointDigester joints(options.joints, reader.joint_letters());
+  while (reader.next(row)) {
+    digester.add(row);
+    joints.add(row, reader.joint_row());
+  }
+  TraceDigest d = digester.finish();
+  d.joints = joints.finish();
+  return d;
 }
 
 }  // namespace pcnc

@@ -22,11 +22,14 @@
 #include "gcode/time_cause.hpp"
 #include "ipc/trace_format.hpp"
 #include "geometry/vec3.hpp"
+#include "report/joint_digest.hpp"
+#include "report/trace_joints.hpp"
 
 namespace pcnc {
 
 /// Streams a trace file row by row. Throws std::runtime_error when the file cannot be read
-/// or its header is not the trace header; next() throws on a malformed row, naming its line.
+/// or its header is not the trace header (with or without a 5-axis machine's joint columns,
+/// trace_joints.hpp); next() throws on a malformed row, naming its line.
 class TraceReader {
  public:
   explicit TraceReader(const std::string& path);
@@ -35,12 +38,18 @@ class TraceReader {
   TraceReader& operator=(const TraceReader&) = delete;
   bool next(TraceSample& row);
   std::uint64_t rows() const { return rows_; }
+  /// The rotary joints the header declares ('A', 'B', 'C'; empty: a 3-axis trace), and the
+  /// last row's values of them.
+  const std::vector<char>& joint_letters() const { return joint_letters_; }
+  const TraceJointRow& joint_row() const { return joint_row_; }
 
  private:
   std::string path_;
   std::FILE* file_ = nullptr;
   std::string buf_;
   std::uint64_t rows_ = 0;
+  std::vector<char> joint_letters_;
+  TraceJointRow joint_row_;
 };
 
 /// One time bucket of the decimated series: min and max of each value over its rows.
@@ -91,6 +100,8 @@ struct DigestOptions {
   /// The cause of each row of the program's window, given the previous row's speed (from the
   /// plan, report/time_causes.hpp); empty: no attribution.
   std::function<RowCause(const TraceSample& row, double prev_speed)> cause_of;
+  /// A trace with joint columns: how its joints are digested (the kinematics for the tool axis).
+  JointDigestOptions joints;
 };
 
 /// What the report needs from a trace. Times are program time: 0 at the first RUNNING row.
@@ -108,6 +119,7 @@ struct TraceDigest {
   bool classified = false;          // cause_of was given: the counts below are filled
   std::array<std::uint64_t, kTimeCauseCount> cause_rows{};  // program rows per cause
   std::unordered_map<std::uint32_t, LineTime> line_time;     // per source line
+  JointDigest joints;               // a 5-axis trace's joints (joints.letters empty: none)
 };
 
 /// Reads the whole trace once and digests it.
