@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "geometry/axis_caps.hpp"
+#include "geometry/nurbs_arc_samples.hpp"
 #include "geometry/tangential_budget.hpp"
 
 namespace pcnc {
@@ -159,6 +160,7 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
   interior_knot.push_back(false);
 
   out.samples.resize(us.size());
+  const std::vector<double> arc = nurbs_arc_lengths_at(v, us);
   for (std::size_t j = 0; j < us.size(); ++j) {
     FeedSample& fs = out.samples[j];
     fs.u = us[j];
@@ -183,7 +185,7 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
       fs.limit = 0.0;
       fs.binding = FeedLimit::kCorner;
     }
-    if (j > 0) fs.s = out.samples[j - 1].s + nurbs_arc_length(v, us[j - 1], fs.u);
+    fs.s = arc[j];
   }
   out.length_mm = out.samples.back().s;
 
