@@ -56,12 +56,39 @@ TEST(TimeCausePlan, CruiseCausesFromThePreprocessorsRules) {
   EXPECT_EQ(entry(plan, 5)->cruise, TimeCause::kRapid);
   EXPECT_EQ(entry(plan, 7)->cruise, TimeCause::kArcCentripetal);
   EXPECT_EQ(entry(plan, 7)->accel, TimeCause::kAccelArcCurve);
-  // junctions: the program starts and ends at rest; X then Z turns by 90° (over the angle)
+  // junctions: the program starts and ends at rest; X then Z turns by 90° (over the angle), and
+  // the desktop mill's path tolerance (0.005 mm) lets the rt pass it at the junction-deviation
+  // speed: a corner, not a stop
+  ASSERT_GT(c.motion.path_tolerance_mm, 0.0);
   EXPECT_EQ(entry(plan, 2)->before, JunctionKind::kStartEnd);
-  EXPECT_EQ(entry(plan, 2)->after, JunctionKind::kAngleStop);
+  EXPECT_EQ(entry(plan, 2)->after, JunctionKind::kCorner);
   EXPECT_NEAR(entry(plan, 2)->angle_after_deg, 90.0, 1e-6);
-  EXPECT_EQ(entry(plan, 3)->before, JunctionKind::kAngleStop);
+  EXPECT_EQ(entry(plan, 3)->before, JunctionKind::kCorner);
   EXPECT_EQ(entry(plan, 7)->after, JunctionKind::kStartEnd);
+}
+
+// The junction after a block is judged by that block's path tolerance, as the rt judges it
+// (rt/motion/junction.hpp corner_speed): over the contouring angle it stops only without a
+// tolerance; a reversal stops either way. (The plan once forgot the block's tolerance and
+// named every real corner between LHchips4's smoothed curves a stop: 19.5 s of "junction stop"
+// in a run with no stop.)
+TEST(TimeCausePlan, CornersOverTheAngleStopOnlyWithoutATolerance) {
+  const std::string text = "G21 G90 M21\nG1 X1 F600\nG1 X1 Y1\nG1 X0.5 Y1.01\nG1 X1 Y1\nM30\n";
+  MachineConfig c = wide_config();
+  c.motion.path_tolerance_mm = 0.005;
+  auto plan = plan_of(text, c);
+  ASSERT_NE(entry(plan, 2), nullptr);
+  EXPECT_EQ(entry(plan, 2)->after, JunctionKind::kCorner);     // 90°, passed at sqrt(a·R)
+  EXPECT_NEAR(entry(plan, 2)->angle_after_deg, 90.0, 1e-6);
+  EXPECT_EQ(entry(plan, 3)->after, JunctionKind::kCorner);     // 91.1°
+  EXPECT_EQ(entry(plan, 4)->before, JunctionKind::kCorner);
+  EXPECT_EQ(entry(plan, 4)->after, JunctionKind::kAngleStop);  // 180° (back along line 3): a reversal stops
+  EXPECT_NEAR(entry(plan, 4)->angle_after_deg, 180.0, 1e-6);
+  c.motion.path_tolerance_mm = 0.0;  // the seed's rule: over 10° is a stop
+  plan = plan_of(text, c);
+  EXPECT_EQ(entry(plan, 2)->after, JunctionKind::kAngleStop);
+  EXPECT_EQ(entry(plan, 3)->after, JunctionKind::kAngleStop);
+  EXPECT_EQ(entry(plan, 4)->after, JunctionKind::kAngleStop);
 }
 
 TEST(TimeCausePlan, JunctionKindsAndMergedRuns) {

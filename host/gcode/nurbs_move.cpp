@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "gcode/nurbs_plan_memo.hpp"
 #include "gcode/nurbs_schedule.hpp"
 
 namespace pcnc {
@@ -116,7 +117,7 @@ NurbsMoveBlocks plan_nurbs_move(const Move& m, const MachineConfig& config) {
   if (!out.error.empty()) return out;
   NurbsLimits lim = nurbs_limits(config, m.feed_mm_s);
   lim.samples_per_span = schedule_samples_per_span(curve);
-  NurbsBlocks nb = plan_nurbs_blocks(curve, lim);
+  NurbsBlocks nb = plan_nurbs_blocks_memo(curve, lim);  // the check's plan, when the stream asks again
   if (!nb.error.empty()) {
     out.error = nb.error;
     return out;

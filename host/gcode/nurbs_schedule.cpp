@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "geometry/axis_caps.hpp"
+#include "geometry/nurbs_arc_samples.hpp"
 #include "geometry/tangential_budget.hpp"
 
 namespace pcnc {
@@ -159,6 +160,7 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
   interior_knot.push_back(false);
 
   out.samples.resize(us.size());
+  const std::vector<double> arc = nurbs_arc_lengths_at(v, us);
   for (std::size_t j = 0; j < us.size(); ++j) {
     FeedSample& fs = out.samples[j];
     fs.u = us[j];
@@ -183,7 +185,7 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
       fs.limit = 0.0;
       fs.binding = FeedLimit::kCorner;
     }
-    if (j > 0) fs.s = out.samples[j - 1].s + nurbs_arc_length(v, us[j - 1], fs.u);
+    fs.s = arc[j];
   }
   out.length_mm = out.samples.back().s;
 
@@ -246,21 +248,33 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
     const double t = (s[i].u - s[a].u) / (s[b].u - s[a].u);
     return va + t * (vb - va);
   };
-  std::vector<std::size_t> pick{first, last};
-  while (pick.size() < m) {
-    double worst = 0.0;
-    std::size_t worst_i = 0;
-    for (std::size_t k = 0; k + 1 < pick.size(); ++k) {
-      for (std::size_t i = pick[k] + 1; i < pick[k + 1]; ++i) {
-        const double dev = std::fabs(line_at(pick[k], pick[k + 1], s[pick[k]].speed, s[pick[k + 1]].speed, i) - s[i].speed);
-        if (dev > worst) {
-          worst = dev;
-          worst_i = i;
-        }
-      }
+  // Each interval between two kept points remembers its worst sample (the first of the largest
+  // deviations); an insertion rescans only the two intervals it makes. The choice is the one a
+  // full rescan makes: the first interval with the largest worst, its first worst sample.
+  struct Worst {
+    double dev = 0.0;
+    std::size_t i = 0;  // 0: none (the interval is on the dense schedule)
+  };
+  auto worst_of = [&](std::size_t a, std::size_t b) {
+    Worst w;
+    for (std::size_t i = a + 1; i < b; ++i) {
+      const double dev = std::fabs(line_at(a, b, s[a].speed, s[b].speed, i) - s[i].speed);
+      if (dev > w.dev) w = Worst{dev, i};
     }
+    return w;
+  };
+  std::vector<std::size_t> pick{first, last};
+  std::vector<Worst> worst{worst_of(first, last)};  // worst[k]: interval pick[k] .. pick[k + 1]
+  while (pick.size() < m) {
+    std::size_t k_best = 0;
+    for (std::size_t k = 1; k < worst.size(); ++k) {
+      if (worst[k].dev > worst[k_best].dev) k_best = k;
+    }
+    const std::size_t worst_i = worst[k_best].i;
     if (worst_i == 0) break;  // the polyline already is the dense schedule
-    pick.insert(std::upper_bound(pick.begin(), pick.end(), worst_i), worst_i);
+    pick.insert(pick.begin() + static_cast<std::ptrdiff_t>(k_best) + 1, worst_i);
+    worst[k_best] = worst_of(pick[k_best], worst_i);
+    worst.insert(worst.begin() + static_cast<std::ptrdiff_t>(k_best) + 1, worst_of(worst_i, pick[k_best + 2]));
   }
   // Lower the kept values where the straight line between two of them passes above the dense
   // schedule (lowering a value never raises a neighbouring line). First try lowering only the

@@ -6,6 +6,7 @@
 #include <memory>
 #include <numbers>
 
+#include "gcode/spline_fit_memo.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/spline_fit.hpp"
 
@@ -72,7 +73,7 @@ void Smoother::fit_range(std::size_t first, std::size_t last) {
   const std::vector<Vec3> pts(points_.begin() + static_cast<std::ptrdiff_t>(first),
                               points_.begin() + static_cast<std::ptrdiff_t>(last) + 1);
   const double tolerance = run_[first].path_tolerance_mm;
-  SplineFit fit = fit_polyline(pts, tolerance);
+  SplineFit fit = fit_polyline_memo(pts, tolerance);  // the check's fit, when the stream asks again
   if (!fit.ok || validate(fit.curve) != "") {
     // a corner the angle did not see: keep it, fit both sides
     const std::size_t cut = first + std::clamp<std::size_t>(static_cast<std::size_t>(std::max(fit.worst_point, 0)), 1,

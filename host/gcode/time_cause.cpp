@@ -209,6 +209,7 @@ void PlanRecorder::add(const Block& b) {
   prev_.line = b.line;
   prev_.dir_end = b.dir_end;
   prev_.contouring = b.contouring;
+  prev_.path_tolerance_mm = b.path_tolerance_mm;  // the junction after it is judged with it (rt's rule)
   has_prev_ = true;
 }
 

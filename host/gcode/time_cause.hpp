@@ -54,7 +54,8 @@ bool parse_time_cause(const std::string& key, TimeCause& c);
 enum class JunctionKind : std::uint8_t {
   kStraight = 0,     // flows without a speed cap worth naming (turn under 0.5°)
   kCorner = 1,       // flows at a corner speed
-  kAngleStop = 2,    // stops: the turn is over the contouring angle
+  kAngleStop = 2,    // stops: the turn is over the contouring angle and the block has no path tolerance
+                     // (with one, the rt passes it at the junction-deviation speed: kCorner)
   kContouringOff = 3,// stops: M22
   kStartEnd = 4,     // stops: program start or end, dwell, pause
 };
@@ -88,7 +89,7 @@ class PlanRecorder {
   const MachineConfig& config_;
   std::vector<LinePlan> plan_;
   bool has_prev_ = false;
-  Block prev_{};  // only the fields used: kind, line, dirs, contouring
+  Block prev_{};  // only the fields used: kind, line, dirs, contouring, path tolerance
   LinePlan pending_{};
   bool pending_set_ = false;
 };

@@ -101,6 +101,10 @@ Vec3 nurbs_point(const NurbsView& c, double u);
 /// the derivatives are those of the span starting there (right-hand side).
 NurbsEval nurbs_eval(const NurbsView& c, double u);
 
+/// C'(u) alone: the same value as nurbs_eval(c, u).d1, bit for bit (the same operations),
+/// without the second derivative's basis work. The arc-length quadratures use it.
+Vec3 nurbs_derivative(const NurbsView& c, double u);
+
 /// Unit tangent at u; where the parametric speed vanishes (a doubled control point, as in
 /// LinuxCNC programs that repeat the start point) the direction of C'' is used instead,
 /// looking forward (`toward_end`) or backward.
