@@ -72,13 +72,14 @@ struct Stats {
   double rms = 0, max = 0, mean = 0, std = 0;
 };
 
+// Over n x n points of the square x0 .. x0 + span (default: section 1's).
 template <class Model, class Ref>
-Stats compare(const Model& model, const Ref& ref) {
+Stats compare(const Model& model, const Ref& ref, double x0 = kX0, double span = kSpan) {
   constexpr int n = 201;
   double sum = 0, sq = 0, mx = 0;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      const double x = kX0 + kSpan * i / (n - 1), y = kX0 + kSpan * j / (n - 1);
+      const double x = x0 + span * i / (n - 1), y = x0 + span * j / (n - 1);
       const double e = model(x, y) - ref(x, y);
       sum += e;
       sq += e * e;
@@ -145,24 +146,6 @@ double latch_z(const F& f, double x, double y, double trigger_radius) {
   return 0.5 * (lo + hi);
 }
 
-template <class Model, class Ref>
-Stats compare_big(const Model& model, const Ref& ref) {
-  constexpr int n = 201;
-  double sum = 0, sq = 0, mx = 0;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double x = kBigX0 + kBigSpan * i / (n - 1), y = kBigX0 + kBigSpan * j / (n - 1);
-      const double e = model(x, y) - ref(x, y);
-      sum += e, sq += e * e, mx = std::max(mx, std::fabs(e));
-    }
-  Stats s;
-  s.mean = sum / (n * n);
-  s.rms = std::sqrt(sq / (n * n));
-  s.max = mx;
-  s.std = std::sqrt(std::max(0.0, s.rms * s.rms - s.mean * s.mean));
-  return s;
-}
-
 void measuring_chain(double amplitude, double error_um, double noise_um, int seeds, double ball_mm, double pretravel_um) {
   std::printf("\n4. the measuring chain: 100 x 100 mm, design %.1f sin(x/20) cos(y/25) (slopes up to %.1f°) + Wiener "
               "error %.1f µm RMS, 7 x 7 touches straight down, ball R %.2f mm, pre-travel %.1f µm, noise %.1f µm, mean of "
@@ -207,12 +190,12 @@ void measuring_chain(double amplitude, double error_um, double noise_um, int see
       const FairFit fair = fair_fit(comp.contacts, 3);
       const GridHeights base(comp.contacts), autol(autolevel);
       const Stats st[kRows] = {
-          compare_big([&](double x, double y) { return surface_height(fit.surface, x, y).z; }, truth),
-          compare_big([&](double x, double y) { return surface_height(fair.fit.surface, x, y).z; }, truth),
-          compare_big([&](double x, double y) { return base.bilinear(x, y); }, truth),
-          compare_big([&](double x, double y) { return base.catmull_rom(x, y); }, truth),
-          compare_big([&](double x, double y) { return autol.bilinear(x, y); }, truth),
-          compare_big([&](double x, double y) { return autol.catmull_rom(x, y); }, truth)};
+          compare([&](double x, double y) { return surface_height(fit.surface, x, y).z; }, truth, kBigX0, kBigSpan),
+          compare([&](double x, double y) { return surface_height(fair.fit.surface, x, y).z; }, truth, kBigX0, kBigSpan),
+          compare([&](double x, double y) { return base.bilinear(x, y); }, truth, kBigX0, kBigSpan),
+          compare([&](double x, double y) { return base.catmull_rom(x, y); }, truth, kBigX0, kBigSpan),
+          compare([&](double x, double y) { return autol.bilinear(x, y); }, truth, kBigX0, kBigSpan),
+          compare([&](double x, double y) { return autol.catmull_rom(x, y); }, truth, kBigX0, kBigSpan)};
       for (int k = 0; k < kRows; ++k) acc[k].rms += st[k].rms / seeds, acc[k].max += st[k].max / seeds;
     }
     const char* names[kRows] = {"B-spline e=1 (ball-corrected)", "B-spline faired (ball-corrected)",
@@ -254,10 +237,10 @@ int main(int argc, char** argv) {
       const FairFit fair = fair_fit(g, 3);
       const GridHeights base(g);
       const Stats st[4] = {
-          compare([&](double x, double y) { return surface_height(fit.surface, x, y).z; }, truth),
-          compare([&](double x, double y) { return surface_height(fair.fit.surface, x, y).z; }, truth),
-          compare([&](double x, double y) { return base.bilinear(x, y); }, truth),
-          compare([&](double x, double y) { return base.catmull_rom(x, y); }, truth)};
+          compare([&](double x, double y) { return surface_height(fit.surface, x, y).z; }, truth, kBigX0, kBigSpan),
+          compare([&](double x, double y) { return surface_height(fair.fit.surface, x, y).z; }, truth, kBigX0, kBigSpan),
+          compare([&](double x, double y) { return base.bilinear(x, y); }, truth, kBigX0, kBigSpan),
+          compare([&](double x, double y) { return base.catmull_rom(x, y); }, truth, kBigX0, kBigSpan)};
       for (int k = 0; k < 4; ++k) acc[k].rms += st[k].rms / seeds, acc[k].max += st[k].max / seeds;
     }
     const char* names[4] = {"B-spline e=1", "B-spline faired", "bilinear", "Catmull-Rom"};

@@ -117,35 +117,24 @@ class Section {
     return true;
   }
   bool vec3(const char* key, Vec3& out, double lo, double hi, const char* unit, Need need = Need::kRequired) {
-    const toml::node* n = find(key, "[x, y, z] in mm", need);
-    if (!n) return false;
-    const toml::array* a = n->as_array();
-    const std::string expected = std::string("an array of 3 numbers [x, y, z]") + with_unit(unit);
-    if (!a || a->size() != 3) return wrong_type(*n, key, expected);
-    Vec3 v{};
-    for (size_t i = 0; i < 3; ++i) {
-      const std::optional<double> c = (*a)[i].is_number() ? (*a)[i].value<double>() : std::nullopt;
-      if (!c) return wrong_type(*n, key, expected);
-      if (!(*c >= lo && *c <= hi)) {
-        problems_.push_back(position(origin_, (*a)[i].source()) + label() + " " + key + "[" + std::to_string(i) +
-                            "] = " + show(*c) + with_space(unit) + ": out of range, must be " + show(lo) + " .. " +
-                            show(hi) + with_space(unit));
-        return false;
-      }
-      v[i] = *c;
-    }
-    out = v;
+    std::vector<double> v;
+    if (!number_list(key, v, 3, 3, lo, hi, unit, need, "[x, y, z] in mm", "an array of 3 numbers [x, y, z]")) return false;
+    out = {v[0], v[1], v[2]};
     return true;
   }
   // An array of numbers, min_count .. max_count of them, each in lo .. hi.
+  // `missing_as` and `what` name it in the messages (default: the unit, "an array of N numbers").
   bool number_list(const char* key, std::vector<double>& out, std::size_t min_count, std::size_t max_count, double lo,
-                   double hi, const char* unit, Need need = Need::kRequired) {
-    const toml::node* n = find(key, unit, need);
+                   double hi, const char* unit, Need need = Need::kRequired, const char* missing_as = nullptr,
+                   const char* what = nullptr) {
+    const toml::node* n = find(key, missing_as ? missing_as : unit, need);
     if (!n) return false;
     const toml::array* a = n->as_array();
-    const std::string expected = "an array of " + std::to_string(min_count) +
-                                 (max_count != min_count ? " to " + std::to_string(max_count) : std::string()) +
-                                 " numbers" + with_unit(unit);
+    const std::string expected =
+        (what ? std::string(what)
+              : "an array of " + std::to_string(min_count) +
+                    (max_count != min_count ? " to " + std::to_string(max_count) : std::string()) + " numbers") +
+        with_unit(unit);
     if (!a || a->size() < min_count || a->size() > max_count) return wrong_type(*n, key, expected);
     std::vector<double> v;
     for (size_t i = 0; i < a->size(); ++i) {
