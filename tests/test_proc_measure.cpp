@@ -122,6 +122,28 @@ TEST(ProcMeasure, CalibratesProbesAGridAndTheFittedSurfaceMeetsTheGoals) {
   EXPECT_EQ(r2.err.find("touches on the sphere"), std::string::npos) << r2.err;
   EXPECT_LT(max_height_error(load_point_grid_csv(csv2).points, cfg.table), 0.003);
 
+  // a list of points (scattered X/Y), normals from their neighbours: the same accuracy
+  const std::string xy = pair.dir() + "/xy.csv", csv4 = pair.dir() + "/points4.csv";
+  std::ofstream(xy) << "x,y\n20,15\n47,22\n83,12\n105,30\n14,52\n58,61\n91,48\n33,88\n66,97\n101,104\n";
+  const ProcessResult r4 = run_process({pcnc_exe(), "measure", "--config", pair.config(), "--points", xy, "--z", "6",
+                                        "--clearance", "4", "-o", csv4, "--calibration", cal},
+                                       900);
+  ASSERT_EQ(r4.exit_code, 0) << r4.out << r4.err << pair.host_log();
+  std::vector<Vec3> listed;
+  {
+    std::ifstream in(csv4);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "x,y,z");
+    Vec3 p{};
+    char c1 = 0, c2 = 0;
+    while (in >> p[0] >> c1 >> p[1] >> c2 >> p[2]) listed.push_back(p);
+  }
+  ASSERT_EQ(listed.size(), 10u);
+  EXPECT_NEAR(listed[5][0], 58.0, 0.5);
+  EXPECT_NEAR(listed[5][1], 61.0, 0.5);
+  EXPECT_LT(max_height_error(listed, cfg.table), 0.003);
+
   // without the volumetric calibration the sphere (Z 30) and the workpiece (Z 5-9) sit at
   // different heights of the Z pitch error (5.4 µm apart): the points are off by about that
   const std::string csv3 = pair.dir() + "/points3.csv";
