@@ -13,6 +13,10 @@
 #include <regex>
 #include <string>
 
+#include <unistd.h>
+
+#include <thread>
+
 #include "config/config.hpp"
 #include "service_procs.hpp"
 #include "subprocess.hpp"
@@ -159,6 +163,64 @@ TEST(ProcProbe, AResumedProgramReadsTheJournalsProbeResult) {
   // #5063 + 2 in G54 is the latched machine Z + 2 (an assumed contact at Z-11 would give 16)
   EXPECT_NEAR(s["commanded"]["z"].get<double>(), latched_z + 2.0, 1e-6) << s.dump();
   EXPECT_NEAR(s["commanded"]["x"].get<double>(), 12.5 + 6.0, 1e-6);
+}
+
+// The host lost at the sync point itself: the rt finished the probing move while the host was
+// stopped (so the journal never got the result), then the host was killed. The resume takes
+// the result from the rt's status, writes it to the journal and the probe log, and the lines
+// after the probe read it (docs/probe.md, docs/reliability.md).
+TEST(ProcProbe, AHostLostAtTheSyncPointResumesWithTheRtsResult) {
+  // the rt waits 6 s for a silent host before HOST_LOST: time for the probe to finish
+  ServicePair pair("probesync", {{"host_timeout_s = 0.1", "host_timeout_s = 6.0"}});
+  ASSERT_TRUE(pair.start("real")) << pair.host_log() << pair.rt_log();
+  const std::string prog = pair.dir() + "/probe-sync.ngc";
+  std::ofstream(prog) << "(PROBEOPEN sync-log.txt)\nG21 G90 G54 F50\nG0 X0 Y0 Z-8\nG38.2 Z-11 F20\nG1 X6 F60\n"
+                         "G0 Z[#5063 + 2]\n(PROBECLOSE)\nM2\n";
+  // the reply to run may come only at the first sync point: ask from another thread
+  json run_reply;
+  std::thread runner([&] {
+    try {
+      run_reply = pair.call("run", {{"file", prog}}, 60);
+    } catch (const std::exception& e) {  // the host was killed before it answered
+      run_reply = json{{"lost", e.what()}};
+    }
+  });
+  // in the probing move (machine Z 17 down to the contact near 16, 3 s at 20 mm/min)
+  auto in_probe = [](const json& s) {
+    return s["state"] == "RUNNING" && s["probe"]["count"] == 0 && s["commanded"]["z"].get<double>() < 16.98 &&
+           s["commanded"]["z"].get<double>() > 16.2;
+  };
+  const json probing = pair.wait_status(in_probe, 30);
+  const bool caught = in_probe(probing);
+  const int stopped = caught ? ::kill(pair.host_pid(), SIGSTOP) : -1;
+  if (!caught || stopped != 0) {
+    runner.join();
+    FAIL() << "not caught in the probing move: " << probing.dump() << run_reply.dump();
+  }
+  Status st{};
+  for (int i = 0; i < 500 && !(read_rt_status(pair.tag(), st) && st.probe_count >= 1); ++i) usleep(10000);
+  pair.kill_host(SIGKILL);
+  runner.join();  // its connection closed with the host (or the reply came first)
+  ASSERT_EQ(st.probe_count, 1u) << "the probe did not finish while the host was stopped";
+  ASSERT_EQ(st.probe_outcome, ProbeOutcome::kContact);
+  const double latched_z = st.probe_latched[2];
+  ASSERT_EQ(wait_rt_state(pair.tag(), MachineState::kHostLost, 15.0).state, MachineState::kHostLost);
+  ASSERT_TRUE(pair.start_host()) << pair.host_log();
+  pair.wait_status([](const json& x) { return x["rt"]["state"] == "attached"; }, 10);
+  const json r = pair.call("resume", json::object(), 60);
+  ASSERT_TRUE(r.contains("result")) << r.dump() << pair.host_log();
+  const json s = pair.wait_status(
+      [](const json& x) { return x["state"] == "IDLE" && !x["job"]["active"].get<bool>() && x["last_job"].is_object(); }, 60);
+  EXPECT_EQ(s["last_job"]["end"], "completed") << s.dump() << pair.host_log();
+  EXPECT_NEAR(s["commanded"]["z"].get<double>(), latched_z + 2.0, 1e-6) << s.dump();
+  EXPECT_NEAR(s["commanded"]["x"].get<double>(), 12.5 + 6.0, 1e-6);
+  EXPECT_NE(pair.host_log().find("its result is pcnc-rt's"), std::string::npos) << pair.host_log();
+  // the probe log holds the one result, in program Z (G54 Z 25)
+  const std::string log = read_file(pair.dir() + "/sync-log.txt");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
+  double x = 0, y = 0, z = 0;
+  ASSERT_EQ(std::sscanf(log.c_str(), "%lf %lf %lf", &x, &y, &z), 3) << log;
+  EXPECT_NEAR(z, latched_z - 25.0, 1e-5) << log;
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "config/exit_status.hpp"
 #include "config/output_path.hpp"
 #include "launcher.hpp"
+#include "measure.hpp"
 #include "nurbs_tool.hpp"
 #include "progress.hpp"
 #include "report/run_outputs.hpp"
@@ -167,6 +168,7 @@ int main(int argc, char** argv) {
   pcnc::add_soak_subcommand(app, exit_code);
   pcnc::add_nurbs_subcommand(app, exit_code);
   pcnc::add_surface_subcommand(app, exit_code);
+  pcnc::add_measure_subcommand(app, exit_code);
   pcnc::add_biarc_subcommand(app, exit_code);
   pcnc::add_ruled_subcommand(app, exit_code);
   pcnc::add_five_axis_examples_subcommand(app, exit_code);

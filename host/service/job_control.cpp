@@ -466,7 +466,9 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
   locate.probe = located;
   auto stream = std::make_shared<BlockStream>(jj.file, cfg, locate, check.transform);
   Block b{};
+  std::size_t probes_located = 0;  // probing blocks up to block k
   for (std::uint64_t n = 0; n < k; ++n) {
+    if (n > 0 && b.probe_rule != 0) ++probes_located;
     if (!stream->next(b)) {
       if (stream->probe_sync()) {
         return fail("the machine stopped after a probing move whose result the journal does not hold (the host was lost "
@@ -475,11 +477,39 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
       return fail("the program has fewer blocks than where the machine stopped");
     }
   }
-  if (b.probe_rule != 0) return fail("the machine stopped in a probing move (line " + std::to_string(b.line) + ")");
+  std::optional<Continuation> cont;
   std::string why;
-  const double tol = std::max(10.0 * cfg.motion.block_tolerance_mm, 0.005);
-  auto cont = continue_block(b, at, cfg, tol, &why);
-  if (!cont) return fail(why);
+  if (b.probe_rule != 0) {
+    ++probes_located;
+    // The machine stands at a probing move. The rt finished it when its status holds the result
+    // of this very block (then it stands where the probe stopped: nothing of the move is left);
+    // a move that the host's loss cut short is not resumed (the probe would start elsewhere).
+    const bool finished = st.probe_count > 0 && st.probe_seq == st.block_seq && st.probe_outcome != ProbeOutcome::kNone;
+    if (!finished) return fail("the machine stopped in a probing move (line " + std::to_string(b.line) + ")");
+    if (probes_located == known->known.size() + 1) {
+      // The host was lost while it waited for this result: take it from the rt's status, as the
+      // sync point would have, into the journal and the probe log; check the rest with it.
+      const ProbeResult r{st.probe_outcome, st.probe_latched, st.probe_stop};
+      known->known.push_back(r);
+      jj.probes.push_back(JournalProbe{static_cast<int>(r.outcome), r.latched, r.stop});
+      if (const std::string e = write_probe_log(*stream, jj.file, r, false); !e.empty()) return fail(e);
+      spdlog::info("resume: the probing move at line {} ended while the host was lost; its result is pcnc-rt's", b.line);
+      const CheckResult again = check_program(jj.file, cfg, opts);
+      if (!again.ok) {
+        for (const Diagnostic& d : again.diagnostics)
+          if (d.severity == Diagnostic::Severity::kError) return fail(format_diagnostic(d));
+        return fail("the program cannot go on after the probing move at line " + std::to_string(b.line));
+      }
+    } else if (probes_located != known->known.size()) {
+      return fail("the journal holds " + std::to_string(known->known.size()) + " probe results, the program " +
+                  std::to_string(probes_located) + " probing moves up to where the machine stopped");
+    }
+    cont = Continuation{true, Block{}};
+  } else {
+    const double tol = std::max(10.0 * cfg.motion.block_tolerance_mm, 0.005);
+    cont = continue_block(b, at, cfg, tol, &why);
+    if (!cont) return fail(why);
+  }
   // The continuation starts exactly where the machine stands.
   if (!cont->skip && b.kind != BlockKind::kDwell && b.kind != BlockKind::kEnd) cont->block.start = at;
   // The journal first: a resumed run that could not be recorded would leave one that points

@@ -104,18 +104,27 @@ std::string ProbeSync::resume(const std::atomic<bool>& interrupt, bool& more) {
   return "";
 }
 
-// LinuxCNC's probe log: one line per probing move, "%f %f %f %f %f %f %f %f %f" (X Y Z A B C U V W
-// of the probed point in the work coordinates and units), to the file (PROBEOPEN name) opened.
 std::string ProbeSync::write_log(const ProbeResult& r) {
   const std::string name = stream_->probe_log();
   if (name.empty()) return "";
+  std::filesystem::path file(name);
+  if (file.is_relative() && !from_text_) file = std::filesystem::path(path_).parent_path() / file;
+  const bool first = logs_written_.insert(file.string()).second && !resumed_;
+  return write_probe_log(*stream_, from_text_ ? std::string() : path_, r, first);
+}
+
+// LinuxCNC's probe log: one line per probing move, "%f %f %f %f %f %f %f %f %f" (X Y Z A B C U V W
+// of the probed point in the work coordinates and units), to the file (PROBEOPEN name) opened.
+std::string write_probe_log(const BlockStream& stream, const std::string& program_path, const ProbeResult& r,
+                            bool truncate) {
+  const std::string name = stream.probe_log();
+  if (name.empty()) return "";
   namespace fs = std::filesystem;
   fs::path file(name);
-  if (file.is_relative() && !from_text_) file = fs::path(path_).parent_path() / file;
-  const bool first = logs_written_.insert(file.string()).second;
-  std::FILE* f = std::fopen(file.c_str(), first ? "w" : "a");
+  if (file.is_relative() && !program_path.empty()) file = fs::path(program_path).parent_path() / file;
+  std::FILE* f = std::fopen(file.c_str(), truncate ? "w" : "a");
   if (!f) return "cannot write the probe log " + file.string() + " (PROBEOPEN)";
-  const Vec3 p = stream_->to_program(r.latched);
+  const Vec3 p = stream.to_program(r.latched);
   std::fprintf(f, "%f %f %f %f %f %f %f %f %f\n", p[0], p[1], p[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
   const bool ok = std::fclose(f) == 0;
   return ok ? "" : "cannot write the probe log " + file.string() + " (PROBEOPEN)";

@@ -44,10 +44,12 @@ class ProbeSync {
   /// Called with all results known each time one arrives (the service's journal).
   void set_on_result(std::function<void(const ProbeResults&)> fn) { on_result_ = std::move(fn); }
   /// A resumed run: the blocks up to program block `through` are not handed out again, and the
-  /// rt numbers this run's blocks from 1, so program seq = rt seq + `seq_base`.
+  /// rt numbers this run's blocks from 1, so program seq = rt seq + `seq_base`. Its probe logs
+  /// are appended to (the interrupted run wrote their first lines).
   void resume_after(std::uint64_t through, std::uint64_t seq_base) {
     skip_through_ = through;
     seq_base_ = seq_base;
+    resumed_ = true;
   }
   /// The results so far (the journal's, for a resumed program).
   const ProbeResults& results() const { return *results_; }
@@ -72,7 +74,14 @@ class ProbeSync {
   std::uint64_t probe_count_at_start_ = 0;
   std::set<std::string> logs_written_;  // probe logs this run has created
   std::uint64_t seq_base_ = 0;
+  bool resumed_ = false;
   std::function<void(const ProbeResults&)> on_result_;
 };
+
+/// One line of LinuxCNC's probe log for `r` in the log that `stream` has open (PROBEOPEN; none:
+/// nothing written), a new file when `truncate`, else appended. A relative name is taken from
+/// `program_path`'s folder (empty: the working directory). Returns "" or why it failed.
+std::string write_probe_log(const BlockStream& stream, const std::string& program_path, const ProbeResult& r,
+                            bool truncate);
 
 }  // namespace pcnc

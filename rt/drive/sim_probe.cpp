@@ -7,7 +7,12 @@
 namespace pcnc {
 
 SimProbe::SimProbe(const MachineConfig& config)
-    : present_(config.probe.present), scene_(config.table), model_(config.probe.model), state_(config.probe.model.seed) {
+    : present_(config.probe.present),
+      scene_(config.table),
+      model_(config.probe.model),
+      has_error_(config.has_machine_error),
+      error_(config.machine_error),
+      state_(config.probe.model.seed) {
   trigger_radius_ = model_.ball_radius_mm - pretravel_mm(model_, {0.0, 0.0, -1.0});
 }
 
@@ -29,7 +34,8 @@ void SimProbe::arm(const Vec3& dir) {
 }
 
 bool SimProbe::sense(const Vec3& c) {
-  input_ = present_ && ball_touches(scene_, c, trigger_radius_);
+  // the ball is where the machine really is, not where its encoders say (the volumetric error)
+  input_ = present_ && ball_touches(scene_, has_error_ ? actual_position(error_, c) : c, trigger_radius_);
   return input_;
 }
 

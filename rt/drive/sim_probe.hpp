@@ -9,7 +9,9 @@
 //
 // arm(d) starts a probing move along d: the pre-travel for d plus one draw of the repeatability
 // noise (a Gaussian from a deterministic generator seeded by [probe] seed) set the trigger
-// radius R − δ − noise for that move. Pure computation: no allocation, no I/O.
+// radius R − δ − noise for that move. The machine's volumetric error ([machine_error]) moves
+// the ball from the commanded position to where the machine really is, unseen by the
+// encoders. Pure computation: no allocation, no I/O.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +39,8 @@ class SimProbe {
   bool present_ = false;
   TableScene scene_{};
   ProbeModel model_{};
+  bool has_error_ = false;
+  VolumetricError error_{};  // [machine_error]: the ball is at actual_position(error_, commanded)
   double trigger_radius_ = 0.0;
   bool input_ = false;
   std::uint64_t state_ = 0;

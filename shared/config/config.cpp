@@ -13,6 +13,7 @@
 #include <vector>
 #include <sstream>
 #include <toml++/toml.h>
+#include "config/surface_file.hpp"
 
 namespace pcnc {
 
@@ -116,13 +117,27 @@ class Section {
     return true;
   }
   bool vec3(const char* key, Vec3& out, double lo, double hi, const char* unit, Need need = Need::kRequired) {
-    const toml::node* n = find(key, "[x, y, z] in mm", need);
+    std::vector<double> v;
+    if (!number_list(key, v, 3, 3, lo, hi, unit, need, "[x, y, z] in mm", "an array of 3 numbers [x, y, z]")) return false;
+    out = {v[0], v[1], v[2]};
+    return true;
+  }
+  // An array of numbers, min_count .. max_count of them, each in lo .. hi.
+  // `missing_as` and `what` name it in the messages (default: the unit, "an array of N numbers").
+  bool number_list(const char* key, std::vector<double>& out, std::size_t min_count, std::size_t max_count, double lo,
+                   double hi, const char* unit, Need need = Need::kRequired, const char* missing_as = nullptr,
+                   const char* what = nullptr) {
+    const toml::node* n = find(key, missing_as ? missing_as : unit, need);
     if (!n) return false;
     const toml::array* a = n->as_array();
-    const std::string expected = std::string("an array of 3 numbers [x, y, z]") + with_unit(unit);
-    if (!a || a->size() != 3) return wrong_type(*n, key, expected);
-    Vec3 v{};
-    for (size_t i = 0; i < 3; ++i) {
+    const std::string expected =
+        (what ? std::string(what)
+              : "an array of " + std::to_string(min_count) +
+                    (max_count != min_count ? " to " + std::to_string(max_count) : std::string()) + " numbers") +
+        with_unit(unit);
+    if (!a || a->size() < min_count || a->size() > max_count) return wrong_type(*n, key, expected);
+    std::vector<double> v;
+    for (size_t i = 0; i < a->size(); ++i) {
       const std::optional<double> c = (*a)[i].is_number() ? (*a)[i].value<double>() : std::nullopt;
       if (!c) return wrong_type(*n, key, expected);
       if (!(*c >= lo && *c <= hi)) {
@@ -131,9 +146,37 @@ class Section {
                             show(hi) + with_space(unit));
         return false;
       }
-      v[i] = *c;
+      v.push_back(*c);
     }
-    out = v;
+    out = std::move(v);
+    return true;
+  }
+  // An array of up to max_count points [x, y, z], each coordinate in lo .. hi.
+  bool vec3_list(const char* key, std::vector<Vec3>& out, std::size_t max_count, double lo, double hi,
+                 Need need = Need::kRequired) {
+    const toml::node* n = find(key, "[[x, y, z], ...] in mm", need);
+    if (!n) return false;
+    const toml::array* a = n->as_array();
+    const std::string expected = "an array of 1 to " + std::to_string(max_count) + " points [x, y, z] (mm)";
+    if (!a || a->empty() || a->size() > max_count) return wrong_type(*n, key, expected);
+    std::vector<Vec3> v;
+    for (size_t i = 0; i < a->size(); ++i) {
+      const toml::array* p = (*a)[i].as_array();
+      if (!p || p->size() != 3) return wrong_type(*n, key, expected);
+      Vec3 q{};
+      for (size_t k = 0; k < 3; ++k) {
+        const std::optional<double> c = (*p)[k].is_number() ? (*p)[k].value<double>() : std::nullopt;
+        if (!c || !(*c >= lo && *c <= hi)) {
+          problems_.push_back(position(origin_, (*p)[k].source()) + label() + " " + key + "[" + std::to_string(i) +
+                              "][" + std::to_string(k) + "]: expected a number in " + show(lo) + " .. " + show(hi) +
+                              " mm");
+          return false;
+        }
+        q[k] = *c;
+      }
+      v.push_back(q);
+    }
+    out = std::move(v);
     return true;
   }
   // A key that was renamed: refused with a message naming the new one.
@@ -406,12 +449,51 @@ void read_probe(Section& top, MachineConfig& c, std::vector<std::string>& proble
   TableScene& s = c.table;
   std::string surface = "plane";
   if (w.string("surface", surface)) {
-    if (surface != "plane" && surface != "bump" && surface != "none") {
-      w.problem("surface '" + surface + "' must be \"plane\", \"bump\" or \"none\"", "surface");
+    if (surface != "plane" && surface != "bump" && surface != "bspline" && surface != "none") {
+      w.problem("surface '" + surface + "' must be \"plane\", \"bump\", \"bspline\" or \"none\"", "surface");
     }
   }
   s.has_surface = surface != "none";
-  const Need surf = s.has_surface ? Need::kRequired : Need::kOptional;
+  const Need surf = s.has_surface && surface != "bspline" ? Need::kRequired : Need::kOptional;
+  std::string surface_path;
+  if (w.string("surface_file", surface_path, surface == "bspline" ? Need::kRequired : Need::kOptional)) {
+    if (surface != "bspline") {
+      w.problem("surface_file is read only with surface = \"bspline\"", "surface_file");
+    } else {
+      try {
+        s.bspline = std::make_shared<const BSplineSurface>(load_surface_file(resolve_beside(surface_path, top.origin())));
+      } catch (const std::exception& e) {
+        w.problem(std::string("surface_file: ") + e.what(), "surface_file");
+      }
+    }
+  }
+  // the machining error (the seed's eq. 16) added to the top
+  int error_seed = 0, error_cells = 8;
+  double error_rms = 0.0;
+  const bool has_error = w.integer("error_seed", error_seed, 0, 2147483647L, "of the Wiener error", Need::kOptional);
+  const Need err = has_error ? Need::kRequired : Need::kOptional;
+  w.number("error_rms_mm", error_rms, 0.0, 1.0, "mm", err);
+  w.integer("error_cells", error_cells, 1, 64, "lattice cells per side", Need::kOptional);
+  std::vector<double> ex{c.axes[0].travel_min_mm, c.axes[0].travel_max_mm},
+      ey{c.axes[1].travel_min_mm, c.axes[1].travel_max_mm};
+  w.number_list("error_x_mm", ex, 2, 2, -1e4, 1e4, "mm", Need::kOptional);
+  w.number_list("error_y_mm", ey, 2, 2, -1e4, 1e4, "mm", Need::kOptional);
+  if (has_error) {
+    if (!(ex[1] > ex[0]) || !(ey[1] > ey[0])) {
+      w.problem("error_x_mm and error_y_mm must each be [low, high] with high > low", "error_x_mm");
+    } else if (error_rms > 0.0) {
+      s.error = std::make_shared<const WienerSurface>(static_cast<std::uint64_t>(error_seed), error_cells, error_rms);
+      s.error_x0_mm = ex[0], s.error_x1_mm = ex[1], s.error_y0_mm = ey[0], s.error_y1_mm = ey[1];
+    }
+  }
+  std::vector<Vec3> balls;
+  if (w.vec3_list("artefact_balls_mm", balls, TableScene::kMaxArtefactBalls, -1e4, 1e4, Need::kOptional)) {
+    s.artefact_balls = static_cast<int>(balls.size());
+    for (std::size_t i = 0; i < balls.size(); ++i) s.artefact_centres[i] = balls[i];
+    w.number("artefact_ball_radius_mm", s.artefact_ball_radius_mm, 0.01, 1e3, "mm");
+  } else {
+    w.number("artefact_ball_radius_mm", s.artefact_ball_radius_mm, 0.01, 1e3, "mm", Need::kOptional);
+  }
   w.number("z_mm", s.z_mm, -1e4, 1e4, "mm", surf);
   w.number("slope_x", s.slope_x, -10.0, 10.0, "dz/dx", Need::kOptional);
   w.number("slope_y", s.slope_y, -10.0, 10.0, "dz/dy", Need::kOptional);
@@ -438,6 +520,40 @@ void read_probe(Section& top, MachineConfig& c, std::vector<std::string>& proble
     }
   }
   w.finish();
+}
+
+// [machine_error] (docs/measurement.md): the volumetric error the simulated encoders do not
+// see; optional, every key in it optional (absent: zero).
+void read_machine_error(Section& top, MachineConfig& c, std::vector<std::string>& problems) {
+  const toml::table* t = top.subtable("machine_error");
+  if (!t) return;
+  Section m(t, "machine_error", top.origin(), problems);
+  VolumetricError& e = c.machine_error;
+  const char* names[kAxes][3] = {{"pitch_x_mm", "pitch_x_start_mm", "pitch_x_step_mm"},
+                                 {"pitch_y_mm", "pitch_y_start_mm", "pitch_y_step_mm"},
+                                 {"pitch_z_mm", "pitch_z_start_mm", "pitch_z_step_mm"}};
+  for (int i = 0; i < kAxes; ++i) {
+    std::vector<double> table;
+    const bool has = m.number_list(names[i][0], table, 1, kMaxPitchNodes, -1.0, 1.0, "mm", Need::kOptional);
+    const Need need = has ? Need::kRequired : Need::kOptional;
+    PitchTable& p = e.pitch[static_cast<std::size_t>(i)];
+    m.number(names[i][1], p.start_mm, -1e4, 1e4, "mm", need);
+    m.number(names[i][2], p.step_mm, 1e-3, 1e4, "mm", need);
+    if (has) {
+      p.count = static_cast<int>(table.size());
+      for (std::size_t k = 0; k < table.size(); ++k) p.error_mm[k] = table[k];
+    }
+  }
+  m.number("squareness_xy_urad", e.squareness_xy_urad, -9999.0, 9999.0, "µrad", Need::kOptional);
+  m.number("squareness_yz_urad", e.squareness_yz_urad, -9999.0, 9999.0, "µrad", Need::kOptional);
+  m.number("squareness_zx_urad", e.squareness_zx_urad, -9999.0, 9999.0, "µrad", Need::kOptional);
+  m.vec3("growth_per_K", e.growth_per_K, -1e-3, 1e-3, "1/K", Need::kOptional);
+  m.number("temperature_offset_K", e.temperature_offset_K, -100.0, 100.0, "K", Need::kOptional);
+  m.vec3("origin_drift_mm", e.origin_drift_mm, -1.0, 1.0, "mm", Need::kOptional);
+  const std::string why = validate(e);
+  if (!why.empty()) m.problem(why);
+  c.has_machine_error = true;
+  m.finish();
 }
 
 }  // namespace
@@ -550,6 +666,7 @@ MachineConfig parse_config(const std::string& toml_text, const std::string& orig
     p.finish();
   }
   read_probe(top, c, problems);
+  read_machine_error(top, c, problems);
   top.finish();
   if (!problems.empty()) {
     // in the file's order: the file-wide ones (a missing section or top-level key) first

@@ -12,6 +12,7 @@
 #include "config/rotary_config.hpp"
 #include "geometry/kinematics.hpp"
 #include "geometry/probe_contact.hpp"
+#include "geometry/volumetric_error.hpp"
 #include "geometry/vec3.hpp"
 
 namespace pcnc {
@@ -160,6 +161,10 @@ struct MachineConfig {
   Kinematics kinematics{};
   ProbeConfig probe{};
   TableScene table{};  // [workpiece], optional: what the probe can touch (docs/probe.md)
+  // [machine_error], optional: where the machine really is when its encoders read p is
+  // actual_position(machine_error, p); only the simulated probe sees it (docs/measurement.md).
+  bool has_machine_error = false;
+  VolumetricError machine_error{};
 
   double cycle_period_s() const { return 1.0 / motion.cycle_hz; }
   /// The kinematics' tilt joint (A of table-table, B of head-table) and its rotary joint (C);

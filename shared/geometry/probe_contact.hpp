@@ -10,12 +10,19 @@
 // For the plane and sphere and the box gap is exact; for the bump (a height field) it is the
 // first-order estimate (z − f(x, y)) / sqrt(1 + |∇f|²), exact on a plane and off by about
 // R²·κ where the surface bends with curvature κ (documented, tested against brute force).
+// The same first-order gap serves a B-spline workpiece (a `pcnc surface fit` file) and the
+// seed's Wiener machining error added to any workpiece top (issue 15 item 1): both are loaded
+// or generated before the rt's loop starts; evaluating them allocates nothing.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 
+#include "geometry/bspline_surface.hpp"
 #include "geometry/vec3.hpp"
+#include "geometry/wiener_surface.hpp"
 
 namespace pcnc {
 
@@ -33,6 +40,19 @@ struct TableScene {
   // Gauge block: the axis-aligned box gauge_min .. gauge_max (has_gauge).
   bool has_gauge = false;
   Vec3 gauge_min{}, gauge_max{};
+  // A B-spline surface as the workpiece top instead of the plane and bump (surface = "bspline").
+  std::shared_ptr<const BSplineSurface> bspline;
+  // The machining error added to the workpiece top: the seed's symmetrised Wiener surface
+  // (eq. 16, smooth_value) over the rectangle error_min .. error_max (X/Y, mm), held at its
+  // border outside. Null: none.
+  std::shared_ptr<const WienerSurface> error;
+  double error_x0_mm = 0.0, error_x1_mm = 1.0, error_y0_mm = 0.0, error_y1_mm = 1.0;
+  // The reference artefact for the volumetric calibration: a ball plate, balls of one radius
+  // at known centres (their distances are the artefact's known lengths).
+  static constexpr int kMaxArtefactBalls = 16;
+  int artefact_balls = 0;
+  std::array<Vec3, kMaxArtefactBalls> artefact_centres{};
+  double artefact_ball_radius_mm = 0.0;
 };
 
 /// The touch-trigger probe (mm). Pre-travel for a unit approach direction d (docs/probe.md):
@@ -56,7 +76,8 @@ double surface_height(const TableScene& s, double x, double y, double* dzdx = nu
 double surface_gap(const TableScene& s, const Vec3& c);
 double sphere_gap(const TableScene& s, const Vec3& c);
 double gauge_gap(const TableScene& s, const Vec3& c);
-/// The smallest of the three.
+double artefact_gap(const TableScene& s, const Vec3& c);
+/// The smallest of them.
 double scene_gap(const TableScene& s, const Vec3& c);
 /// True when a ball centred at c with trigger radius r (= R − δ) touches something.
 inline bool ball_touches(const TableScene& s, const Vec3& c, double trigger_radius) {
