@@ -158,6 +158,51 @@ TEST(RuledFollower, NeverOvershootsThePieceEnd) {
   }
 }
 
+TEST(RuledFollower, ALongPieceSplitIntoBlocksKeepsTheFeedAcrossTheJoins) {
+  const Kinematics kin = desktop_kinematics(10.0);
+  std::vector<Vec3> pts, axes;
+  wavy_piece(2 * kMaxRuledSegments + 5, pts, axes);
+  const RuledModelResult m = ruled_model_through(pts, axes, RulingForm::kVector);
+  ASSERT_EQ(m.error, "");
+  const std::vector<RuledModel> parts = split_for_blocks(m.model);
+  ASSERT_EQ(parts.size(), 3u);
+  EXPECT_EQ(parts[0].directrix.size(), static_cast<std::size_t>(kMaxRuledSegments));
+  EXPECT_EQ(parts[2].directrix.size(), 5u);
+  // the parts keep the piece's own segments
+  EXPECT_EQ(parts[1].directrix[0].t0, m.model.directrix[kMaxRuledSegments].t0);
+  const double F = 20.0;
+  std::vector<RuledGeometry> blocks(parts.size());
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    ASSERT_EQ(to_geometry(parts[i], F, 1000.0, F, i + 1 == parts.size() ? 0.0 : F, blocks[i]), "");
+  }
+  RuledFollower f;
+  f.start(blocks[0], kin, RotaryTravel{}, start_joints(kin, blocks[0]));
+  int joins = 0;
+  double total = 0.0;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    if (b > 0) {
+      const double carry = f.leftover();
+      const double before = f.sample().chord;  // the shortened last cycle of the block before
+      const Joints q = f.sample().q;
+      f.start(blocks[b], kin, RotaryTravel{}, q, carry);
+      // that cycle travelled its rest of the block before and the carry in this one: F T
+      EXPECT_NEAR(before + f.sample().chord, F * kPeriod, 1e-9 * F * kPeriod);
+      EXPECT_GT(f.sample().u, 0.0);
+      ++joins;
+    }
+    while (!f.done()) {
+      const RuledSample& x = f.step(blocks[b], kPeriod);
+      if (!x.last && b + 1 < blocks.size()) {
+        EXPECT_NEAR(x.chord, F * kPeriod, 1e-9 * F * kPeriod);
+      }
+    }
+    total += f.travelled();
+  }
+  EXPECT_EQ(joins, 2);
+  EXPECT_LE(norm(f.sample().motion.position - pts.back()), 1e-12);
+  EXPECT_NEAR(total, blocks[0].length + blocks[1].length + blocks[2].length, 1e-6);
+}
+
 TEST(RuledFollower, JointsAgreeWithTheForwardKinematics) {
   for (const double tool_length : {0.0, 35.0}) {
     const Kinematics kin = desktop_kinematics(tool_length);

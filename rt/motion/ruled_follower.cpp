@@ -47,7 +47,7 @@ RuledSample ruled_sample_at(const RuledGeometry& g, const Kinematics& kin, const
 }
 
 void RuledFollower::start(const RuledGeometry& g, const Kinematics& kin, const RotaryTravel& travel,
-                          const Joints& q_now) {
+                          const Joints& q_now, double carry) {
   kin_ = kin;
   travel_ = travel;
   s_ = 0.0;
@@ -55,11 +55,24 @@ void RuledFollower::start(const RuledGeometry& g, const Kinematics& kin, const R
   done_ = g.segment_count <= 0;
   top_speed_ = 0.0;
   for (int i = 0; i < g.schedule_count && i < kMaxRuledSchedule; ++i) top_speed_ = std::max(top_speed_, g.schedule_speed[i]);
-  sample_ = ruled_sample_at(g, kin_, travel_, q_now, 0.0, std::max(0.0, g.start_speed), 0.0);
+  leftover_ = 0.0;
+  double u0 = 0.0;
+  if (!done_ && carry > 0.0 && carry < g.length) {
+    // a chord of length `carry` from u = 0: the Taylor step and its correction in arc length
+    const ParameterStep st = advance_parameter(curves_of(g).directrix, 0.0, carry, 0.0, 1.0);
+    u0 = st.u_next;
+    s_ = st.chord;
+  }
+  sample_ = ruled_sample_at(g, kin_, travel_, q_now, u0, std::max(0.0, g.start_speed), 0.0);
+  sample_.chord = s_;
 }
 
 const RuledSample& RuledFollower::step(const RuledGeometry& g, double period_s) {
-  if (done_) return sample_;
+  if (done_) {
+    leftover_ = 0.0;
+    return sample_;
+  }
+  leftover_ = 0.0;
   const double T = period_s;
   const double a = g.accel;
   const double u = sample_.u;
@@ -91,6 +104,7 @@ const RuledSample& RuledFollower::step(const RuledGeometry& g, double period_s) 
     u_next = u_end;
     chord = rem;
     last = true;
+    leftover_ = target - rem;
   } else if (target > 0.0) {
     const ParameterStep st = advance_parameter(curves_of(g).directrix, u, v, dfeed, T);
     u_next = st.u_next;

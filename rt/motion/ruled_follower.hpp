@@ -56,14 +56,19 @@ RuledSample ruled_sample_at(const RuledGeometry& g, const Kinematics& kin, const
 class RuledFollower {
  public:
   /// Starts at u = 0 with the piece's start speed; `q_now` are the joints where the machine
-  /// stands (for the choice among inverse solutions).
-  void start(const RuledGeometry& g, const Kinematics& kin, const RotaryTravel& travel, const Joints& q_now);
+  /// stands (for the choice among inverse solutions). `carry` (mm) is the length the cycle
+  /// that ended the piece before still had to travel (its leftover()): the piece starts that
+  /// far along its directrix, so a run of pieces keeps the feed across their joins.
+  void start(const RuledGeometry& g, const Kinematics& kin, const RotaryTravel& travel, const Joints& q_now,
+             double carry = 0.0);
 
   /// One cycle of period T (s). After the end, done() is true and the sample stays there.
   const RuledSample& step(const RuledGeometry& g, double period_s);
 
   bool done() const { return done_; }
   double travelled() const { return s_; }  // sum of the chords so far, mm
+  /// What the last cycle still had to travel beyond the piece's end (mm): 0 before the end.
+  double leftover() const { return leftover_; }
   const RuledSample& sample() const { return sample_; }
 
  private:
@@ -72,6 +77,7 @@ class RuledFollower {
   RuledSample sample_{};
   double s_ = 0.0;
   double top_speed_ = 0.0;  // the schedule's largest speed
+  double leftover_ = 0.0;
   int hint_ = 0;
   bool done_ = false;
 };

@@ -65,4 +65,18 @@ std::string to_geometry(const RuledModel& model, double feed_mm_s, double accel_
   return {};
 }
 
+std::vector<RuledModel> split_for_blocks(const RuledModel& model) {
+  std::vector<RuledModel> parts;
+  const std::size_t n = model.directrix.size();
+  for (std::size_t i = 0; i < n; i += kMaxRuledSegments) {
+    const std::size_t j = std::min(n, i + kMaxRuledSegments);
+    RuledModel part;
+    part.form = model.form;
+    part.directrix.assign(model.directrix.begin() + i, model.directrix.begin() + j);
+    part.ruling.assign(model.ruling.begin() + i, model.ruling.begin() + j);
+    parts.push_back(std::move(part));
+  }
+  return parts;
+}
+
 }  // namespace pcnc

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "geometry/hermite_curve.hpp"
 #include "geometry/ruled_model.hpp"
@@ -52,6 +53,10 @@ RuledCurves curves_of(const RuledGeometry& g);
 /// sentence when the model does not fit one block or a value is out of range; empty when done.
 std::string to_geometry(const RuledModel& model, double feed_mm_s, double accel_mm_s2, double start_speed,
                         double end_speed, RuledGeometry& g);
+
+/// The model cut at set points into parts of at most kMaxRuledSegments segments, each keeping
+/// the piece's own segments (the tangents at a cut stay the whole piece's).
+std::vector<RuledModel> split_for_blocks(const RuledModel& model);
 
 /// Arc length of a Hermite chain over [0, count] (16-point Gauss–Legendre per segment).
 double hermite_arc_length(const HermiteView& c);
