@@ -144,6 +144,8 @@ TEST(RuledReader, RefusesWhatTheFormForbids) {
       {kHead + "G5.4 F600\n" + kP1 + "X0 Y0 Z0.0000001 I0 J0 K1\nG5.5\n",
        "p.ngc:5:1: error: set point at the one before (line 4)"},
       {kHead + "G5.5\n", "p.ngc:3:1: error: G5.5 without a G5.4 group to close"},
+      {kHead + "G5.2 X0 Y0 P1 L4\nX1 Y1 P1\nG5.4 F600\n" + kP1 + kP2 + "G5.5\n",
+       "p.ngc:5:1: error: G5.4 inside a NURBS group (G5.2 ... G5.3)"},
       {kHead + "G5.4 F600\n" + kP1 + "G5.4\n" + kP2 + "G5.5\n",
        "p.ngc:5:1: error: G5.4 inside the G5.4 group opened at line 3"},
       {kHead + "G5.4 F600\n" + kP1 + kP2 + "G5.5 X2\n", "p.ngc:6:6: error: X on the G5.5 line"},

@@ -107,6 +107,10 @@ void RuledGroupReader::open_group(const LexedLine& line, int line_no, const Rule
     sink.error(line_no, g54_col, "G5.4 needs G94: F is the tool tip's speed along the directrix");
     bad = true;
   }
+  if (modal.spline_group) {
+    sink.error(line_no, g54_col, "G5.4 inside a NURBS group (G5.2 ... G5.3): close it first");
+    bad = true;
+  }
   if (!bad && !(group_.feed > 0.0)) {
     sink.error(line_no, g54_col, "G5.4 without a feed: no F in effect");
     bad = true;
@@ -264,6 +268,8 @@ std::vector<RuledGroup> read_ruled_groups(std::string_view text, DiagnosticSink&
       if (w.letter == 'G' && c == 910) modal.incremental = true;
       if (w.letter == 'G' && (c == 930 || c == 950)) modal.inverse_time = true;
       if (w.letter == 'G' && c == 940) modal.inverse_time = false;
+      if (w.letter == 'G' && c == 52) modal.spline_group = true;
+      if (w.letter == 'G' && c == 53) modal.spline_group = false;
       if (w.letter == 'F') modal.feed = w.value;
     }
   }

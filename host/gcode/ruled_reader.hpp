@@ -32,9 +32,10 @@ struct RuledModal {
   bool incremental = false;   // G91
   bool inverse_time = false;  // G93 (G95 too: anything but G94)
   double feed = 0.0;          // F in effect before the G5.4 line
+  bool spline_group = false;  // inside a G5.2 (or G6.2) group
 };
 
-/// Below this |I J K| is off unit, the vector is refused (the reader normalises the rest).
+/// An I J K whose length is off 1 by more than this is refused (the reader normalises the rest).
 constexpr double kRuledAxisTolerance = 0.001;
 /// Consecutive set points closer than this (mm) are refused (the model needs distinct points).
 constexpr double kRuledMinPointDistance = 1e-6;
@@ -64,7 +65,8 @@ class RuledGroupReader {
 };
 
 /// The whole text: every G5.4 ... G5.5 group, in order, following just the modal state the
-/// rules need from the other lines (M428/M429, G43.4/G49, G90/G91, G93/G94/G95, F). Errors go
+/// rules need from the other lines (M428/M429, G43.4/G49, G90/G91, G93/G94/G95, F, G5.2 ... G5.3
+/// groups; Fanuc's G6.2 is left to the interpreter). Errors go
 /// to `sink`; groups with errors are left out.
 std::vector<RuledGroup> read_ruled_groups(std::string_view text, DiagnosticSink& sink);
 

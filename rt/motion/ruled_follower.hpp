@@ -18,8 +18,8 @@
 // own rates dA/dt and d2A/dt2 (all analytic), and the joints q (the inverse solution nearest
 // the last cycle's), dq/dt and d2q/dt2 (the Jacobian applied to v, dA/dt and to a, d2A/dt2):
 // the PIDs' position command and their velocity and acceleration feed-forward.
-// Trivially copyable state, no allocation, no I/O, bounded time (at most four directrix
-// evaluations, one ruled jet, one inverse).
+// Trivially copyable state, no allocation, no I/O, bounded time (at most six directrix
+// evaluations: the Taylor step and up to three Newton corrections, one ruled jet, one inverse).
 #pragma once
 
 #include "geometry/kinematics.hpp"
