@@ -12,8 +12,15 @@ namespace pcnc {
 Machine::Impl::Impl(const MachineConfig& c)
     : cfg(c), dt(c.cycle_period_s()), exec(c), jog(c), drive(c), probe(c), sm(cfg, st, sp, exec, jog, ovr, drive) {
   sp.pos = exec.position();
+  sp.rot = exec.rotary();
   st.actual = drive.encoder();
   st.commanded = sp.pos;
+  st.rotary_mask = c.rotary_mask();
+  st.rot_commanded = sp.rot;
+  st.rot_actual = drive.rotary_encoder();
+  tj.mask = st.rotary_mask;
+  tj.commanded = sp.rot;
+  tj.actual = st.rot_actual;
 }
 
 Machine::Machine(const MachineConfig& config) : impl_(std::make_unique<Impl>(config)) {}
@@ -71,6 +78,7 @@ bool Machine::motion_at_rest() const { return impl_->sm.motion_at_rest(); }
 
 const Status& Machine::status() const { return impl_->st; }
 const TraceSample& Machine::trace_sample() const { return impl_->ts; }
+const TraceJoints& Machine::trace_joints() const { return impl_->tj; }
 const char* Machine::fault_reason() const { return impl_->sm.fault_reason(); }
 void Machine::set_axis_blocked(int axis, bool blocked) { impl_->drive.set_blocked(axis, blocked); }
 Vec3 Machine::true_position() const { return impl_->drive.true_position(); }

@@ -71,6 +71,8 @@ class Machine {
 
   const Status& status() const;
   const TraceSample& trace_sample() const;
+  /// The rotary joints of the same cycle (the trace file's extra columns).
+  const TraceJoints& trace_joints() const;
 
   /// Why the machine faulted, in words (static text; "" when not faulted). Status carries
   /// the code, axis, value and line; this names the defect, e.g. which block check failed.
