@@ -64,8 +64,14 @@ BlockVerdict check_rotary(const Block& b, const Rot3& tail_rot, const MachineCon
     }
   }
   if (r.tcp > 1 || r.angular > 1) return bad("rotary: tcp or angular flag is not 0 or 1");
-  if (!straight) {  // arcs, NURBS, dwells ... keep the joints where they are
-    if (r.tcp || r.angular || (mask != 0 && (r.start != tail_rot || r.end != tail_rot) &&
+  auto near = [](const Rot3& a, const Rot3& b) {
+    for (int i = 0; i < kRotaryJoints; ++i) {
+      if (std::abs(a[static_cast<std::size_t>(i)] - b[static_cast<std::size_t>(i)]) > kRadTol) return false;
+    }
+    return true;
+  };
+  if (!straight) {  // arcs, NURBS, dwells ... keep the joints where they are (or carry none: all 0)
+    if (r.tcp || r.angular || (mask != 0 && !(near(r.start, tail_rot) && near(r.end, tail_rot)) &&
                                !(r.start == Rot3{} && r.end == Rot3{}))) {
       return bad("rotary: only straight moves may turn a joint or run under TCP");
     }
