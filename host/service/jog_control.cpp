@@ -84,7 +84,8 @@ Outcome JogControl::start(ClientId client, const json& id, RtLink& link, const S
     jog_ = ContinuousJog{client, now, now, now, cmd_id, false};
     result["deadman_s"] = config_.process.jog_deadman_s;
   }
-  pending_.push_back(PendingJog{client, id, cmd_id, st.commanded, result, Clock::now() + std::chrono::milliseconds(1000)});
+  pending_.push_back(
+      PendingJog{client, id, cmd_id, st.commanded, result, Clock::now() + std::chrono::milliseconds(1000), st.rot_commanded});
   return Outcome::later();
 }
 
@@ -122,7 +123,7 @@ void JogControl::check_pending(const std::optional<Status>& st) {
       reply_(it->client, it->id, Outcome::fail(rpc::Error{rpc::kRtUnavailable, "pcnc-rt was lost before it took the jog", nullptr}));
       done = true;
     } else if (st->last_command_id >= it->cmd_id) {
-      if (st->state == MachineState::kJogging || st->commanded != it->before) {
+      if (st->state == MachineState::kJogging || st->commanded != it->before || st->rot_commanded != it->before_rot) {
         json r = it->result;
         r["moved"] = true;
         reply_(it->client, it->id, Outcome::ok(r));
