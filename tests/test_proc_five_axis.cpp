@@ -96,6 +96,7 @@ TEST(FiveAxisRun, TcpProgramKeepsTheTipOnTheLineAndTheJointsWithinTheirLimits) {
   line("G0 X0 Y0 Z-8");
   line("G1 C30 F3600");
   line("G43.4 H2");
+  at = {0.0, 0.0, -8.0 - kToolLength};  // the tip, 4.25 mm below the gauge point: G43.4 moved nothing
   tcp({4.0, 2.0, -9.0}, 20.0, 30.0, 300.0);     // leaves the pole along C = 30
   tcp({-4.0, 3.0, -9.0}, -20.0, 30.0, 300.0);   // through the singularity: A changes sign, C stays
   tcp({-2.0, -3.0, -8.0}, -20.0, 120.0, 400.0);  // C turns with the tool tilted
