@@ -94,6 +94,10 @@ bool Interpreter::straight(const ParsedLine& l, int motion, bool g53, MoveList& 
   const Rot3 rot = rotary_target(l);
   // only the tool turns: F is in deg/min, not limited by the linear axes' maximum feed
   const bool turn_only = !g53 && rot != rot_ && norm(to_machine(q) - to_machine(q_)) <= 1e-9;
+  if (rot != rot_ && comp_.side != 0) {
+    return fail(l, column > 0 ? column : l.g_col[kGMotion],
+                "a rotary joint does not turn under cutter radius compensation (G41/G42); expected G40 first");
+  }
   m.rot_end = rot;
   if (column == 0) {
     for (int i = 0; i < kRotaryJoints; ++i) {

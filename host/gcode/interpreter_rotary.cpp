@@ -56,6 +56,9 @@ bool Interpreter::tcp_words(const ParsedLine& l) {
     return fail(l, col,
                 name + ": tool-centre-point control needs rotary joints and a [kinematics] section; this machine has none");
   }
+  if (on && comp_.side != 0) {
+    return fail(l, col, name + ": tool-centre-point control under cutter radius compensation (G41/G42); expected G40 first");
+  }
   if (on) {
     int tool = tool_;
     if (g == 434 && l.has('H')) {

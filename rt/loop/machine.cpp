@@ -68,6 +68,28 @@ bool Machine::take_up_position(const Vec3& at) {
   return true;
 }
 
+bool Machine::take_up_rotary(const Rot3& at) {
+  Impl& m = *impl_;
+  Rot3 r = at;
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const auto& j = m.cfg.rotary[k];
+    if (!std::isfinite(r[k])) return false;
+    if (!j) r[k] = 0.0;
+    else if (!j->continuous) r[k] = std::clamp(r[k], j->travel_min_rad, j->travel_max_rad);
+  }
+  m.drive.place_rotary(r);
+  m.drive.reset_servo();
+  m.exec.set_rotary(r);
+  m.exec.set_position(m.exec.position());
+  m.sp.rot = r;
+  m.st.rot_commanded = r;
+  m.st.rot_actual = m.drive.rotary_encoder();
+  m.tj.commanded = r;
+  m.tj.actual = m.st.rot_actual;
+  return true;
+}
+
 void Machine::trace_failed(bool stop) {
   impl_->st.trace_failed = 1;
   if (stop) impl_->sm.refuse_programs();

@@ -37,6 +37,7 @@ RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOpti
                                            options_.on_trace_failure);
   }
   if (options_.start_position) machine_->take_up_position(*options_.start_position);
+  if (options_.start_rotary) machine_->take_up_rotary(*options_.start_rotary);
 }
 
 std::string RtLoop::close_trace() {

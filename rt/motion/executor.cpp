@@ -87,7 +87,8 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
       const PreparedBlock& p = prep_[prepared_ - 1];
       const PreparedBlock& q = prep_[prepared_];
       const bool probing = ring.peek(prepared_ - 1).probe_rule != kProbeNone || b.probe_rule != kProbeNone;
-      if (p.motion && q.motion && !probing) {  // a probing move starts and ends at rest
+      // a probing move starts and ends at rest, and so does a block that turns a joint or runs under TCP
+      if (p.motion && q.motion && !probing && !p.rotary && !q.rotary) {
         JunctionRules rules = junction_;
         rules.path_tolerance_mm = p.path_tolerance;  // the tolerance the block before the junction was made with
         corner_[prepared_ - 1] = corner_speed(p.contouring, p.dir_end, q.dir_start, rules);
