@@ -124,6 +124,19 @@ TEST(RotaryGcode, PreflightRefusesAJointOutsideItsTravelBeforeAnythingMoves) {
   EXPECT_TRUE(r.blocks.empty());
 }
 
+TEST(RotaryGcode, NoRotaryMotionOrTcpUnderCutterCompensation) {
+  auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG41.1 D2\nG1 X5 A10\nM2\n", five(), at_home());
+  ASSERT_NE(r.first_error(), nullptr);
+  EXPECT_EQ(r.first_error()->line, 4);
+  EXPECT_NE(r.first_error()->message.find("does not turn under cutter radius compensation"), std::string::npos)
+      << r.first_error()->message;
+  r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG41.1 D2\nG1 X5\nM428\nM2\n", five(), at_home());
+  ASSERT_NE(r.first_error(), nullptr);
+  EXPECT_NE(r.first_error()->message.find("M428: tool-centre-point control under cutter radius compensation"),
+            std::string::npos)
+      << r.first_error()->message;
+}
+
 // ---- tool-centre-point control ----
 
 TEST(RotaryTcp, M428KeepsTheMachineWhereItIsAndBlocksFollowTheTip) {
