@@ -188,9 +188,11 @@ TEST(FiveAxisRun, TcpOffJointsInterpolateLinearly) {
   const std::string path = dir + "/off.ngc";
   std::ofstream(path) << "G21 G90 G94\nG0 X0 Y0 Z-5\nG1 A30 F1800\nG1 X5 C90 F300\nG1 A0 C0 F3600\nM2\n";
   const std::string trace = dir + "/off.csv";
-  const ProcessResult r =
-      run_process({pcnc_exe(), "run", path, "--config", config, "--clock", "virtual", "--trace", trace}, 300);
+  const ProcessResult r = run_process(
+      {pcnc_exe(), "run", path, "--config", config, "--clock", "virtual", "--trace", trace, "--report", dir + "/off.html"},
+      300);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_GT(read_file(dir + "/off.html").size(), 1000u) << "the report reads a trace with the joints' columns";
   std::string header;
   const std::vector<Row> rows = read_trace(trace, cfg.rotary_mask(), header);
   int on3 = 0, on4 = 0;

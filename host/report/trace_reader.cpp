@@ -47,7 +47,10 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
   }
   std::string_view h(buf_.data());
   while (!h.empty() && (h.back() == '\n' || h.back() == '\r')) h.remove_suffix(1);
-  if (h != kTraceCsvHeader) {
+  // a machine with rotary joints appends their columns (trace_format.hpp): read past them
+  bool known = false;
+  for (unsigned mask = 0; mask < 8 && !known; ++mask) known = h == trace_csv_header(static_cast<RotaryMask>(mask));
+  if (!known) {
     std::fclose(file_);
     throw std::runtime_error("'" + path + "' is not a pcnc trace: its first line is not the trace header");
   }
