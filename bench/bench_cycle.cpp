@@ -5,7 +5,10 @@
 // of lines, rapids; blocks projected on the axis limits like the host does), feeds it through
 // the 4-slot ring the way the virtual-clock loop does (refill before each cycle), and times
 // every cycle. Prints p50/p99/max compute time per cycle and simulated seconds per wall second.
-//   bench_cycle [--config F] [--circles N]
+// Then the same per-cycle timing for 5 axes: a tilted helix under tool-centre-point control
+// (M428), made by the real front end on configs/desktop-5axis.toml (the rt runs the inverse
+// kinematics every cycle and steps the A and C drives too).
+//   bench_cycle [--config F] [--repeats N] [--five-config F]
 #include <time.h>
 
 #include <algorithm>
@@ -18,7 +21,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <sstream>
+#include <string>
+
 #include "config/config.hpp"
+#include "gcode/program.hpp"
 #include "loop/machine.hpp"
 
 using namespace pcnc;
@@ -144,6 +151,65 @@ std::vector<Block> long_program(const MachineConfig& c, int repeats) {
   return b.out;
 }
 
+// A tilted helix under TCP, `turns` times round: the tip on a helix of radius 3 mm, the tool
+// leaning 15 degrees, C following the angle (12 moves per turn).
+std::string five_axis_program(int turns) {
+  std::ostringstream p;
+  p << "G21 G90 G94\nG0 X0 Y0 Z-8\nG1 A-15 C120 F3600\nM428\n";
+  char buf[160];
+  const double pi = std::numbers::pi;
+  std::snprintf(buf, sizeof buf, "G1 X%.4f Y%.4f Z-8 F400\n", 3.0 * std::cos(120.0 * pi / 180.0), 3.0 * std::sin(120.0 * pi / 180.0));
+  p << buf;
+  for (int k = 1; k <= 12 * turns; ++k) {
+    const double deg = 120.0 + 30.0 * k;
+    std::snprintf(buf, sizeof buf, "G1 X%.4f Y%.4f Z%.4f A-15 C%.1f\n", 3.0 * std::cos(deg * pi / 180.0),
+                  3.0 * std::sin(deg * pi / 180.0), -8.0 + 0.5 * std::sin(k * 0.2), deg);
+    p << buf;
+  }
+  p << "M429\nM2\n";
+  return p.str();
+}
+
+struct CycleTimes {
+  std::size_t cycles = 0;
+  double mean = 0.0, p50 = 0.0, p99 = 0.0, p999 = 0.0, max = 0.0;
+  bool done = false;
+};
+
+// Compute time of each cycle of `program` on a fresh machine.
+CycleTimes time_cycles(const MachineConfig& cfg, const std::vector<Block>& program, std::size_t max_cycles) {
+  Machine m(cfg);
+  MotionRing ring;
+  Command start;
+  start.id = 1;
+  start.kind = CommandKind::kProgramStart;
+  m.command(start);
+  std::vector<double> us;
+  us.reserve(1 << 20);
+  std::size_t next = 0;
+  while (!m.status().program_done && us.size() < max_cycles && m.status().state != MachineState::kFault) {
+    while (next < program.size() && ring.try_push(program[next])) ++next;
+    m.set_host_alive(true);
+    const auto t0 = std::chrono::steady_clock::now();
+    m.cycle(ring);
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+  }
+  CycleTimes t;
+  t.done = m.status().program_done != 0;
+  if (!t.done) std::fprintf(stderr, "program did not finish: state %s, %s\n", to_string(m.status().state), m.fault_reason());
+  std::sort(us.begin(), us.end());
+  auto pct = [&](double p) { return us[std::min(us.size() - 1, static_cast<std::size_t>(p * static_cast<double>(us.size())))]; };
+  double sum = 0.0;
+  for (double x : us) sum += x;
+  t.cycles = us.size();
+  t.mean = sum / static_cast<double>(us.size());
+  t.p50 = pct(0.5);
+  t.p99 = pct(0.99);
+  t.p999 = pct(0.999);
+  t.max = us.back();
+  return t;
+}
+
 double clock_s(clockid_t id) {
   timespec t{};
   clock_gettime(id, &t);
@@ -160,6 +226,10 @@ int main(int argc, char** argv) {
   int repeats = 20;
   app.add_option("--config", config_path, "machine config");
   app.add_option("--repeats", repeats, "how many times the test pattern repeats")->capture_default_str();
+  std::string five_path = std::string(PCNC_BENCH_SOURCE_DIR) + "/configs/desktop-5axis.toml";
+  int turns = 40;
+  app.add_option("--five-config", five_path, "the 5-axis machine config for the TCP pass")->capture_default_str();
+  app.add_option("--turns", turns, "turns of the TCP helix")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   const MachineConfig cfg = load_config(config_path);
@@ -199,29 +269,29 @@ int main(int argc, char** argv) {
                 sim_s, wall_s, sim_s / wall_s, cpu, sim_s / cpu);
   }
 
-  // Pass 2: compute time of each cycle.
-  {
-    Machine m(cfg);
-    MotionRing ring;
-    Command start;
-    start.id = 1;
-    start.kind = CommandKind::kProgramStart;
-    m.command(start);
-    std::vector<double> us;
-    us.reserve(cycles + 16);
-    std::size_t next = 0;
-    while (!m.status().program_done && us.size() < max_cycles) {
-      while (next < program.size() && ring.try_push(program[next])) ++next;
-      const double t0 = now_s();
-      m.cycle(ring);
-      us.push_back((now_s() - t0) * 1e6);
-    }
-    std::sort(us.begin(), us.end());
-    auto pct = [&](double p) { return us[std::min(us.size() - 1, static_cast<std::size_t>(p * static_cast<double>(us.size())))]; };
-    double sum = 0.0;
-    for (double x : us) sum += x;
-    std::printf("cycle compute time over %zu cycles: mean %.3f us, p50 %.3f us, p99 %.3f us, p99.9 %.3f us, max %.3f us\n",
-                us.size(), sum / static_cast<double>(us.size()), pct(0.5), pct(0.99), pct(0.999), us.back());
+  // Pass 2: compute time of each cycle, 3 axes.
+  const CycleTimes t3 = time_cycles(cfg, program, max_cycles);
+  std::printf("cycle compute time over %zu cycles: mean %.3f us, p50 %.3f us, p99 %.3f us, p99.9 %.3f us, max %.3f us\n",
+              t3.cycles, t3.mean, t3.p50, t3.p99, t3.p999, t3.max);
+
+  // Pass 3: 5 axes under TCP, blocks from the real front end.
+  const MachineConfig five = load_config(five_path);
+  JobOptions opts;
+  opts.start_position = Vec3{five.axes[0].home_mm, five.axes[1].home_mm, five.axes[2].home_mm};
+  const std::string text = five_axis_program(turns);
+  const CheckResult check = check_program_text(text, "tcp-helix.ngc", five, opts);
+  if (!check.ok) {
+    for (const Diagnostic& d : check.diagnostics) std::fprintf(stderr, "%s\n", format_diagnostic(d).c_str());
+    return 1;
   }
+  std::vector<Block> blocks;
+  BlockStream s(BlockStream::FromText{}, text, "tcp-helix.ngc", five, opts, check.transform);
+  for (Block b; s.next(b);) blocks.push_back(b);
+  const CycleTimes t5 = time_cycles(five, blocks, max_cycles);
+  if (!t5.done) return 1;
+  std::printf("5 axes, TCP (%s, %zu blocks): cycle compute time over %zu cycles: mean %.3f us, p50 %.3f us, p99 %.3f us, "
+              "p99.9 %.3f us, max %.3f us\n",
+              five.name.c_str(), blocks.size(), t5.cycles, t5.mean, t5.p50, t5.p99, t5.p999, t5.max);
+  std::printf("rt compute p99 per cycle: 3 axes %.3f us, 5 axes (TCP) %.3f us\n", t3.p99, t5.p99);
   return 0;
 }

@@ -176,6 +176,7 @@ int main(int argc, char** argv) {
   try {
     const pcnc::Status initial = link->status();
     options.start_position = initial.commanded;
+    options.start_rotary = initial.rot_commanded;
 
     pcnc::CheckResult check = pcnc::check_program(run_file, config, options);
     print_diagnostics(check, quiet);

@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
       // The dead rt's last measured position: the simulated axes stand there, at rest, as
       // absolute encoders would report after a drive's power loss. Its program is not resumed.
       options.start_position = prev->actual;
+      if (prev->rotary_mask == config.rotary_mask() && prev->rotary_mask != 0) options.start_rotary = prev->rot_actual;
       spdlog::warn("the axes stand where pcnc-rt last measured them: X{:.4f} Y{:.4f} Z{:.4f} mm (it was {}{}); "
                    "starting IDLE at rest there",
                    prev->actual[0], prev->actual[1], prev->actual[2], pcnc::to_string(prev->state),

@@ -68,13 +68,25 @@ TEST(Seqlock, ReaderNeverSeesATornSnapshot) {
   EXPECT_GT(reads, 0u);
 }
 
-// Layout version 7 (issue 15): a block's probe rule and the status's probe fields; 6 (issue 14): a NURBS block's schedule carries the tangential acceleration
+// Layout version 8 (issue 16): a block's rotary joints and TCP data (Block::rotary), the status's
+// joints (Status::rot_*); 7 (issue 15): a block's probe rule and the status's probe fields; 6 (issue 14): a NURBS block's schedule carries the tangential acceleration
 // and the arc length of each point; 5 (issue 14): a block carries its path tolerance; 4 (issue 20): the segment
 // ends with the scope's ring (3, issue 19: Status carries trace_failed). Any change of Block, Command, Status or the segment bumps
 // kLayoutVersion, so that a host and an rt of different builds refuse each other, and a
 // restarted rt takes no position from a segment it cannot read.
+TEST(SharedContract, LayoutVersionEightCarriesTheRotaryJoints) {
+  EXPECT_EQ(kLayoutVersion, 8u);
+  const Block r{};
+  EXPECT_EQ(r.rotary.tcp, 0);
+  EXPECT_EQ(r.rotary.end[2], 0.0);
+  EXPECT_GT(offsetof(Block, rotary), offsetof(Block, nurbs)) << "appended after the NURBS data";
+  EXPECT_EQ(Status{}.rotary_mask, 0);
+  EXPECT_EQ(sizeof(Rot3), 3 * sizeof(double));
+  // the segment stays small enough to be created under the trace test's 300 KB file limit
+  EXPECT_LT(sizeof(SharedSegment), 300000u);
+}
+
 TEST(SharedContract, LayoutVersionSevenCarriesTheScheduleAccelerationAndTheProbe) {
-  EXPECT_EQ(kLayoutVersion, 7u);
   const Block b{};
   EXPECT_EQ(b.nurbs.schedule_accel[0], 0.0);
   EXPECT_EQ(b.nurbs.schedule_accel[kMaxFeedSchedule - 1], 0.0);

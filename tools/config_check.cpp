@@ -175,10 +175,6 @@ void print_notes(const MachineConfig& c, std::ostream& err) {
           << num(drive * kDegPerRad) << " deg/s^2 = torque_constant x current_limit / inertia): expect following-error faults\n";
     }
   }
-  if (c.kinematics.kind != KinematicsKind::kTrivial) {
-    err << c.source_path << ": note: the rotary joints are configured but pcnc-rt does not drive them yet: programs run "
-        << "on X, Y and Z (A/B/C words are refused)\n";
-  }
   const char* axis_names = "XYZ";
   for (int i = 0; i < kAxes; ++i) {
     const AxisConfig& a = c.axes[static_cast<std::size_t>(i)];

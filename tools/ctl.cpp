@@ -422,7 +422,7 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
   static std::string axis, amount;
   static double feed = 0.0, jog_for = 0.0;
   static bool continuous = false, no_wait = false;
-  jog->add_option("AXIS", axis, "X, Y or Z")->required();
+  jog->add_option("AXIS", axis, "X, Y or Z; A, B or C: a rotary joint the machine has (degrees, --feed in deg/min)")->required();
   jog->add_option("AMOUNT", amount, "signed distance in mm (incremental), or + / - (continuous)")->required();
   jog->add_option("--feed", feed, "mm/min (default 600 or the axis maximum)");
   jog->add_flag("--continuous", continuous, "move until Ctrl-C (the client keeps the jog alive; stops at the soft limit)");

@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <string>
 
+#include <optional>
+
 #include "config/config.hpp"
 #include "ipc/block.hpp"
 #include "ipc/block_check.hpp"
@@ -22,7 +24,14 @@ namespace pcnc {
 class BlockValidator {
  public:
   /// `start`: the machine position before the program's first block.
-  BlockValidator(const MachineConfig& config, const Vec3& start) : config_(config), tail_(start) {}
+  /// `rot_start`: the rotary joints then (rad; unset: their homes).
+  BlockValidator(const MachineConfig& config, const Vec3& start, const std::optional<Rot3>& rot_start = std::nullopt)
+      : config_(config), tail_(start) {
+    for (int i = 0; i < kRotaryJoints; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (config.rotary[k]) rot_tail_[k] = rot_start ? (*rot_start)[k] : config.rotary[k]->home_rad;
+    }
+  }
 
   /// Numbers `block` (seq) and checks it as the rt will. On acceptance the next block is
   /// expected to continue from it.
@@ -34,6 +43,7 @@ class BlockValidator {
  private:
   const MachineConfig& config_;
   Vec3 tail_;
+  Rot3 rot_tail_{};
   std::uint64_t next_seq_ = 1;
   bool after_probe_ = false;  // the last motion block was a probing move
 };

@@ -24,6 +24,10 @@ Interpreter::Interpreter(const MachineConfig& config, const JobFrame& frame, Dia
     for (const AxisConfig& a : config.axes) max_feed_mm_s_ = std::max(max_feed_mm_s_, a.max_velocity_mm_s);
   }
   q_ = to_job(frame_.start);
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (config.rotary[k]) rot_[k] = frame_.rot_start ? (*frame_.rot_start)[k] : config.rotary[k]->home_rad;
+  }
   contouring_ = frame_.contouring;
   path_tolerance_ = config_.motion.path_tolerance_mm;
   // The offsets' parameters (mm), as the state file left them.
@@ -58,6 +62,9 @@ Move Interpreter::base_move(MoveKind kind, const ParsedLine& l, int column) cons
   m.line = l.line;
   m.column = column;
   m.start = m.end = to_machine(q_);
+  m.rot_start = m.rot_end = rot_;
+  m.tcp = tcp_;
+  m.tool_length = tcp_ ? tcp_length_ : 0.0;
   m.contouring = contouring_;
   m.path_tolerance_mm = path_tolerance_;
   m.known = known_;
@@ -119,6 +126,11 @@ bool Interpreter::check_words(const ParsedLine& l) {
 
   std::uint32_t allowed = bit('N') | bit('F') | bit('S') | bit('T');
   if (nonmodal == 280 || nonmodal == 300 || is_straight(motion) || is_arc(motion) || is_probe(motion)) allowed |= kAxisBits;
+  // the machine's rotary joints move with G0/G1 only (not G53, G28/G30, arcs, probes or cycles)
+  if (is_straight(motion) && nonmodal != 280 && nonmodal != 300 && nonmodal != 530 && nonmodal != 100 &&
+      nonmodal != 520 && nonmodal < 920 && l.g[kGToolLength] != 431) {
+    allowed |= rotary_bits();
+  }
   // The common line (a move in the mode in effect) needs no more: the rest only widens `allowed`.
   if ((l.present & ~allowed) == 0) return true;
   if (nonmodal == 100) allowed |= kAxisBits | bit('L') | bit('P') | bit('R');
@@ -146,7 +158,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
   if (l.m[kMToolChange] == 61) allowed |= bit('Q');
   if (l.g[kGCutterComp] >= 410) allowed |= bit('D');  // G41/G42: tool number; G41.1/G42.1: diameter
   if (l.g[kGPathControl] == 640) allowed |= bit('P') | bit('Q');
-  if (l.g[kGToolLength] == 430) allowed |= bit('H');
+  if (l.g[kGToolLength] == 430 || l.g[kGToolLength] == 434) allowed |= bit('H');
 
   const std::uint32_t extra = l.present & ~allowed;
   if (extra == 0) return true;
@@ -158,6 +170,10 @@ bool Interpreter::check_words(const ParsedLine& l) {
       case 'A':
       case 'B':
       case 'C':
+        if ((rotary_bits() & bit(c)) != 0) {
+          return fail(l, col, std::string(1, c) + " word here: the rotary joints move with G0 or G1 only; expected it on a G0/G1 line");
+        }
+        return fail(l, col, std::string("the machine has no ") + c + " axis; expected X, Y or Z");
       case 'U':
       case 'V':
       case 'W': return fail(l, col, std::string("the machine has no ") + c + " axis; expected X, Y or Z");
@@ -249,6 +265,10 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     out.count = first;
     return false;
   }
+  if (!tcp_words(l)) {
+    out.count = first;
+    return false;
+  }
   if (l.m[kMToolChange] == 6 && config_.gcode.pause_on_tool_change) {
     out.push(base_move(MoveKind::kPause, l, l.m_col[kMToolChange]));  // the operator changes the tool; resume goes on
   }
@@ -288,6 +308,14 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
                 g_name(nonmodal) + " and " + g_name(motion_word) +
                     " both use the axis words; expected them on separate lines");
   }
+  if (tcp_) {
+    const bool other = nonmodal == 280 || nonmodal == 300 || nonmodal == 530 || motion_word == 52 || motion_word == 62 ||
+                       ((is_arc(motion_) || is_probe(motion_) || is_cycle(motion_)) && (axis_words(l) || motion_word >= 0));
+    if (other) {
+      const int col = motion_word >= 0 ? l.g_col[kGMotion] : l.g_col[kGNonModal];
+      return fail(l, col, "under tool-centre-point control (M428/G43.4) only G0 and G1 moves run; expected M429 before it");
+    }
+  }
   if (nonmodal == 280 || nonmodal == 300 || nonmodal == 281 || nonmodal == 301) {
     ok = home(l, out);
   } else if (nonmodal == 100) {
@@ -304,7 +332,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     ok = straight(l, motion_, true, out);
   } else if (motion_word == 52 || motion_word == 62) {
     ok = nurbs_open(l, motion_word, out);
-  } else if (is_straight(motion_) && axis_words(l)) {
+  } else if (is_straight(motion_) && (axis_words(l) || (l.present & rotary_bits()) != 0)) {
     ok = straight(l, motion_, false, out);
   } else if (is_arc(motion_) && (axis_words(l) || (l.present & (bit('I') | bit('J') | bit('K') | bit('R'))) != 0)) {
     ok = arc(l, motion_, out);

@@ -41,6 +41,7 @@ struct JobFrame {
   double scale = 1.0;
   int work_offset_index = 0;  // initial G54..G59.3 selection (0..8)
   Vec3 start{};               // machine position before the first move
+  std::optional<Rot3> rot_start;  // the rotary joints before the first move (rad); unset: their homes
   bool contouring = false;    // initial M21/M22 state
   // Offsets, G92 and the stored G28/G30 positions at the start (the state file's; g5x[0] is
   // the G54 that `offset` was made from). Unset: the config's defaults.
@@ -86,6 +87,9 @@ class Interpreter : public SystemParameters {
   void end_of_input(int line);
   /// The End move used when the file ends without M2/M30.
   Move end_move(int line) const;
+  /// The rotary joints now (rad) and whether TCP is on.
+  const Rot3& rotary() const { return rot_; }
+  bool tcp() const { return tcp_; }
   /// Current position, machine coordinates.
   Vec3 position() const { return to_machine(q_); }
   /// Machine maximum path feed, mm/s (config max_feed_mm_min, else the fastest axis).
@@ -129,6 +133,11 @@ class Interpreter : public SystemParameters {
   bool set_offsets(const ParsedLine& l);   // G10 L1/L2/L10/L11/L20
   bool axis_offset(const ParsedLine& l);   // G52, G92, G92.1-G92.3
   bool tool_words(const ParsedLine& l);    // T, M6, M61, G43/G43.1/G49
+  // Rotary joints and TCP (interpreter_rotary.cpp)
+  std::uint32_t rotary_bits() const;       // the A/B/C letters of the machine's joints
+  Rot3 rotary_target(const ParsedLine& l) const;  // the joints the A/B/C words of `l` name (rad)
+  bool tcp_words(const ParsedLine& l);     // M428/G43.4 on, M429/G49 off
+  double tcp_tool_length(int tool) const;  // the length (mm) of `tool` from the tool table
   bool comp_forbids(const ParsedLine& l);  // what cannot happen with cutter compensation on
   bool comp_words(const ParsedLine& l);    // G40, G41/G42, G41.1/G42.1 (interpreter_comp.cpp)
   bool cycle(const ParsedLine& l, int motion, bool first_of_series, MoveList& out);
@@ -203,6 +212,9 @@ class Interpreter : public SystemParameters {
   std::vector<int> assumed_probe_lines_;
   std::string probe_log_;
   MoveComp comp_{};  // cutter radius compensation, carried on every move
+  Rot3 rot_{};                // rotary joints now, machine angles (rad)
+  bool tcp_ = false;          // M428/G43.4 in effect: q_ is the tool tip
+  double tcp_length_ = 0.0;   // the tool length applied along the tool axis under TCP, mm
 
   // An open NURBS group: LinuxCNC's G5.2 ... G5.3 or Fanuc's G6.2 ... closing knot-only lines.
   struct NurbsGroup {

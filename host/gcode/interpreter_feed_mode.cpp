@@ -8,6 +8,7 @@
 #include "gcode/interpreter.hpp"
 #include "gcode/interpreter_text.hpp"
 #include "gcode/preflight.hpp"
+#include "gcode/rotary_move.hpp"
 #include "gcode/words.hpp"
 
 namespace pcnc {
@@ -57,8 +58,12 @@ bool Interpreter::inverse_time_check(const ParsedLine& l, int column, int motion
 bool Interpreter::inverse_time_feed(const ParsedLine& l, Move& m) {
   const double f = l.get('F');
   const double time_s = 60.0 / f;
-  const double length = move_length(m);
   m.inverse_time_s = time_s;
+  if (angular_move(m)) {  // only the tool turns: the time is the turn's (rad/s)
+    m.feed_mm_s = angular_length(m, config_) / time_s;
+    return true;
+  }
+  const double length = move_length(m);
   double feed = length / time_s;
   if (!(feed > 0.0)) feed = max_feed_mm_s_;  // no length: no motion, any feed
   if (feed > max_feed_mm_s_ * (1.0 + 1e-12)) {

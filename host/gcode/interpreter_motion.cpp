@@ -5,6 +5,7 @@
 
 #include "gcode/interpreter.hpp"
 #include "gcode/interpreter_text.hpp"
+#include "gcode/rotary_move.hpp"
 
 namespace pcnc {
 
@@ -90,13 +91,33 @@ bool Interpreter::straight(const ParsedLine& l, int motion, bool g53, MoveList& 
     if (column == 0) column = first_col;
   }
   Move m = base_move(motion == 0 ? MoveKind::kRapid : MoveKind::kLine, l, column);
-  if (motion == 10 && !feed_for_move(l, column, m.feed_mm_s)) {
+  const Rot3 rot = rotary_target(l);
+  // only the tool turns: F is in deg/min, not limited by the linear axes' maximum feed
+  const bool turn_only = !g53 && rot != rot_ && norm(to_machine(q) - to_machine(q_)) <= 1e-9;
+  if (rot != rot_ && comp_.side != 0) {
+    return fail(l, column > 0 ? column : l.g_col[kGMotion],
+                "a rotary joint does not turn under cutter radius compensation (G41/G42); expected G40 first");
+  }
+  m.rot_end = rot;
+  if (column == 0) {
+    for (int i = 0; i < kRotaryJoints; ++i) {
+      if (column == 0 && l.has(joint_letter(i))) column = l.column(joint_letter(i));
+    }
+    m.column = column;
+  }
+  if (motion == 10 && turn_only && !inverse_time_ && !(feed_ > 0.0)) {
+    rot_ = rot;
+    return fail(l, column, "feed move with no feed rate in effect (F0 or no F yet); expected an F word > 0 (deg/min for a move that only turns the tool)");
+  }
+  if (motion == 10 && !(turn_only && !inverse_time_) && !feed_for_move(l, column, m.feed_mm_s)) {
     q_ = q;  // keep following the program after the error
     known_ = known;
     return false;
   }
   if (!g53) end = to_machine(q);
   m.end = end;
+  rot_ = rot;
+  if (motion == 10 && !inverse_time_ && angular_move(m)) m.feed_mm_s = feed_ * kRadPerDeg / 60.0;  // F in deg/min
   if (motion == 10 && inverse_time_ && !inverse_time_feed(l, m)) {
     q_ = q;
     known_ = known;

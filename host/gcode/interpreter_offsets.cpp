@@ -34,7 +34,8 @@ void Interpreter::set_param_vec(int base, const Vec3& v) {
   for (int i = 0; i < 3; ++i) params_.at(base + i) = v[static_cast<std::size_t>(i)];
 }
 
-void Interpreter::update_origin() { origin_ = g5x_ + g92_ + tlo_ - base_; }
+// Under TCP the tool length is applied along the tool axis by the kinematics, never to Z as well.
+void Interpreter::update_origin() { origin_ = g5x_ + g92_ + (tcp_ ? Vec3{} : tlo_) - base_; }
 
 void Interpreter::select_system(int index) {
   work_index_ = index;

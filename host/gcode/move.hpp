@@ -14,6 +14,7 @@
 
 #include "geometry/plane.hpp"
 #include "geometry/vec3.hpp"
+#include "ipc/rotary_joints.hpp"
 
 namespace pcnc {
 
@@ -66,6 +67,16 @@ struct Move {
   // kNurbs: the validated curve in machine coordinates (first control point = start, last =
   // end), shared so that copying a Move stays cheap; feed_mm_s is its programmed feed.
   std::shared_ptr<const NurbsCurve> nurbs;
+
+  // Rotary joints (machines with [axis.a/b/c]; docs/kinematics.md "The pipeline"): their values
+  // at the start and end of a straight move (rad, machine angles, A B C by index). Under TCP
+  // (M428/G43.4) start and end above are the tool tip in workpiece coordinates, and
+  // tool_length (mm) is applied along the tool axis by the kinematics. A move that only turns
+  // the tool ("angular", rotary_move.hpp) has feed_mm_s in rad/s.
+  Rot3 rot_start{};
+  Rot3 rot_end{};
+  bool tcp = false;
+  double tool_length = 0.0;
 
   MoveComp comp;
   // kNurbs made by smoothing (`smoothed`): the programmed moves' lines along the curve.

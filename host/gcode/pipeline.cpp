@@ -6,6 +6,8 @@
 
 #include "gcode/nurbs_move.hpp"
 #include "gcode/preprocessor.hpp"
+#include "gcode/rotary_move.hpp"
+#include "gcode/tcp_move.hpp"
 
 namespace pcnc {
 
@@ -35,7 +37,7 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       preflight_(config_, sink_, soft_limits),
       smoother_(config_),
       to_smoother_([this](Move& m) { return surface_ ? surface_->next(to_surface_, m) : comp_.next(from_source_, m); }),
-      validator_(config_, frame.start),
+      validator_(config_, frame.start, frame.rot_start),
       to_merge_([this](Move& m) { return checked_move(m); }),
       to_surface_([this](Move& m) { return comp_.next(from_source_, m); }) {
   if (frame.surface) {
@@ -97,6 +99,16 @@ bool Pipeline::next(Block& out) {
     return accept(out);
   }
   make_block_into(m, config_, out);
+  if (m.tcp && (m.kind == MoveKind::kLine || m.kind == MoveKind::kRapid)) {
+    const bool angular = angular_move(m);
+    const double feed = angular ? (m.kind == MoveKind::kRapid ? 1e9 : m.feed_mm_s) : out.speed;
+    const TcpMovePlan plan = plan_tcp_move(m, config_, feed);
+    if (!plan.error.empty()) {
+      sink_.error(m.line, m.column, plan.error);
+      return false;
+    }
+    apply_tcp_plan(m, plan, out);
+  }
   return accept(out);
 }
 

@@ -115,6 +115,16 @@ void Preflight::add(const Move& m) {
   }
   const double length = move_length(m);
   if (length > 1e-12 || m.kind == MoveKind::kArc) ++moves_;
+  if (m.tcp || m.rot_start != m.rot_end) {
+    add_rotary(m);  // under TCP the tip's points are not the axes': the joints are checked there
+    if (m.tcp) {
+      all_.add(m.end);
+      if (!m.machine_frame) fit_.add(m.end, m.known);
+      if (m.kind != MoveKind::kRapid && m.feed_mm_s > 0.0) feed_time_s_ += length / m.feed_mm_s;
+      last_ = m.end;
+      return;
+    }
+  }
   for_each_extreme(m, [&](const Vec3& p) { check_point(m, p); });
   if (m.kind != MoveKind::kRapid && m.feed_mm_s > 0.0) feed_time_s_ += length / m.feed_mm_s;
   last_ = m.end;

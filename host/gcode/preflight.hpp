@@ -69,6 +69,12 @@ class Preflight {
   Vec3 last_{};
   double feed_time_s_ = 0.0;
   std::array<std::uint64_t, 6> violations_{};  // per axis: [2*i] below min, [2*i+1] above max
+  std::array<std::uint64_t, 6> rot_violations_{};  // per rotary joint A B C, as violations_
+  // Rotary joints (preflight_rotary.cpp): a move that turns one (its end within the joint's
+  // travel) or runs under TCP (the joints sampled along it, linear ones included)
+  void add_rotary(const Move& m);
+  void check_joint(const Move& m, int joint, double value_rad, const char* where);
+  void check_linear_joint(const Move& m, int axis, double value_mm);
   std::vector<Vec3> points_;                     // scratch: a NURBS curve's extreme points
 };
 

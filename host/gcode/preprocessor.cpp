@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "gcode/rotary_move.hpp"
 #include "geometry/probe_contact.hpp"
 
 namespace pcnc {
@@ -120,7 +121,45 @@ void plan_arc(const Move& m, const MachineConfig& cfg, Block& b) {
   b.dir_end = tangent(theta0 + sweep);
 }
 
+// A straight move that turns a rotary joint, TCP off: the joints run linearly with the path
+// parameter, so each joint's speed and acceleration are the path's times its travel per unit of
+// path; an angular move (the linear axes stand still) runs on the joints' Euclidean travel in rad,
+// at the feed in rad/s (F in deg/min). A TCP move gets its joint-space plan from tcp_move.hpp
+// (in the pipeline, which reports its errors). Either way the block ends at rest.
+void plan_rotary(const Move& m, const MachineConfig& cfg, Block& b) {
+  b.rotary.end = m.rot_end;
+  if (!moves_rotary(m)) return;
+  b.contouring = 0;
+  b.path_tolerance_mm = 0.0f;
+  if (m.tcp) return;
+  const bool angular = angular_move(m);
+  if (angular) {
+    b.rotary.angular = 1;
+    b.length = angular_length(m, cfg);
+    b.speed = m.kind == MoveKind::kRapid ? kInf : m.feed_mm_s;
+    b.accel = kInf;
+  }
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double share = std::fabs(m.rot_end[k] - m.rot_start[k]) / b.length;  // rad per path unit
+    if (!(share > 0.0) || !cfg.rotary[k]) continue;
+    b.speed = std::min(b.speed, cfg.rotary[k]->max_velocity_rad_s / share);
+    b.accel = std::min(b.accel, cfg.rotary[k]->max_accel_rad_s2 / share);
+  }
+  restate_line_plan(m, b);
+}
+
 }  // namespace
+
+void restate_line_plan(const Move& m, Block& b) {
+  const Vec3 d = m.end - m.start;
+  const double chord = norm(d);
+  const auto dk = static_cast<std::size_t>(b.driving_axis);
+  const double u = chord > 1e-9 ? d[dk] / chord : 0.0;
+  b.driving_speed = b.speed * std::fabs(u);
+  b.driving_accel = b.accel * std::fabs(u);
+  b.decel_start = m.start[dk] + u * decel_start_distance(b.length, b.speed, b.accel);
+}
 
 double decel_start_distance(double length, double speed, double accel) {
   if (!(accel > 0.0) || !(speed > 0.0)) return length;
@@ -170,6 +209,8 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
   b.arc = ArcGeometry{};
   b.nurbs.point_count = b.nurbs.knot_count = b.nurbs.schedule_count = 0;
   b.nurbs.degree = 0;
+  b.rotary = RotaryMotion{};
+  b.rotary.start = b.rotary.end = m.rot_start;
   b.line = static_cast<std::uint32_t>(m.line > 0 ? m.line : 0);
   b.start = m.start;
   b.end = m.end;
@@ -178,6 +219,7 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
     case MoveKind::kRapid:
       b.kind = BlockKind::kRapid;
       plan_line(m, cfg, b);
+      plan_rotary(m, cfg, b);
       break;
     case MoveKind::kLine:
       b.kind = BlockKind::kLine;
@@ -193,6 +235,7 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
           plan_line(capped, cfg, b);
         }
       }
+      plan_rotary(m, cfg, b);
       break;
     case MoveKind::kArc:
       b.kind = BlockKind::kArc;

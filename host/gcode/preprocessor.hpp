@@ -33,6 +33,11 @@ void make_block_into(const Move& move, const MachineConfig& config, Block& out);
 /// start at which deceleration must begin.
 double decel_start_distance(double length, double speed, double accel);
 
+/// The driving-axis plan of a straight block (driving_speed, driving_accel, decel_start) restated
+/// from its speed, accel and length after they were lowered (rotary joints, TCP), on the driving
+/// axis it has; an angular block (no linear travel) gets 0, 0 and the start coordinate.
+void restate_line_plan(const Move& move, Block& b);
+
 /// Largest |sin| and |cos| over the angles from `start` through `start + sweep` (sweep signed).
 double max_abs_sin(double start, double sweep);
 double max_abs_cos(double start, double sweep);

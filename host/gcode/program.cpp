@@ -67,6 +67,7 @@ JobFrame make_frame(const MachineConfig& config, const JobOptions& options, cons
   f.scale = t.scale;
   f.work_offset_index = std::clamp(options.work_offset_index, 0, 8);
   f.start = options.start_position ? *options.start_position : clamp_to_travel(t.offset, config);
+  f.rot_start = options.start_rotary;
   f.contouring = options.contouring ? *options.contouring : config.motion.contouring_default;
   return f;
 }
@@ -182,7 +183,8 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
 }  // namespace
 
 bool is_null_move(const Move& m) {
-  return (m.kind == MoveKind::kRapid || m.kind == MoveKind::kLine) && norm(m.end - m.start) <= 1e-12;
+  return (m.kind == MoveKind::kRapid || m.kind == MoveKind::kLine) && norm(m.end - m.start) <= 1e-12 &&
+         m.rot_start == m.rot_end;
 }
 
 CheckResult check_program(const std::string& path, const MachineConfig& config, const JobOptions& options) {

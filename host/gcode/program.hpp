@@ -37,6 +37,7 @@ struct JobOptions {
   // Machine position before the first move (the launcher passes the rt's actual position).
   // Default: program zero (the G54 point after --offset/--fit) clamped into the travel.
   std::optional<Vec3> start_position;
+  std::optional<Rot3> start_rotary;  // the rotary joints before the first move (rad); unset: their homes
   // The work offsets, G92 and G28/G30 positions at the start (the state file's); unset: the
   // config's. --offset replaces its G54.
   std::optional<WorkState> work;

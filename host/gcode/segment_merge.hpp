@@ -42,7 +42,9 @@ class SegmentMerger {
   static bool fits(const std::vector<Vec3>& points, const Vec3& end, double tolerance);
 
  private:
-  static bool mergeable(const Move& m) { return m.path_tolerance_mm > 0.0 && m.kind == MoveKind::kLine && m.contouring; }
+  static bool mergeable(const Move& m) {
+    return m.path_tolerance_mm > 0.0 && m.kind == MoveKind::kLine && m.contouring && !m.tcp && m.rot_start == m.rot_end;
+  }
 
   bool have_stash_ = false;  // a move read past the end of the last run
   Move stash_;

@@ -16,7 +16,8 @@ Smoother::Smoother(const MachineConfig& config)
     : cos_corner_(std::cos(config.motion.smoothing_angle_deg * std::numbers::pi / 180.0)) {}
 
 bool Smoother::smoothable(const Move& m) const {
-  return m.kind == MoveKind::kLine && m.contouring && m.path_tolerance_mm > 0.0 && m.probe_rule == 0;
+  return m.kind == MoveKind::kLine && m.contouring && m.path_tolerance_mm > 0.0 && m.probe_rule == 0 && !m.tcp &&
+         m.rot_start == m.rot_end;
 }
 
 bool Smoother::continues(const Move& last, const Move& m) const {

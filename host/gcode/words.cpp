@@ -57,6 +57,7 @@ constexpr CodeInfo kGCodes[] = {
     {430, 430, 1, kGToolLength, nullptr},  // G43: the offset stays 0 (warned)
     {431, 431, 1, kGToolLength, nullptr},  // G43.1 dynamic tool length
     {432, 432, 1, kGToolLength, "adding a second tool length offset (G43.2) is not supported; expected G43 H or G43.1"},
+    {434, 434, 1, kGToolLength, nullptr},  // G43.4: TCP on (another name for M428), H as G43
     {490, 490, 1, kGToolLength, nullptr},
     {980, 990, 10, kGCannedReturn, nullptr},  // G98 G99
     // work coordinate systems
@@ -88,6 +89,7 @@ constexpr CodeInfo kMCodes[] = {
     {70, 73, 1, kMOther, "saving and restoring modal state (M70-M73) is not supported; expected explicit modal words"},
     {100, 199, 1, kMOther, "user M codes (M100-M199) are not supported; expected M codes listed in docs/gcode.md"},
     {98, 99, 1, kMSubprogram, nullptr},  // M98 call, M99 return (MoveSource)
+    {428, 429, 1, kMTcp, nullptr},       // TCP on/off (a machine without kinematics refuses them)
 };
 
 // The G table indexed by code (x10) once, at compile time: the parser looks up every G word.

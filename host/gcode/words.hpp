@@ -35,7 +35,8 @@ enum MGroup : int {
   kMContouring = 5,  // M21 M22 (pcnc: contouring on/off)
   kMOther = 6,       // M62-M68, M70-M73, M100-M199 (known, never executed here)
   kMSubprogram = 7,  // M98 M99 (Fanuc subprograms)
-  kMGroupCount = 8
+  kMTcp = 8,         // M428 M429: tool-centre-point control on/off (LinuxCNC's XYZAC demos)
+  kMGroupCount = 9
 };
 
 /// One row of the table: the codes first, first + step, ..., last (G: x10), their group, and

@@ -178,6 +178,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   opts.contouring = rp.contouring;
   opts.offset = rp.offset;  // replaces G54 for this run, as `pcnc run --offset`
   opts.start_position = start;
+  if (l) opts.start_rotary = l->status().rot_commanded;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     info_ = json{{"file", rp.file}, {"phase", "preflight"}};
@@ -276,6 +277,7 @@ void JobControl::mdi_job(ClientId client, const json& id, const std::string& tex
   opts.work = ws;
   opts.work_offset_index = ws.active;
   opts.start_position = start;
+  if (l) opts.start_rotary = l->status().rot_commanded;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     info_ = json{{"file", "MDI"}, {"phase", "preflight"}};

@@ -32,12 +32,26 @@ Outcome JogControl::start(ClientId client, const json& id, RtLink& link, const S
     return Outcome::fail(refused("jog is refused while a program is starting or running"));
   }
   if (jog_ && jog_->owner != client) return Outcome::fail(refused("another client's continuous jog is active"));
-  const auto ax = static_cast<std::size_t>(jp.axis);
-  const AxisConfig& ac = config_.axes[ax];
-  const double here = st.commanded[ax];
+  const bool rotary = jp.axis >= kAxes;  // a rotary joint: degrees here, rad in the command
+  if (rotary && st.state != MachineState::kIdle && st.state != MachineState::kJogging) {
+    return Outcome::fail(refused("a rotary joint jogs only when the machine is idle"));
+  }
+  const auto ax = static_cast<std::size_t>(rotary ? jp.axis - kAxes : jp.axis);
+  double here = 0.0, lo = 0.0, hi = 0.0;
+  if (rotary) {
+    const RotaryAxisConfig& rc = *config_.rotary[ax];
+    here = st.rot_commanded[ax] * kDegPerRad;
+    lo = rc.continuous ? -1e12 : rc.travel_min_rad * kDegPerRad;
+    hi = rc.continuous ? 1e12 : rc.travel_max_rad * kDegPerRad;
+  } else {
+    here = st.commanded[ax];
+    lo = config_.axes[ax].travel_min_mm;
+    hi = config_.axes[ax].travel_max_mm;
+  }
   const double dir = jp.continuous ? jp.direction : (jp.distance_mm > 0.0 ? 1.0 : -1.0);
-  const double limit = dir > 0.0 ? ac.travel_max_mm : ac.travel_min_mm;
-  json result = {{"axis", std::string(1, axis_name(jp.axis))},
+  const double limit = dir > 0.0 ? hi : lo;
+  const char name = rotary ? joint_letter(jp.axis - kAxes) : axis_name(jp.axis);
+  json result = {{"axis", std::string(1, name)},
                  {"mode", jp.continuous ? "continuous" : "incremental"},
                  {"feed", jp.feed_mm_min},
                  {"from", here}};
@@ -54,14 +68,14 @@ Outcome JogControl::start(ClientId client, const json& id, RtLink& link, const S
     result["clamped"] = true;
     result["target"] = limit;
     result["moved"] = false;
-    result["note"] = std::string("axis ") + axis_name(jp.axis) + " is at its soft limit";
+    result["note"] = std::string("axis ") + name + " is at its soft limit";
     return Outcome::ok(result);
   }
   Command c;
   c.kind = jp.continuous ? CommandKind::kJogContinuous : CommandKind::kJogIncrement;
   c.axis = static_cast<std::uint8_t>(jp.axis);
-  c.value = jp.continuous ? static_cast<double>(jp.direction) : jp.distance_mm;
-  c.feed = jp.feed_mm_min / 60.0;
+  c.value = jp.continuous ? static_cast<double>(jp.direction) : jp.distance_mm * (rotary ? kRadPerDeg : 1.0);
+  c.feed = jp.feed_mm_min / 60.0 * (rotary ? kRadPerDeg : 1.0);
   const std::uint64_t cmd_id = link.send(c);
   if (cmd_id == 0) return Outcome::fail(mailbox_full());
   result["command_id"] = cmd_id;
@@ -70,7 +84,8 @@ Outcome JogControl::start(ClientId client, const json& id, RtLink& link, const S
     jog_ = ContinuousJog{client, now, now, now, cmd_id, false};
     result["deadman_s"] = config_.process.jog_deadman_s;
   }
-  pending_.push_back(PendingJog{client, id, cmd_id, st.commanded, result, Clock::now() + std::chrono::milliseconds(1000)});
+  pending_.push_back(
+      PendingJog{client, id, cmd_id, st.commanded, result, Clock::now() + std::chrono::milliseconds(1000), st.rot_commanded});
   return Outcome::later();
 }
 
@@ -108,7 +123,7 @@ void JogControl::check_pending(const std::optional<Status>& st) {
       reply_(it->client, it->id, Outcome::fail(rpc::Error{rpc::kRtUnavailable, "pcnc-rt was lost before it took the jog", nullptr}));
       done = true;
     } else if (st->last_command_id >= it->cmd_id) {
-      if (st->state == MachineState::kJogging || st->commanded != it->before) {
+      if (st->state == MachineState::kJogging || st->commanded != it->before || st->rot_commanded != it->before_rot) {
         json r = it->result;
         r["moved"] = true;
         reply_(it->client, it->id, Outcome::ok(r));

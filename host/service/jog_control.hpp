@@ -63,6 +63,7 @@ class JogControl {
     Vec3 before{};
     rpc::json result;
     Clock::time_point deadline{};
+    Rot3 before_rot{};
   };
 
   void check_pending(const std::optional<Status>& st);

@@ -313,14 +313,22 @@ Checked<JogParams> check_jog_params(const json& params, const MachineConfig& con
   JogParams p;
   if (auto a = r.string("axis", true)) {
     p.axis = parse_axis_name(*a);
-    if (p.axis < 0) r.fail("parameter 'axis' of jog must be X, Y or Z, got '" + *a + "'");
+    // a rotary joint the machine declares: axis 3, 4, 5 (A, B, C), distance in degrees, feed in deg/min
+    const std::string la = lower(*a);
+    if (p.axis < 0 && la.size() == 1 && la[0] >= 'a' && la[0] <= 'c' && config.rotary[static_cast<std::size_t>(la[0] - 'a')]) {
+      p.axis = kAxes + (la[0] - 'a');
+    }
+    if (p.axis < 0) r.fail("parameter 'axis' of jog must be X, Y or Z (or a rotary joint the machine has), got '" + *a + "'");
   }
   p.continuous = r.boolean("continuous").value_or(false);
-  const double vmax = config.axes[static_cast<std::size_t>(std::max(p.axis, 0))].max_velocity_mm_s * 60.0;
+  const bool rotary = p.axis >= kAxes;
+  const double vmax = rotary ? config.rotary[static_cast<std::size_t>(p.axis - kAxes)]->max_velocity_rad_s * kDegPerRad * 60.0
+                             : config.axes[static_cast<std::size_t>(std::max(p.axis, 0))].max_velocity_mm_s * 60.0;
   const double feed_default = std::min(kDefaultJogFeedMmMin, vmax);
   const json* dir = r.find("direction");
-  auto dist = r.number("distance", -kMaxJogDistanceMm, kMaxJogDistanceMm, false, "mm");
-  if (auto f = r.number("feed", 0.0, vmax, false, "mm/min (the axis's max velocity)")) {
+  const double max_dist = rotary ? 3600.0 : kMaxJogDistanceMm;
+  auto dist = r.number("distance", -max_dist, max_dist, false, rotary ? "deg" : "mm");
+  if (auto f = r.number("feed", 0.0, vmax, false, rotary ? "deg/min (the joint's max velocity)" : "mm/min (the axis's max velocity)")) {
     if (*f <= 0.0) r.fail("parameter 'feed' of jog must be > 0 mm/min");
     p.feed_mm_min = *f;
   } else {
@@ -469,7 +477,7 @@ json status_to_json(const Status& s) {
   j["state"] = to_string(s.state);
   j["fault"] = to_string(s.fault);
   if (s.fault != FaultCode::kNone) {
-    j["fault_axis"] = std::string(1, axis_name(s.fault_axis));
+    j["fault_axis"] = std::string(1, s.fault_axis < kAxes ? axis_name(s.fault_axis) : joint_letter(s.fault_axis - kAxes));
     j["fault_line"] = s.fault_line;
     j["fault_value"] = s.fault_value;
   }
@@ -490,6 +498,20 @@ json status_to_json(const Status& s) {
                                     {"y", std::sqrt(s.following_error_sq_sum[1] / n)},
                                     {"z", std::sqrt(s.following_error_sq_sum[2] / n)}};
     j["rms_contour_error"] = std::sqrt(s.contour_error_sq_sum / n);
+  }
+  // the rotary joints the machine declares, in degrees (DESIGN.md: degrees at every edge)
+  if (s.rotary_mask != 0) {
+    json rot = json::object();
+    for (int i = 0; i < kRotaryJoints; ++i) {
+      if (!has_joint(s.rotary_mask, i)) continue;
+      const auto k = static_cast<std::size_t>(i);
+      rot[std::string(1, joint_lower(i))] =
+          json{{"commanded", s.rot_commanded[k] * kDegPerRad},     {"actual", s.rot_actual[k] * kDegPerRad},
+               {"velocity", s.rot_velocity[k] * kDegPerRad},       {"following_error", s.rot_following_error[k] * kDegPerRad},
+               {"max_following_error", s.rot_max_following_error[k] * kDegPerRad}};
+    }
+    j["rotary"] = rot;
+    j["tcp"] = s.tcp != 0;
   }
   j["contour_error"] = s.contour_error;
   j["max_contour_error"] = s.max_contour_error;

@@ -66,6 +66,7 @@ void JobControl::stream_job(ClientId client, const json& id, bool check, std::sh
   opts.work = ws;
   opts.work_offset_index = ws.active;
   opts.start_position = start;
+  if (l) opts.start_rotary = l->status().rot_commanded;
   if (!check) {  // a probing move cannot be a sync point in a stream (docs/probe.md)
     auto probe = std::make_shared<ProbeResults>();
     probe->refuse_unknown = true;

@@ -40,7 +40,19 @@ void Machine::Impl::cycle(MotionRing& ring) {
       sp.pos = st.commanded;  // never command it
     }
   }
-  if (!sm.amps_on()) sp.pos = meas;  // amplifiers off: the setpoint follows the axes
+  const Rot3 rmeas = drive.rotary_encoder();
+  if (sm.amps_on() && st.rotary_mask != 0) {
+    const int j = outside_rotary_travel(sp.rot, cfg, 0.0);
+    if (j >= 0) {
+      sm.trip(FaultCode::kSoftLimit, kAxes + j, sp.rot[static_cast<std::size_t>(j)], exec.line(),
+              "rotary setpoint outside the joint's travel", &ring);
+      sp.rot = st.rot_commanded;  // never command it
+    }
+  }
+  if (!sm.amps_on()) {
+    sp.pos = meas;  // amplifiers off: the setpoint follows the axes
+    sp.rot = rmeas;
+  }
   Vec3 probe_dir{};
   if (exec.take_probe_arm(probe_dir)) probe.arm(probe_dir);
   st.probe_input = probe.sense(sp.pos) ? 1 : 0;  // the executor sees it next cycle, as a real input
@@ -48,11 +60,23 @@ void Machine::Impl::cycle(MotionRing& ring) {
   // 5. servo and plant
   const Vec3 ferr = sp.pos - meas;
   drive.step(sp.pos, meas, sp.vel, sp.acc, sm.amps_on());
+  Rot3 rferr{};
+  if (st.rotary_mask != 0) {
+    for (int i = 0; i < kRotaryJoints; ++i) rferr[static_cast<std::size_t>(i)] = sp.rot[static_cast<std::size_t>(i)] - rmeas[static_cast<std::size_t>(i)];
+    drive.step_rotary(sp.rot, rmeas, sp.rot_vel, sp.rot_acc, sm.amps_on());
+  }
 
   // 6. following error
   if (sm.amps_on()) {
     const int ax = following_error_axis(ferr, cfg);
     if (ax >= 0) sm.trip(FaultCode::kFollowingError, ax, ferr[ax], exec.line(), "following error over the limit", &ring);
+    for (int i = 0; i < kRotaryJoints && sm.amps_on(); ++i) {
+      const auto& j = cfg.rotary[static_cast<std::size_t>(i)];
+      if (j && std::abs(rferr[static_cast<std::size_t>(i)]) > j->following_error_limit_rad) {
+        sm.trip(FaultCode::kFollowingError, kAxes + i, rferr[static_cast<std::size_t>(i)], exec.line(),
+                "rotary following error over the limit", &ring);
+      }
+    }
   }
 
   // 7. status and trace
@@ -75,6 +99,15 @@ void Machine::Impl::cycle(MotionRing& ring) {
       st.contour_error_sq_sum += ce * ce;
     }
   }
+  st.rot_commanded = sp.rot;
+  st.rot_actual = rmeas;
+  st.rot_velocity = sp.rot_vel;
+  st.rot_following_error = rferr;
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    st.rot_max_following_error[k] = std::max(st.rot_max_following_error[k], std::abs(rferr[k]));
+  }
+  st.tcp = exec.tcp() ? 1 : 0;
   st.line = exec.line();
   st.block_seq = exec.seq();
   st.contouring = exec.contouring() ? 1 : 0;
@@ -88,6 +121,8 @@ void Machine::Impl::cycle(MotionRing& ring) {
   ts.actual = meas;
   ts.following_error = ferr;
   ts.speed = st.path_speed;
+  tj.commanded = sp.rot;
+  tj.actual = rmeas;
 }
 
 }  // namespace pcnc

@@ -12,8 +12,15 @@ namespace pcnc {
 Machine::Impl::Impl(const MachineConfig& c)
     : cfg(c), dt(c.cycle_period_s()), exec(c), jog(c), drive(c), probe(c), sm(cfg, st, sp, exec, jog, ovr, drive) {
   sp.pos = exec.position();
+  sp.rot = exec.rotary();
   st.actual = drive.encoder();
   st.commanded = sp.pos;
+  st.rotary_mask = c.rotary_mask();
+  st.rot_commanded = sp.rot;
+  st.rot_actual = drive.rotary_encoder();
+  tj.mask = st.rotary_mask;
+  tj.commanded = sp.rot;
+  tj.actual = st.rot_actual;
 }
 
 Machine::Machine(const MachineConfig& config) : impl_(std::make_unique<Impl>(config)) {}
@@ -61,6 +68,28 @@ bool Machine::take_up_position(const Vec3& at) {
   return true;
 }
 
+bool Machine::take_up_rotary(const Rot3& at) {
+  Impl& m = *impl_;
+  Rot3 r = at;
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const auto& j = m.cfg.rotary[k];
+    if (!std::isfinite(r[k])) return false;
+    if (!j) r[k] = 0.0;
+    else if (!j->continuous) r[k] = std::clamp(r[k], j->travel_min_rad, j->travel_max_rad);
+  }
+  m.drive.place_rotary(r);
+  m.drive.reset_servo();
+  m.exec.set_rotary(r);
+  m.exec.set_position(m.exec.position());
+  m.sp.rot = r;
+  m.st.rot_commanded = r;
+  m.st.rot_actual = m.drive.rotary_encoder();
+  m.tj.commanded = r;
+  m.tj.actual = m.st.rot_actual;
+  return true;
+}
+
 void Machine::trace_failed(bool stop) {
   impl_->st.trace_failed = 1;
   if (stop) impl_->sm.refuse_programs();
@@ -71,6 +100,7 @@ bool Machine::motion_at_rest() const { return impl_->sm.motion_at_rest(); }
 
 const Status& Machine::status() const { return impl_->st; }
 const TraceSample& Machine::trace_sample() const { return impl_->ts; }
+const TraceJoints& Machine::trace_joints() const { return impl_->tj; }
 const char* Machine::fault_reason() const { return impl_->sm.fault_reason(); }
 void Machine::set_axis_blocked(int axis, bool blocked) { impl_->drive.set_blocked(axis, blocked); }
 Vec3 Machine::true_position() const { return impl_->drive.true_position(); }

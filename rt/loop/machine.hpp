@@ -57,6 +57,8 @@ class Machine {
   /// takes up where its predecessor last measured the axes, as absolute encoders would tell
   /// a drive after a power loss. False (nothing changed) when `at` is not finite.
   bool take_up_position(const Vec3& at);
+  /// The same for the rotary joints (rad; a joint with a travel is put onto it).
+  bool take_up_rotary(const Rot3& at);
 
   /// The trace could not be written (the loop's trace writer failed). Published in the status
   /// (trace_failed); with `stop` (process.on_trace_failure = "stop") a running program stops
@@ -71,6 +73,8 @@ class Machine {
 
   const Status& status() const;
   const TraceSample& trace_sample() const;
+  /// The rotary joints of the same cycle (the trace file's extra columns).
+  const TraceJoints& trace_joints() const;
 
   /// Why the machine faulted, in words (static text; "" when not faulted). Status carries
   /// the code, axis, value and line; this names the defect, e.g. which block check failed.

@@ -35,6 +35,7 @@ struct Machine::Impl {
   SimProbe probe;  // the touch probe's input (docs/probe.md)
   Status st{};
   TraceSample ts{};
+  TraceJoints tj{};
   Setpoint sp{};  // this cycle's setpoint; its position holds while nothing moves
   StateMachine sm;  // last: it works on the parts above
 };

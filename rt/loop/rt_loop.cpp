@@ -33,10 +33,11 @@ RtLoop::RtLoop(const MachineConfig& config, SharedSegment& shm, const RtLoopOpti
       summary_period_(std::max(1, static_cast<int>(config.motion.cycle_hz / 10.0))),
       settle_cycles_(std::max(1, static_cast<int>(config.motion.cycle_hz / 100.0))) {
   if (!options_.trace_path.empty() || !options_.trace_digest_path.empty()) {
-    trace_ = std::make_unique<TraceWriter>(TraceFiles{options_.trace_path, options_.trace_digest_path},
+    trace_ = std::make_unique<TraceWriter>(TraceFiles{options_.trace_path, options_.trace_digest_path, config.rotary_mask()},
                                            options_.on_trace_failure);
   }
   if (options_.start_position) machine_->take_up_position(*options_.start_position);
+  if (options_.start_rotary) machine_->take_up_rotary(*options_.start_rotary);
 }
 
 std::string RtLoop::close_trace() {
@@ -134,9 +135,9 @@ void RtLoop::cycle(std::uint64_t now_ns) {
   shm_.scope.publish(machine_->trace_sample());  // the scope's flight recorder: never waits
   if (trace_) {
     if (options_.virtual_clock) {
-      trace_->push_wait(machine_->trace_sample());
+      trace_->push_wait(TraceEntry{machine_->trace_sample(), machine_->trace_joints()});
     } else {
-      trace_->push(machine_->trace_sample());
+      trace_->push(TraceEntry{machine_->trace_sample(), machine_->trace_joints()});
     }
   }
 

@@ -30,6 +30,7 @@ struct RtLoopOptions {
   double shutdown_timeout_s = 5.0;  // a stop request ends the loop after this long even if not at rest
   // Where the axes stand at start (a restarted rt: where its predecessor last measured them).
   std::optional<Vec3> start_position;
+  std::optional<Rot3> start_rotary;  // the rotary joints, rad (a restarted rt: where they were measured)
   // Called once, from the trace writer's thread, when the trace cannot be written.
   std::function<void(const std::string&)> on_trace_failure;
 };

@@ -21,6 +21,7 @@ void StateMachine::program_start() {
   st_.junction_stops = 0;
   st_.junction_flows = 0;
   st_.max_following_error = {0.0, 0.0, 0.0};
+  st_.rot_max_following_error = {0.0, 0.0, 0.0};
   st_.following_error_sq_sum = {0.0, 0.0, 0.0};
   st_.program_cycles = 0;
   st_.contour_error = 0.0;
@@ -185,11 +186,18 @@ void StateMachine::command(const Command& c) {
           // take up where the axes are (put onto the travel if they coasted a hair past it)
           Vec3 at = drive_.encoder();
           for (int i = 0; i < kAxes; ++i) at[i] = std::clamp(at[i], cfg_.axes[i].travel_min_mm, cfg_.axes[i].travel_max_mm);
+          Rot3 rot = drive_.rotary_encoder();
+          for (int i = 0; i < kRotaryJoints; ++i) {
+            const auto& j = cfg_.rotary[static_cast<std::size_t>(i)];
+            if (j && !j->continuous) rot[static_cast<std::size_t>(i)] = std::clamp(rot[static_cast<std::size_t>(i)], j->travel_min_rad, j->travel_max_rad);
+          }
+          exec_.set_rotary(rot);
           exec_.set_position(at);
           drive_.reset_servo();
           amps_on_ = true;
         }
         sp_.pos = exec_.position();
+        sp_.rot = exec_.rotary();
         st_.fault = FaultCode::kNone;
         st_.fault_axis = 0;
         st_.fault_value = 0.0;
@@ -208,6 +216,9 @@ void StateMachine::command(const Command& c) {
       if ((s == MachineState::kIdle && !st_.program_active) || s == MachineState::kJogging ||
           (s == MachineState::kPaused && exec_.speed() == 0.0)) {
         const Vec3 from = paused_jog_ ? stand_ : exec_.position();
+        // a rotary joint (axis 3..5) jogs only from IDLE: a paused program's jog returns along X Y Z
+        if (c.axis >= kAxes && s != MachineState::kIdle && !(s == MachineState::kJogging && !paused_jog_)) break;
+        jog_.set_rotary(exec_.rotary());
         const bool ok = c.kind == CommandKind::kJogIncrement ? jog_.start_increment(from, c.axis, c.value, c.feed)
                                                              : jog_.start_continuous(from, c.axis, c.value, c.feed);
         if (ok) {
@@ -256,6 +267,8 @@ void StateMachine::begin_cycle(MotionRing& ring) {
 void StateMachine::move(MotionRing& ring) {
   sp_.vel = {0.0, 0.0, 0.0};
   sp_.acc = {0.0, 0.0, 0.0};
+  sp_.rot_vel = {0.0, 0.0, 0.0};
+  sp_.rot_acc = {0.0, 0.0, 0.0};
   switch (st_.state) {
     case MachineState::kRunning:
     case MachineState::kPaused:
@@ -280,9 +293,13 @@ void StateMachine::run_jog() {
   sp_.pos = jog_.position();
   sp_.vel = jog_.velocity();
   sp_.acc = jog_.acceleration();
+  sp_.rot = jog_.rotary();
+  sp_.rot_vel = jog_.rotary_velocity();
+  sp_.rot_acc = jog_.rotary_acceleration();
   st_.path_speed = jog_.speed();
   if (jog_.active()) return;
   if (!paused_jog_) {
+    exec_.set_rotary(sp_.rot);
     exec_.set_position(sp_.pos);
     st_.state = MachineState::kIdle;
     return;
@@ -324,6 +341,9 @@ void StateMachine::run_program(MotionRing& ring) {
   sp_.pos = exec_.position();
   sp_.vel = exec_.velocity();
   sp_.acc = exec_.acceleration();
+  sp_.rot = exec_.rotary();
+  sp_.rot_vel = exec_.rotary_velocity();
+  sp_.rot_acc = exec_.rotary_acceleration();
   st_.path_speed = exec_.speed();
   if (paused_jog_) {  // held at rest away from the path: the machine stays where it stands
     sp_.pos = stand_;

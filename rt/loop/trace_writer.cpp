@@ -19,11 +19,11 @@ TraceWriter::TraceWriter(const std::string& path, std::function<void(const std::
     : TraceWriter(TraceFiles{path, ""}, std::move(on_failure)) {}
 
 TraceWriter::TraceWriter(const TraceFiles& files, std::function<void(const std::string&)> on_failure)
-    : files_(files), queue_(std::make_unique<SpscRing<TraceSample, kQueueSlots>>()), on_failure_(std::move(on_failure)) {
+    : files_(files), queue_(std::make_unique<SpscRing<TraceEntry, kQueueSlots>>()), on_failure_(std::move(on_failure)) {
   if (!files_.csv.empty()) {
     file_ = std::fopen(files_.csv.c_str(), "w");
     if (!file_) throw std::runtime_error("cannot create trace file '" + files_.csv + "': " + std::strerror(errno));
-    if (std::fprintf(file_, "%s\n", trace_csv_header()) < 0) fail(files_.csv, "write", errno);
+    if (std::fprintf(file_, "%s\n", trace_csv_header(files_.rotary).c_str()) < 0) fail(files_.csv, "write", errno);
   }
   if (!files_.compact.empty()) {
     compact_ = std::fopen(files_.compact.c_str(), "wb");
@@ -42,7 +42,7 @@ TraceWriter::TraceWriter(const TraceFiles& files, std::function<void(const std::
 
 TraceWriter::~TraceWriter() { close(); }
 
-bool TraceWriter::push(const TraceSample& sample) {
+bool TraceWriter::push(const TraceEntry& sample) {
   if (!queue_->try_push(sample)) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
     return false;
@@ -50,7 +50,7 @@ bool TraceWriter::push(const TraceSample& sample) {
   return true;
 }
 
-void TraceWriter::push_wait(const TraceSample& sample) {
+void TraceWriter::push_wait(const TraceEntry& sample) {
   while (!queue_->try_push(sample)) std::this_thread::sleep_for(std::chrono::microseconds(50));
 }
 
@@ -70,15 +70,16 @@ void TraceWriter::fail(const std::string& path, const char* what, int err) {
 }
 
 void TraceWriter::drain() {
-  TraceSample s;
-  char buf[512];
-  while (queue_->try_pop(s)) {
+  TraceEntry e;
+  char buf[640];
+  while (queue_->try_pop(e)) {
+    const TraceSample& s = e.sample;
     if (failed_.load(std::memory_order_relaxed)) {
       lost_.fetch_add(1, std::memory_order_relaxed);  // keep the queue moving: the rt never waits on us
       continue;
     }
     if (file_) {
-      const int n = format_trace_row(buf, sizeof buf, s);
+      const int n = format_trace_row(buf, sizeof buf, s, e.joints);
       if (n > 0) {
         errno = 0;
         if (std::fwrite(buf, 1, static_cast<std::size_t>(n), file_) != static_cast<std::size_t>(n) ||

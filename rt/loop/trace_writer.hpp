@@ -36,6 +36,7 @@ namespace pcnc {
 struct TraceFiles {
   std::string csv;      // the per-cycle CSV
   std::string compact;  // the compact trace for the report
+  RotaryMask rotary = 0;  // the machine's rotary joints: their columns in the CSV
 };
 
 class TraceWriter {
@@ -54,10 +55,12 @@ class TraceWriter {
   TraceWriter& operator=(const TraceWriter&) = delete;
 
   /// rt thread: non-blocking. Returns false (and counts a drop) when the queue is full.
-  bool push(const TraceSample& sample);
+  bool push(const TraceEntry& sample);
+  bool push(const TraceSample& sample) { return push(TraceEntry{sample, {}}); }
   /// Virtual clock only (not real time): waits for room instead of dropping, so a replayed
   /// program's trace is complete and deterministic.
-  void push_wait(const TraceSample& sample);
+  void push_wait(const TraceEntry& sample);
+  void push_wait(const TraceSample& sample) { push_wait(TraceEntry{sample, {}}); }
 
   /// Drains the queue, flushes and closes the file, joins the thread. Idempotent.
   void close();
@@ -88,7 +91,7 @@ class TraceWriter {
   std::FILE* file_ = nullptr;     // the CSV (null: none)
   std::FILE* compact_ = nullptr;  // the compact trace (null: none)
   std::unique_ptr<CompactTraceBuilder> builder_;
-  std::unique_ptr<SpscRing<TraceSample, kQueueSlots>> queue_;
+  std::unique_ptr<SpscRing<TraceEntry, kQueueSlots>> queue_;
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<std::uint64_t> written_{0};

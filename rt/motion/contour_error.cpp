@@ -80,7 +80,10 @@ PathDistance distance_to_path(const PreparedBlock& block, const Vec3& p, double 
 }
 
 double contour_error(const Executor& exec, const Vec3& measured, double lag_mm) {
-  auto feed = [](const PreparedBlock* b) { return b && (b->kind == BlockKind::kLine || b->kind == BlockKind::kArc); };
+  // (a TCP block's path is the tool tip's, not the linear axes': no contour error of the axes there)
+  auto feed = [](const PreparedBlock* b) {
+    return b && (b->kind == BlockKind::kLine || b->kind == BlockKind::kArc) && !b->tcp && !b->angular;
+  };
   double e = -1.0;
   const PreparedBlock* cur = exec.current_motion();
   if (feed(cur)) e = distance_to_path(*cur, measured, exec.progress()).distance;

@@ -8,6 +8,7 @@
 #include "motion/junction.hpp"
 #include "motion/nurbs_follower.hpp"
 #include "ipc/block_check.hpp"
+#include "config/joint_map.hpp"
 
 namespace pcnc {
 
@@ -20,12 +21,26 @@ Executor::Executor(const MachineConfig& config) : cfg_(config), dt_(config.cycle
   for (int i = 0; i < kAxes; ++i) junction_.axis_accel[i] = config.axes[i].max_accel_mm_s2;
   Vec3 home{};
   for (int i = 0; i < kAxes; ++i) home[i] = config.axes[i].home_mm;
+  travel_ = config.rotary_travel();
+  Rot3 rhome{};
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    if (config.rotary[static_cast<std::size_t>(i)]) rhome[static_cast<std::size_t>(i)] = config.rotary[static_cast<std::size_t>(i)]->home_rad;
+  }
+  rot_ = rhome;
   set_position(home);
+}
+
+void Executor::set_rotary(const Rot3& r) {
+  rot_ = r;
+  rot_tail_ = r;
+  rot_vel_ = {0.0, 0.0, 0.0};
+  rot_acc_ = {0.0, 0.0, 0.0};
 }
 
 void Executor::set_position(const Vec3& p) {
   pos_ = p;
   tail_ = p;
+  rot_tail_ = rot_;
   hold_still();
   s_ = 0.0;
   dwell_ = 0.0;
@@ -48,13 +63,16 @@ void Executor::hold_still() {
   v_ = 0.0;
   vel_ = {0.0, 0.0, 0.0};
   acc_ = {0.0, 0.0, 0.0};
+  rot_vel_ = {0.0, 0.0, 0.0};
+  rot_acc_ = {0.0, 0.0, 0.0};
 }
 
 bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
   const std::size_t n = std::min(ring.size(), kRingSlots);
   while (prepared_ < n) {
     const Block& b = ring.peek(prepared_);
-    const BlockVerdict verdict = check_block(b, tail_, expected_seq_, cfg_);
+    BlockVerdict verdict = check_block(b, expected_block_start(b, tail_, rot_tail_, cfg_), expected_seq_, cfg_);
+    if (verdict.fault == FaultCode::kNone) verdict = check_rotary(b, rot_tail_, cfg_);
     if (verdict.fault != FaultCode::kNone) {
       out.fault = verdict.fault;
       out.reason = verdict.reason;
@@ -64,12 +82,13 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
       return false;
     }
     prep_[prepared_] = prepare_block(b, cfg_);
-    if (prep_[prepared_].motion) tail_ = b.end;
+    if (prep_[prepared_].motion) block_tail(b, tail_, rot_tail_);
     if (prepared_ > 0) {
       const PreparedBlock& p = prep_[prepared_ - 1];
       const PreparedBlock& q = prep_[prepared_];
       const bool probing = ring.peek(prepared_ - 1).probe_rule != kProbeNone || b.probe_rule != kProbeNone;
-      if (p.motion && q.motion && !probing) {  // a probing move starts and ends at rest
+      // a probing move starts and ends at rest, and so does a block that turns a joint or runs under TCP
+      if (p.motion && q.motion && !probing && !p.rotary && !q.rotary) {
         JunctionRules rules = junction_;
         rules.path_tolerance_mm = p.path_tolerance;  // the tolerance the block before the junction was made with
         corner_[prepared_ - 1] = corner_speed(p.contouring, p.dir_end, q.dir_start, rules);
@@ -140,6 +159,14 @@ double Executor::compute_exit_speed(const ExecInput& in) const {
 
 void Executor::begin_block(const Block& blk) {
   s_ = 0.0;
+  if (prep_[0].tcp) {
+    kin_ = kinematics_with_tool(cfg_, blk.rotary.tool_length);
+    slerp_ = make_axis_slerp(blk.rotary.axis_start, blk.rotary.axis_end);
+  }
+  last_pos_ = pos_;
+  last_rot_ = rot_;
+  last_vel_ = {0.0, 0.0, 0.0};
+  last_rot_vel_ = {0.0, 0.0, 0.0};
   if (blk.kind == BlockKind::kNurbs) {
     const NurbsView view = view_of(blk.nurbs);
     nurbs_u_ = view.u_min();
@@ -185,7 +212,61 @@ bool Executor::advance(const Block& blk, double ds, double& leftover) {
   pos_ = pp.p;
   tangent_ = pp.tangent;
   curvature_ = pp.curvature;
+  if (b.rotary) place_joints(blk);
   return at_end;
+}
+
+void Executor::place_joints(const Block& blk) {
+  const PreparedBlock& b = prep_[0];
+  const double u = b.length > 0.0 ? std::clamp(s_ / b.length, 0.0, 1.0) : 1.0;
+  if (!b.tcp) {
+    for (int i = 0; i < kRotaryJoints; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      rot_[k] = u >= 1.0 ? b.rot_end[k] : b.rot_start[k] + u * (b.rot_end[k] - b.rot_start[k]);
+    }
+    return;
+  }
+  if (u >= 1.0) {  // the host's end joints (the block check verified them with the forward kinematics)
+    pos_ = b.land;
+    rot_ = b.rot_end;
+    return;
+  }
+  // pos_ holds the tool tip on the line; the inverse kinematics nearest last cycle's joints
+  const ToolPose pose{pos_, slerp_axis(slerp_, u)};
+  const Joints q = inverse(kin_, pose, to_joints(cfg_, last_pos_, rot_), travel_);
+  from_joints(cfg_, q, pos_, rot_);
+  (void)blk;
+}
+
+void Executor::joint_rates(double v_new, double v_old) {
+  const PreparedBlock& b = prep_[0];
+  if (!b.tcp) {
+    for (int i = 0; i < kRotaryJoints; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      const double share = b.length > 0.0 ? (b.rot_end[k] - b.rot_start[k]) / b.length : 0.0;
+      rot_vel_[k] = v_new * share;
+      rot_acc_[k] = (v_new - v_old) / dt_ * share;
+    }
+    if (b.angular) {
+      vel_ = {0.0, 0.0, 0.0};
+      acc_ = {0.0, 0.0, 0.0};
+    }
+  } else {
+    // the joints are the inverse kinematics of the path: their rates by differences over the cycle
+    for (int i = 0; i < kAxes; ++i) {
+      vel_[i] = (pos_[i] - last_pos_[i]) / dt_;
+      acc_[i] = (vel_[i] - last_vel_[i]) / dt_;
+    }
+    for (int i = 0; i < kRotaryJoints; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      rot_vel_[k] = (rot_[k] - last_rot_[k]) / dt_;
+      rot_acc_[k] = (rot_vel_[k] - last_rot_vel_[k]) / dt_;
+    }
+  }
+  last_pos_ = pos_;
+  last_vel_ = vel_;
+  last_rot_ = rot_;
+  last_rot_vel_ = rot_vel_;
 }
 
 void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
@@ -326,9 +407,13 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   while (at_end) {
     if (!flows_after(0)) {
       // stop at the end: land exactly there, rest one cycle, then the next block.
-      pos_ = prep_[0].end;
+      pos_ = prep_[0].land;
       vel_ = v_new * prep_[0].dir_end;
       acc_ = ((v_new - v_old) / dt_) * prep_[0].dir_end;
+      if (prep_[0].rotary) {
+        rot_ = prep_[0].rot_end;
+        joint_rates(v_new, v_old);
+      }
       if (probing) {  // the end reached: the probe never changed (or only just now)
         finish_probe(ring, out, probe_tripped_ ? ProbeOutcome::kContact : ProbeOutcome::kNoContact);
         return;
@@ -356,6 +441,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   }
   vel_ = v_new * tangent_;
   acc_ = ((v_new - v_old) / dt_) * tangent_ + (v_new * v_new) * curvature_;
+  if (prep_[0].rotary) joint_rates(v_new, v_old);
 }
 
 }  // namespace pcnc

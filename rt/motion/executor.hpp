@@ -40,6 +40,8 @@
 #include "config/config.hpp"
 #include "motion/junction.hpp"
 #include "geometry/nurbs.hpp"
+#include "geometry/axis_slerp.hpp"
+#include "geometry/kinematics.hpp"
 #include "motion/path.hpp"
 #include "ipc/segment.hpp"
 #include "ipc/status.hpp"
@@ -80,6 +82,8 @@ class Executor {
 
   /// The machine stands at `p` at rest (start-up, after a jog or a reset). Forgets any block.
   void set_position(const Vec3& p);
+  /// The rotary joints stand at `r` (rad; with set_position, at rest).
+  void set_rotary(const Rot3& r);
   /// A new program starts: sequence numbers restart at 1.
   void start_program() { expected_seq_ = 1; }
   /// Drops everything in the ring and the block in execution; stays where it is (at rest
@@ -92,6 +96,12 @@ class Executor {
   const Vec3& position() const { return pos_; }
   const Vec3& velocity() const { return vel_; }
   const Vec3& acceleration() const { return acc_; }
+  /// The rotary joints' setpoint, rad, rad/s, rad/s² (A B C by index).
+  const Rot3& rotary() const { return rot_; }
+  const Rot3& rotary_velocity() const { return rot_vel_; }
+  const Rot3& rotary_acceleration() const { return rot_acc_; }
+  /// The block in execution runs under tool-centre-point control.
+  bool tcp() const { return prepared_ > 0 && prep_[0].tcp; }
   double speed() const { return v_; }
   std::uint32_t line() const { return line_; }
   std::uint64_t seq() const { return seq_; }
@@ -126,6 +136,10 @@ class Executor {
   /// distance left over past it in `leftover`.
   bool advance(const Block& blk, double ds, double& leftover);
   void begin_block(const Block& blk);  // s_ = 0 (NURBS: parameter at its start)
+  /// The rotary joints (and under TCP the linear axes) at path length s_ of the current block.
+  void place_joints(const Block& blk);
+  /// Velocity and acceleration of the joints of a rotary block this cycle (ds = v·dt).
+  void joint_rates(double v_new, double v_old);
   /// Ends the probing block in execution where the machine stands (executor_probe.cpp).
   void finish_probe(MotionRing& ring, ExecResult& out, ProbeOutcome outcome);
 
@@ -174,6 +188,16 @@ class Executor {
   bool probe_sync_ = false;     // the last block was a probing one and nothing follows yet
 
   Vec3 pos_{}, vel_{}, acc_{};
+  // rotary joints (rad) and the tail the next block must continue from; TCP: the kinematics,
+  // the joints' travel for the inverse's choice, the tool axis's arc of the block in execution,
+  // and last cycle's joints (the inverse's seed and the finite-difference rates)
+  Rot3 rot_{}, rot_vel_{}, rot_acc_{};
+  Rot3 rot_tail_{};
+  Kinematics kin_{};
+  RotaryTravel travel_{};
+  AxisSlerp slerp_{};
+  Vec3 last_pos_{}, last_vel_{};
+  Rot3 last_rot_{}, last_rot_vel_{};
   std::uint32_t line_ = 0;
   std::uint64_t seq_ = 0;
   bool contouring_ = false;

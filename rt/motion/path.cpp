@@ -69,7 +69,42 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
   pb.motion = moving && b.length > 0.0;
   pb.v_first = pb.v_last = std::numeric_limits<double>::infinity();
   pb.brake_accel = pb.accel;
+  pb.land = b.end;
+  const bool straight = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid;
+  if (straight) {
+    const RotaryMotion& r = b.rotary;
+    pb.tcp = r.tcp != 0;
+    pb.angular = r.angular != 0;
+    pb.rot_start = r.start;
+    pb.rot_end = r.end;
+    pb.rotary = pb.tcp || r.start != r.end;
+    if (pb.tcp) pb.land = r.joint_end;
+  }
   if (!pb.motion) return pb;
+  if (pb.rotary) {
+    pb.contouring = false;
+    if (pb.angular) {
+      pb.v_machine = std::numeric_limits<double>::infinity();
+    } else {
+      pb.dir_start = normalized(b.end - b.start);
+      pb.dir_end = pb.dir_start;
+      line_caps(pb, cfg);
+    }
+    if (pb.tcp) {
+      pb.v_machine = pb.speed;
+      pb.accel = b.accel;
+    } else {
+      for (int i = 0; i < kRotaryJoints; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const double share = std::abs(pb.rot_end[k] - pb.rot_start[k]) / pb.length;  // rad per path unit
+        if (!(share > 0.0) || !cfg.rotary[k]) continue;
+        pb.v_machine = std::min(pb.v_machine, cfg.rotary[k]->max_velocity_rad_s / share);
+        pb.accel = std::min(pb.accel, cfg.rotary[k]->max_accel_rad_s2 / share);
+      }
+    }
+    pb.brake_accel = pb.accel;
+    return pb;
+  }
   if (b.kind == BlockKind::kNurbs) {
     // The host's feed schedule already holds every axis and curvature limit: it is the cap.
     const NurbsGeometry& g = b.nurbs;

@@ -45,9 +45,19 @@ struct PreparedBlock {
   int a1 = 0, a2 = 1, an = 2;   // in-plane first, second axis; normal axis
   double c1 = 0.0, c2 = 0.0;    // centre in the plane
   double theta0 = 0.0, sweep = 0.0, r0 = 0.0, r1 = 0.0;
+  // rotary joints (lines and rapids on a machine with rotary joints, ipc/block.hpp RotaryMotion)
+  bool rotary = false;   // the block moves a rotary joint or runs under TCP
+  bool tcp = false;      // start/end are the tool tip in workpiece coordinates
+  bool angular = false;  // s is an angle (rad): only the tool turns
+  Rot3 rot_start{}, rot_end{};
+  Vec3 land{};           // where the linear axes end (end, or the TCP block's joint_end)
 };
 
-/// Builds the executor's view of a block that passed check_block(). Pure.
+/// Builds the executor's view of a block that passed check_block(). Pure. A block that moves a
+/// rotary joint or runs under TCP never flows into the next (it ends at rest: the joints'
+/// velocity would jump at the junction); without TCP its speed and acceleration are also capped
+/// by the rotary joints' limits, under TCP the block's own (the host's joint-space plan,
+/// tcp_path_caps) are the cap: the feed override cannot raise them.
 PreparedBlock prepare_block(const Block& block, const MachineConfig& config);
 
 /// Point, tangent and curvature at path length s (clamped to [0, length]).

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "geometry/vec3.hpp"
+#include "ipc/rotary_joints.hpp"
 
 namespace pcnc {
 
@@ -10,6 +11,9 @@ struct Setpoint {
   Vec3 pos{};  // mm, machine coordinates
   Vec3 vel{};  // mm/s
   Vec3 acc{};  // mm/s²
+  Rot3 rot{};      // rotary joints, rad (A B C by index; joints the machine lacks stay 0)
+  Rot3 rot_vel{};  // rad/s
+  Rot3 rot_acc{};  // rad/s²
 };
 
 }  // namespace pcnc

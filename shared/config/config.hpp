@@ -191,6 +191,14 @@ struct MachineConfig {
     }
     return t;
   }
+  /// The declared rotary joints, a bit per joint (A 1, B 2, C 4).
+  std::uint8_t rotary_mask() const {
+    std::uint8_t m = 0;
+    for (int i = 0; i < kRotaryAxes; ++i) {
+      if (rotary[static_cast<std::size_t>(i)]) m = static_cast<std::uint8_t>(m | (1u << i));
+    }
+    return m;
+  }
   Vec3 travel_min() const { return {axes[0].travel_min_mm, axes[1].travel_min_mm, axes[2].travel_min_mm}; }
   Vec3 travel_max() const { return {axes[0].travel_max_mm, axes[1].travel_max_mm, axes[2].travel_max_mm}; }
 };

@@ -11,6 +11,7 @@
 
 #include "geometry/nurbs_order.hpp"
 #include "geometry/vec3.hpp"
+#include "ipc/rotary_joints.hpp"
 
 namespace pcnc {
 
@@ -73,6 +74,31 @@ struct NurbsGeometry {
   std::uint8_t pad_[1]{};
 };
 
+/// The rotary joints of a straight move (kLine, kRapid) on a machine with rotary joints
+/// (docs/kinematics.md, "The pipeline"). Angles rad, A B C by index; a joint the machine does
+/// not declare stays 0.
+///  * TCP off (tcp = 0): the joints run linearly with the path parameter, start to end.
+///    start/end of the Block are the linear axes' machine coordinates as for any line.
+///  * TCP on (tcp = 1): start/end of the Block are the tool tip in workpiece coordinates (a
+///    straight line), the tool axis turns on the great circle from axis_start to axis_end at the
+///    same fraction of the path; the rt converts each cycle through the inverse kinematics
+///    (tool length `tool_length`) into the joints. joint_end is where the linear axes end (the
+///    host's inverse kinematics), end the rotary joints' end values.
+///  * angular = 1: the tip (TCP) or the linear axes (TCP off) stand still and only the tool turns:
+///    the path parameter is an angle in rad (length, speed, accel in rad, rad/s, rad/s²): the
+///    joints' Euclidean travel (TCP off) or the tool axis's turn (TCP on).
+struct RotaryMotion {
+  Rot3 start{};
+  Rot3 end{};
+  Vec3 axis_start{};   // TCP: unit tool axis, workpiece coordinates
+  Vec3 axis_end{};
+  Vec3 joint_end{};    // TCP: linear axes' machine coordinates at the end, mm
+  double tool_length = 0.0;  // TCP: mm, from the spindle's gauge point along the tool axis
+  std::uint8_t tcp = 0;
+  std::uint8_t angular = 0;
+  std::uint8_t pad_[6]{};
+};
+
 struct Block {
   std::uint64_t seq = 0;        // ring sequence number, 1, 2, 3, ... per program
   std::uint32_t line = 0;       // source line number (1-based) in the G-code file
@@ -118,6 +144,7 @@ struct Block {
 
   ArcGeometry arc{};      // kArc only
   NurbsGeometry nurbs{};  // kNurbs only
+  RotaryMotion rotary{};  // machines with rotary joints (layout version 8)
 };
 
 /// Block::probe_rule: G38.2-G38.5 (LinuxCNC's semantics, docs/probe.md). Toward: stop when the

@@ -339,8 +339,11 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
       return bad("start does not continue from the previous end", i, b.start[i] - expected_start[i]);
     }
   }
-  if (int ax = outside_travel(b.start, cfg, tol); ax >= 0) return bad("start point outside the travel", ax, b.start[ax]);
-  if (int ax = outside_travel(b.end, cfg, tol); ax >= 0) return bad("end point outside the travel", ax, b.end[ax]);
+  // under TCP start and end are the tool tip in workpiece coordinates: check_rotary checks the joints
+  const bool tcp = b.rotary.tcp != 0 && (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid);
+  const bool angular = b.rotary.angular != 0 && (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid);
+  if (int ax = tcp ? -1 : outside_travel(b.start, cfg, tol); ax >= 0) return bad("start point outside the travel", ax, b.start[ax]);
+  if (int ax = tcp ? -1 : outside_travel(b.end, cfg, tol); ax >= 0) return bad("end point outside the travel", ax, b.end[ax]);
   if (!(b.length >= 0.0)) return bad("negative length", 0, b.length);
   if (!(b.speed > 0.0)) return bad("speed <= 0 on a motion block", 0, b.speed);
   if (!(b.accel > 0.0)) return bad("acceleration <= 0 on a motion block", 0, b.accel);
@@ -353,6 +356,7 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
   if (b.kind == BlockKind::kArc) return check_arc(b, cfg, tol);
   if (b.kind == BlockKind::kNurbs) return check_nurbs(b, cfg, tol);
   const double chord = norm(b.end - b.start);
+  if (angular) return check_line_plan(b, tol);  // its length is an angle (check_rotary)
   if (std::abs(chord - b.length) > tol) return bad("length inconsistent with start and end", 0, b.length - chord);
   if (b.length > 0.0) {
     if (!unit(b.dir_start) || !unit(b.dir_end)) return bad("direction cosines are not unit vectors");

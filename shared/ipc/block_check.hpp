@@ -36,6 +36,26 @@ struct BlockVerdict {
 BlockVerdict check_block(const Block& block, const Vec3& expected_start, std::uint64_t expected_seq,
                          const MachineConfig& config);
 
+/// The rotary joints' part (block_check_rotary.cpp): `tail_rot` is where the previous block left
+/// the rotary joints (rad). Refuses non-finite values, a joint the machine does not have, rotary
+/// motion or TCP on anything but a straight move, a start that does not continue, an end outside
+/// a joint's travel, a TCP block whose end joints do not give its end tip and axis (forward
+/// kinematics) or end outside the travel, and an angular block whose length is not its turn.
+/// Run after check_block, which it does not repeat.
+BlockVerdict check_rotary(const Block& block, const Rot3& tail_rot, const MachineConfig& config);
+
+/// Where a block must start: `xyz` (the linear axes where the previous block left them), or, for
+/// a block under TCP, the tool tip the joints (xyz, rot) give with the block's tool length.
+Vec3 expected_block_start(const Block& block, const Vec3& xyz, const Rot3& rot, const MachineConfig& config);
+
+/// Where a block leaves the linear axes (machine mm) and the rotary joints (rad); unchanged for
+/// a block that does not move.
+void block_tail(const Block& block, Vec3& xyz, Rot3& rot);
+
+/// Soft limits of the rotary joints with a travel: the first joint (0 A, 1 B, 2 C) outside
+/// [min − tol, max + tol], or −1.
+int outside_rotary_travel(const Rot3& r, const MachineConfig& config, double tol_rad);
+
 /// Soft limits: returns the first axis outside [travel_min − tol, travel_max + tol], or −1.
 int outside_travel(const Vec3& p, const MachineConfig& config, double tol_mm);
 

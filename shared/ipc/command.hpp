@@ -16,7 +16,7 @@ enum class CommandKind : std::uint8_t {
   kEstop = 5,         // amplifiers off at once, ESTOP state
   kReset = 6,         // leave FAULT/ESTOP/HOST_LOST when the cause is gone
   kFeedOverride = 7,  // value = override fraction 0.0 .. 2.0
-  kJogIncrement = 8,  // axis, value = signed distance mm, feed mm/s
+  kJogIncrement = 8,  // axis, value = signed distance mm, feed mm/s (axis 3, 4, 5: A, B, C in rad, rad/s)
   kJogContinuous = 9, // axis, value = direction +1/-1, feed mm/s; needs keep-alives
   kJogStop = 10,      // decelerate any jog to rest
   kJogKeepAlive = 11, // continuous jog deadman keep-alive

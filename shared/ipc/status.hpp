@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "geometry/vec3.hpp"
+#include "ipc/rotary_joints.hpp"
 
 namespace pcnc {
 
@@ -92,6 +93,16 @@ struct Status {
   std::uint64_t probe_seq = 0;     // seq of that block
   Vec3 probe_latched{};            // commanded ball centre in the cycle the input changed, mm
   Vec3 probe_stop{};               // where the probing move came to rest, mm
+
+  // Rotary joints (A B C by index, rad; joints the machine does not declare stay 0).
+  RotaryMask rotary_mask = 0;      // the machine's joints, bit per joint
+  std::uint8_t tcp = 0;            // the block in execution has tool-centre-point control on
+  std::uint8_t pad_rot_[6]{};
+  Rot3 rot_commanded{};
+  Rot3 rot_actual{};
+  Rot3 rot_velocity{};
+  Rot3 rot_following_error{};
+  Rot3 rot_max_following_error{};
 };
 
 static_assert(std::is_trivially_copyable_v<Status>, "Status lives in shared memory");

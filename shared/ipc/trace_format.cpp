@@ -38,6 +38,35 @@ int format_trace_row(char* buf, std::size_t n, const TraceSample& s) {
                        s.actual[2], s.following_error[0], s.following_error[1], s.following_error[2], s.speed);
 }
 
+std::string trace_csv_header(RotaryMask mask) {
+  std::string h = kTraceCsvHeader;
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    if (!has_joint(mask, i)) continue;
+    const char c = joint_lower(i);
+    for (const char* f : {",cmd_", ",act_", ",ferr_"}) {
+      h += f;
+      h += c;
+    }
+  }
+  return h;
+}
+
+int format_trace_row(char* buf, std::size_t n, const TraceSample& s, const TraceJoints& j) {
+  int len = format_trace_row(buf, n, s);
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  for (int i = 0; i < kRotaryJoints && len >= 0; ++i) {
+    if (!has_joint(j.mask, i)) continue;
+    const auto k = static_cast<std::size_t>(i);
+    const std::size_t at = static_cast<std::size_t>(len) < n ? static_cast<std::size_t>(len) : n;
+    // angles to 1e-7 degrees (about 2e-9 rad)
+    const int m = std::snprintf(buf + at, n - at, ",%.7f,%.7f,%.7f", j.commanded[k] * kDeg, j.actual[k] * kDeg,
+                                (j.commanded[k] - j.actual[k]) * kDeg);
+    if (m < 0) return m;
+    len += m;
+  }
+  return len;
+}
+
 std::string trace_csv_row(const TraceSample& s) {
   char buf[512];
   format_trace_row(buf, sizeof buf, s);
@@ -55,7 +84,7 @@ bool parse_state_name(std::string_view name, MachineState& state) {
   return false;
 }
 
-bool parse_trace_row(std::string_view text, TraceSample& row) {
+bool parse_trace_row(std::string_view text, TraceSample& row, TraceJoints* joints) {
   if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
   std::size_t pos = 0;
   if (!to_double(field(text, pos), row.t)) return false;
@@ -70,6 +99,23 @@ bool parse_trace_row(std::string_view text, TraceSample& row) {
     }
   }
   if (!to_double(field(text, pos), row.speed)) return false;
+  // the rotary joints' columns, three per joint
+  constexpr double kRad = 3.14159265358979323846 / 180.0;
+  int joint = -1;
+  while (pos <= text.size()) {
+    double v[3];
+    for (double& x : v) {
+      if (!to_double(field(text, pos), x)) return false;
+    }
+    if (joints) {
+      do ++joint;
+      while (joint < kRotaryJoints && !has_joint(joints->mask, joint));
+      if (joint < kRotaryJoints) {
+        joints->commanded[static_cast<std::size_t>(joint)] = v[0] * kRad;
+        joints->actual[static_cast<std::size_t>(joint)] = v[1] * kRad;
+      }
+    }
+  }
   return pos == text.size() + 1;  // nothing after the last field
 }
 

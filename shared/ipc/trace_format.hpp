@@ -3,6 +3,8 @@
 // the row's text, both ways. DESIGN.md "trace format":
 //   t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed
 // in mm, s and mm/s, machine coordinates, the state by name (to_string(MachineState)).
+// A machine with rotary joints appends, per declared joint in the order A, B, C,
+// cmd_a,act_a,ferr_a (degrees); the 3-axis header and rows stay exactly as they are.
 #pragma once
 
 #include <cstddef>
@@ -12,6 +14,7 @@
 #include <type_traits>
 
 #include "geometry/vec3.hpp"
+#include "ipc/rotary_joints.hpp"
 #include "ipc/status.hpp"
 
 namespace pcnc {
@@ -28,6 +31,27 @@ struct TraceSample {
 };
 static_assert(std::is_trivially_copyable_v<TraceSample>);
 
+/// One cycle's rotary joints (rad): the trace file's extra columns. Not in TraceSample, which
+/// the scope ring holds in the segment at a fixed size.
+struct TraceJoints {
+  RotaryMask mask = 0;  // the machine's joints: the columns written
+  Rot3 commanded{};
+  Rot3 actual{};
+};
+static_assert(std::is_trivially_copyable_v<TraceJoints>);
+
+/// What the rt's trace writer queues per cycle.
+struct TraceEntry {
+  TraceSample sample;
+  TraceJoints joints;
+};
+static_assert(std::is_trivially_copyable_v<TraceEntry>);
+
+/// The header with the columns of the joints in `mask` appended (none: kTraceCsvHeader).
+std::string trace_csv_header(RotaryMask mask);
+/// The row with the joints' columns appended (degrees), as format_trace_row.
+int format_trace_row(char* buf, std::size_t n, const TraceSample& s, const TraceJoints& j);
+
 /// The CSV header line (no newline).
 inline constexpr const char* kTraceCsvHeader =
     "t,line,state,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,ferr_x,ferr_y,ferr_z,speed";
@@ -40,8 +64,9 @@ int format_trace_row(char* buf, std::size_t n, const TraceSample& s);
 std::string trace_csv_row(const TraceSample& s);
 
 /// Parses one CSV data row (a trailing '\r' is allowed). False (and `row` unspecified) when
-/// it is malformed.
-bool parse_trace_row(std::string_view text, TraceSample& row);
+/// it is malformed. Rotary joints' columns after `speed` (groups of cmd, act, ferr in degrees)
+/// are accepted; with `joints` they are read into it (rad) for the joints of joints->mask, in order.
+bool parse_trace_row(std::string_view text, TraceSample& row, TraceJoints* joints = nullptr);
 /// The state's trace name back to the enum ("RUNNING" -> kRunning). False when unknown.
 bool parse_state_name(std::string_view name, MachineState& state);
 

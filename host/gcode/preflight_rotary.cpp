@@ -1,0 +1,80 @@
+// preflight_rotary.cpp — the whole program's soft limits on the rotary joints (part of
+// Preflight, preflight.hpp): a move with TCP off ends each joint inside its travel (the joints
+// run linearly in between); a move under TCP is sampled through the inverse kinematics as the
+// rt will run it (tcp_move.hpp) and every joint, linear ones included, must stay inside its
+// travel at every sample. Angles are reported in degrees.
+#include <cstdio>
+#include <string>
+
+#include "config/joint_map.hpp"
+#include "gcode/preflight.hpp"
+#include "gcode/rotary_move.hpp"
+#include "gcode/tcp_move.hpp"
+
+namespace pcnc {
+namespace {
+constexpr double kJointEps = 1e-9;  // rad
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", v);
+  return buf;
+}
+}  // namespace
+
+void Preflight::check_joint(const Move& m, int joint, double value, const char* where) {
+  const auto& j = config_.rotary[static_cast<std::size_t>(joint)];
+  if (!check_limits_ || !j || j->continuous) return;
+  const bool below = value < j->travel_min_rad - kJointEps;
+  const bool above = value > j->travel_max_rad + kJointEps;
+  if (!below && !above) return;
+  std::uint64_t& count = rot_violations_[static_cast<std::size_t>(2 * joint + (above ? 1 : 0))];
+  if (count++ > 0) return;
+  sink_.error(m.line, m.column,
+              std::string(1, joint_letter(joint)) + " " + fmt(value * kDegPerRad) + " deg" + where + " is " +
+                  (above ? "above the travel maximum " + fmt(j->travel_max_rad * kDegPerRad)
+                         : "below the travel minimum " + fmt(j->travel_min_rad * kDegPerRad)) +
+                  " deg; expected the joint inside its travel");
+}
+
+void Preflight::check_linear_joint(const Move& m, int axis, double value) {
+  if (!check_limits_) return;
+  const AxisConfig& a = config_.axes[static_cast<std::size_t>(axis)];
+  const bool below = value < a.travel_min_mm - 1e-9;
+  const bool above = value > a.travel_max_mm + 1e-9;
+  if (!below && !above) return;
+  std::uint64_t& count = violations_[static_cast<std::size_t>(2 * axis + (above ? 1 : 0))];
+  if (count++ > 0) return;
+  sink_.error(m.line, m.column,
+              std::string(1, axis_name(axis)) + " " + fmt(value) + " mm (machine, along the TCP move) is " +
+                  (above ? "above the travel maximum " + fmt(a.travel_max_mm) : "below the travel minimum " + fmt(a.travel_min_mm)) +
+                  " mm; expected the tool's path and orientation reachable inside the travel");
+}
+
+void Preflight::add_rotary(const Move& m) {
+  if (!m.tcp) {
+    for (int i = 0; i < kRotaryJoints; ++i) check_joint(m, i, m.rot_end[static_cast<std::size_t>(i)], "");
+    return;
+  }
+  const bool angular = angular_move(m);
+  const double feed = angular ? (m.feed_mm_s > 0.0 ? m.feed_mm_s : 1e9) : (m.feed_mm_s > 0.0 ? m.feed_mm_s : 1e9);
+  const TcpMovePlan plan = plan_tcp_move(m, config_, feed);
+  if (!plan.error.empty()) {
+    sink_.error(m.line, m.column, plan.error);
+    return;
+  }
+  for (int i = 0; i < kAxes; ++i) {
+    check_linear_joint(m, i, plan.q_min[static_cast<std::size_t>(i)]);
+    check_linear_joint(m, i, plan.q_max[static_cast<std::size_t>(i)]);
+  }
+  const int t = tilt_index(config_), c = rotary_index(config_);
+  if (t >= 0) {
+    check_joint(m, t, plan.q_min[kTilt], " (along the TCP move)");
+    check_joint(m, t, plan.q_max[kTilt], " (along the TCP move)");
+  }
+  if (c >= 0) {
+    check_joint(m, c, plan.q_min[kRotary], " (along the TCP move)");
+    check_joint(m, c, plan.q_max[kRotary], " (along the TCP move)");
+  }
+}
+
+}  // namespace pcnc
