@@ -300,8 +300,11 @@ struct Session {
                                 post([this, c, id = std::move(id), o = std::move(o)] { reply(c, id, o); });
                               },
                               [this](json ev) { post([this, ev = std::move(ev)] { subs.broadcast_event(ev); }); },
-                              [this](pcnc::WorkState before, pcnc::WorkState after) {
-                                post([this, before, after] { (void)work.replace(pcnc::merge_work_change(work.state(), before, after)); });
+                              [this](pcnc::WorkState before, pcnc::WorkState after, std::function<void()> applied) {
+                                post([this, before, after, applied = std::move(applied)] {
+                                  (void)work.replace(pcnc::merge_work_change(work.state(), before, after));
+                                  if (applied) applied();  // the job's end waits for this (the service's order)
+                                });
                               }}),
         jogs(config, h.monitor, [this](pcnc::ClientId c, const json& id, const pcnc::Outcome& o) { reply(c, id, o); },
              [this](const json& ev) { subs.broadcast_event(ev); }),
