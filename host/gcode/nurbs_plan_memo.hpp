@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <optional>
 
+#include "gcode/hand_over_memo.hpp"
 #include "gcode/nurbs_schedule.hpp"
 
 namespace pcnc {
@@ -27,9 +28,7 @@ constexpr std::size_t kNurbsPlanMemoBytes = 24u << 20;
 NurbsBlocks plan_nurbs_blocks_memo(const NurbsCurve& curve, const NurbsLimits& limits);
 
 /// What the memo holds now (entries, bytes of blocks) and has done (hits, misses): for tests.
-struct NurbsPlanMemoStats {
-  std::size_t entries = 0, bytes = 0, hits = 0, misses = 0;
-};
+using NurbsPlanMemoStats = MemoStats;
 NurbsPlanMemoStats nurbs_plan_memo_stats();
 void nurbs_plan_memo_clear();
 

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "gcode/hand_over_memo.hpp"
 #include "geometry/spline_fit.hpp"
 
 namespace pcnc {
@@ -19,9 +20,7 @@ constexpr std::size_t kSplineFitMemoBytes = 16u << 20;
 /// fit_polyline(points, tolerance), from the memo when a pass fitted the same before.
 SplineFit fit_polyline_memo(const std::vector<Vec3>& points, double tolerance);
 
-struct SplineFitMemoStats {
-  std::size_t entries = 0, bytes = 0, hits = 0, misses = 0;
-};
+using SplineFitMemoStats = MemoStats;
 SplineFitMemoStats spline_fit_memo_stats();
 void spline_fit_memo_clear();
 
