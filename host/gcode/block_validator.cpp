@@ -10,7 +10,7 @@ BlockVerdict BlockValidator::check(Block& b) {
   // After a probing move the next block starts where the probe stopped, which the rt knows and
   // checks exactly (docs/probe.md); here it continues from wherever the interpreter put it.
   const bool moving = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc ||
-                      b.kind == BlockKind::kNurbs;
+                      b.kind == BlockKind::kNurbs || b.kind == BlockKind::kRuled;
   if (after_probe_ && moving) tail_ = b.start;
   BlockVerdict verdict = check_block(b, expected_block_start(b, tail_, rot_tail_, config_), next_seq_, config_);
   if (verdict.fault == FaultCode::kNone) verdict = check_rotary(b, rot_tail_, config_);

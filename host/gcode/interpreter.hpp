@@ -28,6 +28,7 @@
 #include "gcode/parameters.hpp"
 #include "gcode/parser.hpp"
 #include "gcode/probe_results.hpp"
+#include "gcode/ruled_reader.hpp"
 #include "gcode/tool_table.hpp"
 #include "geometry/bspline_surface.hpp"
 
@@ -113,6 +114,14 @@ class Interpreter : public SystemParameters {
   /// (PROBEOPEN name) / (PROBECLOSE): the probe log in effect ("" none).
   void set_probe_log(std::string name) { probe_log_ = std::move(name); }
   const std::string& probe_log() const { return probe_log_; }
+  // Ruled-surface groups (G5.4 ... G5.5, interpreter_ruled.cpp; read by gcode/ruled_reader.hpp).
+  /// The machine has rotary joints and 5-axis kinematics (G5.4 needs them).
+  bool ruled_machine() const;
+  /// The modal state the group reader's rules need now.
+  RuledModal ruled_modal(bool in_nurbs_group = false) const;
+  /// A group closed without errors: placed, checked against the current pose, made a kRuled
+  /// Move (the joints walked to its end). False on error (reported at the group's lines).
+  bool ruled_group(const RuledGroup& group, MoveList& out);
   /// A machine point in the current work coordinates and units (what #5061-#5063 hold).
   Vec3 to_program(const Vec3& machine) const;
 

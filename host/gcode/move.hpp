@@ -18,9 +18,10 @@
 
 namespace pcnc {
 
-enum class MoveKind : std::uint8_t { kRapid, kLine, kArc, kDwell, kPause, kEnd, kNurbs };
+enum class MoveKind : std::uint8_t { kRapid, kLine, kArc, kDwell, kPause, kEnd, kNurbs, kRuled };
 
 struct NurbsCurve;
+struct RuledModel;
 
 /// Cutter radius compensation in effect for a move (G41/G42/G41.1/G42.1 until G40), as the
 /// interpreter hands it to the compensation stage (cutter_comp.hpp).
@@ -77,6 +78,12 @@ struct Move {
   Rot3 rot_end{};
   bool tcp = false;
   double tool_length = 0.0;
+
+  // kRuled (G5.4 ... G5.5, host/gcode/ruled_move.hpp): the piece in workpiece coordinates (the
+  // tool tip after offsets and --fit; unit tool vectors), always under TCP: start/end are its
+  // first and last tips, rot_start the joints at the G5.4, rot_end where the inverse kinematics
+  // walked them to, feed_mm_s the tip's speed along the directrix.
+  std::shared_ptr<const RuledModel> ruled;
 
   MoveComp comp;
   // kNurbs made by smoothing (`smoothed`): the programmed moves' lines along the curve.

@@ -59,7 +59,38 @@ void MoveSource::check_trailing() {
   }
 }
 
+// A line of a G5.4 ... G5.5 group goes to the group reader instead of the parser; a group closed
+// without errors becomes the interpreter's ruled move. On a machine without 5-axis kinematics the
+// G5.4 is refused here (the group is still read to its G5.5, without further errors).
+bool MoveSource::ruled_group_line(int line_no) {
+  RuledModal modal = interp_.ruled_modal();
+  const bool machine = interp_.ruled_machine();
+  if (!machine) modal.tcp = true;  // the machine's error below stands for the TCP rule
+  if (!ruled_.open()) {
+    bool opens = false;
+    for (int i = 0; i < lexed_.count; ++i) {
+      const Word& w = lexed_.words[static_cast<std::size_t>(i)];
+      if (w.letter == 'G' && std::abs(w.value - 5.4) < 1e-9) {
+        opens = true;
+        if (!machine) {
+          sink_.error(line_no, w.column,
+                      "G5.4: a ruled-surface piece needs a 5-axis machine (rotary joints and a [kinematics] section); "
+                      "this machine has none");
+          ruled_failed_ = true;
+        }
+      }
+    }
+    if (opens && machine) ruled_failed_ = false;
+  }
+  interp_.set_line(line_no);
+  if (!ruled_.take(lexed_, line_no, modal, sink_)) return false;
+  RuledGroup group;
+  if (ruled_.take_group(group) && !ruled_failed_) interp_.ruled_group(group, pending_);
+  return true;
+}
+
 void MoveSource::end_program(int line_no, bool warn_no_end) {
+  ruled_.finish(sink_);
   flow_.end_of_input(line_no);
   interp_.end_of_input(line_no);
   if (warn_no_end)
@@ -155,6 +186,7 @@ void MoveSource::run_line(int line_no, const LineReader::Position& start) {
   }
   if (lexed_.empty()) return;
   seen_content_ = true;
+  if (ruled_group_line(line_no)) return;
   if (!parse_line(lexed_, line_no, parsed_, sink_)) return;
   interp_.set_line(line_no);
   if (!apply_assignments(line_no)) return;

@@ -26,6 +26,7 @@
 #include "gcode/move.hpp"
 #include "gcode/parameters.hpp"
 #include "gcode/parser.hpp"
+#include "gcode/ruled_reader.hpp"
 
 namespace pcnc {
 
@@ -63,12 +64,15 @@ class MoveSource {
   bool apply_assignments(int line_no);
   void message(int line_no);
   void end_program(int line_no, bool warn_no_end);
+  bool ruled_group_line(int line_no);
+  bool ruled_failed_ = false;  // the open G5.4 group was refused (machine without 5 axes)
 
   LineReader& reader_;
   DiagnosticSink& sink_;
   ParameterStore params_;
   Interpreter interp_;
   ControlFlow flow_;
+  RuledGroupReader ruled_;  // G5.4 ... G5.5 groups, read before the parser sees their lines
   LexedLine lexed_;
   ParsedLine parsed_;
   MoveList pending_;

@@ -7,6 +7,7 @@
 #include "gcode/nurbs_move.hpp"
 #include "gcode/preprocessor.hpp"
 #include "gcode/rotary_move.hpp"
+#include "gcode/ruled_move.hpp"
 #include "gcode/tcp_move.hpp"
 
 namespace pcnc {
@@ -94,6 +95,19 @@ bool Pipeline::next(Block& out) {
     }
     if (m.smoothed) smoothed_blocks_ += nb.blocks.size();
     nurbs_ = std::move(nb.blocks);
+    nurbs_next_ = 1;
+    out = nurbs_.front();
+    return accept(out);
+  }
+  if (m.kind == MoveKind::kRuled) {
+    // a ruled piece: one block per part (ruled_move.hpp), handed out like a NURBS curve's
+    RuledMoveBlocks rb = plan_ruled_move(m, config_);
+    if (!rb.error.empty() || rb.blocks.empty()) {
+      sink_.error(m.line, m.column,
+                  "ruled piece could not be planned: " + (rb.error.empty() ? std::string("no blocks") : rb.error));
+      return false;
+    }
+    nurbs_ = std::move(rb.blocks);
     nurbs_next_ = 1;
     out = nurbs_.front();
     return accept(out);

@@ -106,7 +106,7 @@ class Pipeline {
   std::unique_ptr<SurfaceCorrection> surface_;  // --surface; null: none
   MovePull to_surface_;         // the stage before surface correction
   bool source_ended_ = false;   // the End move has passed and the program's end was checked
-  std::vector<Block> nurbs_;    // the blocks of the NURBS move being handed out (one curve at a time)
+  std::vector<Block> nurbs_;    // the blocks of the NURBS (or ruled) move being handed out (one move at a time)
   std::size_t nurbs_next_ = 0;
   std::uint64_t smoothed_blocks_ = 0;
 };

@@ -8,6 +8,8 @@
 
 #include "geometry/nurbs.hpp"
 #include "gcode/nurbs_move.hpp"
+#include "geometry/ruled_model.hpp"
+#include "ipc/block_ruled.hpp"
 
 namespace pcnc {
 namespace {
@@ -30,6 +32,9 @@ double move_length(const Move& m) {
   if (m.kind == MoveKind::kNurbs && m.nurbs) {
     const NurbsView v = m.nurbs->view();
     return nurbs_arc_length(v, v.u_min(), v.u_max());
+  }
+  if (m.kind == MoveKind::kRuled && m.ruled) {
+    return hermite_arc_length(HermiteView{m.ruled->directrix.data(), static_cast<int>(m.ruled->directrix.size())});
   }
   return 0.0;
 }
@@ -107,6 +112,10 @@ void Preflight::add_nurbs(const Move& m) {
 void Preflight::add(const Move& m) {
   if (m.kind == MoveKind::kNurbs && m.nurbs) {
     add_nurbs(m);
+    return;
+  }
+  if (m.kind == MoveKind::kRuled && m.ruled) {
+    add_ruled(m);
     return;
   }
   if (m.kind != MoveKind::kRapid && m.kind != MoveKind::kLine && m.kind != MoveKind::kArc) {

@@ -73,6 +73,7 @@ class Preflight {
   // Rotary joints (preflight_rotary.cpp): a move that turns one (its end within the joint's
   // travel) or runs under TCP (the joints sampled along it, linear ones included)
   void add_rotary(const Move& m);
+  void add_ruled(const Move& m);  // G5.4 ... G5.5: the joints along the piece (preflight_rotary.cpp)
   void check_joint(const Move& m, int joint, double value_rad, const char* where);
   void check_linear_joint(const Move& m, int axis, double value_mm);
   std::vector<Vec3> points_;                     // scratch: a NURBS curve's extreme points

@@ -9,6 +9,7 @@
 #include "config/joint_map.hpp"
 #include "gcode/preflight.hpp"
 #include "gcode/rotary_move.hpp"
+#include "gcode/ruled_move.hpp"
 #include "gcode/tcp_move.hpp"
 
 namespace pcnc {
@@ -75,6 +76,34 @@ void Preflight::add_rotary(const Move& m) {
     check_joint(m, c, plan.q_min[kRotary], " (along the TCP move)");
     check_joint(m, c, plan.q_max[kRotary], " (along the TCP move)");
   }
+}
+
+// A ruled move (G5.4 ... G5.5): the piece walked through the inverse kinematics as the rt will
+// run it; every joint inside its travel at every sample, before anything moves.
+void Preflight::add_ruled(const Move& m) {
+  ++moves_;
+  const RuledJointWalk w = walk_ruled_piece(*m.ruled, config_, m.tool_length, ruled_start_joints(m, config_));
+  if (!w.error.empty()) {
+    sink_.error(m.line, m.column, w.error);
+  } else {
+    for (int i = 0; i < kAxes; ++i) {
+      check_linear_joint(m, i, w.q_min[static_cast<std::size_t>(i)]);
+      check_linear_joint(m, i, w.q_max[static_cast<std::size_t>(i)]);
+    }
+    const int t = tilt_index(config_), c = rotary_index(config_);
+    if (t >= 0) {
+      check_joint(m, t, w.q_min[kTilt], " (along the ruled piece)");
+      check_joint(m, t, w.q_max[kTilt], " (along the ruled piece)");
+    }
+    if (c >= 0) {
+      check_joint(m, c, w.q_min[kRotary], " (along the ruled piece)");
+      check_joint(m, c, w.q_max[kRotary], " (along the ruled piece)");
+    }
+  }
+  all_.add(m.end);
+  if (!m.machine_frame) fit_.add(m.end, m.known);
+  if (m.feed_mm_s > 0.0) feed_time_s_ += move_length(m) / m.feed_mm_s;
+  last_ = m.end;
 }
 
 }  // namespace pcnc

@@ -255,6 +255,10 @@ void make_block_into(const Move& m, const MachineConfig& cfg, Block& b) {
       // stays an empty NURBS block, which the rt refuses: never a silent wrong move.
       b.kind = BlockKind::kNurbs;
       break;
+    case MoveKind::kRuled:
+      // likewise: a ruled piece's blocks are plan_ruled_move's (host/ruled_move.hpp)
+      b.kind = BlockKind::kRuled;
+      break;
   }
 }
 

@@ -284,6 +284,7 @@ std::string format_move(const Move& m) {
     case MoveKind::kLine: kind = "line"; break;
     case MoveKind::kArc: kind = "arc"; break;
     case MoveKind::kNurbs: kind = "nurbs"; break;
+    case MoveKind::kRuled: kind = "ruled"; break;
     case MoveKind::kDwell: kind = "dwell"; break;
     case MoveKind::kPause:
     case MoveKind::kEnd: return {};
@@ -415,6 +416,7 @@ std::string format_block(const Block& b) {
     case BlockKind::kLine:
     case BlockKind::kArc:
     case BlockKind::kNurbs:
+    case BlockKind::kRuled:
       add("%s", " ");
       pt(b.start);
       add("%s", "->");
@@ -431,6 +433,13 @@ std::string format_block(const Block& b) {
         add(" degree=%d points=%d knots=[", static_cast<int>(b.nurbs.degree), static_cast<int>(b.nurbs.point_count));
         for (int k = 0; k < b.nurbs.knot_count && k < kMaxNurbsKnots; ++k) add(k ? " %.6g" : "%.6g", b.nurbs.knots[k]);
         add("] schedule=%d", static_cast<int>(b.nurbs.schedule_count));
+      }
+      if (b.kind == BlockKind::kRuled) {
+        add(" segments=%d schedule=%d v0=%.3f v1=%.3f axis0=", static_cast<int>(b.ruled.segment_count),
+            static_cast<int>(b.ruled.schedule_count), c(b.ruled.start_speed, 1e3), c(b.ruled.end_speed, 1e3));
+        pt(b.rotary.axis_start);
+        add("%s", " axis1=");
+        pt(b.rotary.axis_end);
       }
       if (b.kind == BlockKind::kArc) {
         add("%s", " center=");

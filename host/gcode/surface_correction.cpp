@@ -88,6 +88,8 @@ void SurfaceCorrection::correct(const Move& m) {
         return;
       }
       break;
+    case MoveKind::kRuled:  // a 5-axis piece under TCP: not corrected (docs/ruled-surface.md)
+      break;
     case MoveKind::kDwell:
     case MoveKind::kPause:
     case MoveKind::kEnd: {

@@ -52,7 +52,8 @@ TimeCause axis_cause(TimeCause x, int axis) {
 }
 
 bool is_motion(BlockKind k) {
-  return k == BlockKind::kRapid || k == BlockKind::kLine || k == BlockKind::kArc || k == BlockKind::kNurbs;
+  return k == BlockKind::kRapid || k == BlockKind::kLine || k == BlockKind::kArc || k == BlockKind::kNurbs ||
+         k == BlockKind::kRuled;
 }
 
 double max_feed_mm_s(const MachineConfig& cfg) {
@@ -96,6 +97,7 @@ TimeCause cruise_cause(const Block& b, const MachineConfig& cfg) {
   switch (b.kind) {
     case BlockKind::kRapid: return TimeCause::kRapid;
     case BlockKind::kNurbs: return TimeCause::kCurveSchedule;
+    case BlockKind::kRuled: return TimeCause::kCurveSchedule;  // its schedule (the feed, or the joints' cap)
     case BlockKind::kDwell: return TimeCause::kDwell;
     case BlockKind::kPause: return TimeCause::kPaused;
     case BlockKind::kEnd: return TimeCause::kOther;

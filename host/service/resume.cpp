@@ -133,6 +133,8 @@ std::optional<Continuation> continue_block(const Block& b, const Vec3& at, const
       return c;
     case BlockKind::kNurbs:
       return continue_nurbs(b, at, tol, skip_tol, config, why);
+    case BlockKind::kRuled:
+      return fail(why, "resuming inside a ruled-surface block (G5.4) is not supported; expected to restart the program");
     case BlockKind::kRapid:
     case BlockKind::kLine:
     case BlockKind::kArc:

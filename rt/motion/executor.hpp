@@ -29,6 +29,13 @@
 // NURBS blocks (G5.2/G06.2) run in the same scheme: s is the chord length along the exact
 // curve, advanced with the NURBS engineer's Taylor + Newton parameter step; the block's feed
 // schedule (shared/nurbs_schedule) at the current and the predicted parameter caps the speed.
+// Ruled blocks (G5.4 ... G5.5, issue 17) run by their own law: the RuledFollower
+// (ruled_follower.hpp) advances the piece's parameter by the Taylor step with its correction at
+// the piece's schedule times the feed override (at most 1, as the NURBS schedule caps it), and
+// the cycle's setpoints are the joints of its sample, with the analytic joint velocity and
+// acceleration as feed-forward. A ruled block ends at rest unless the next block in the ring is
+// a ruled one that starts where it ends at speed (the parts of one piece split by the host,
+// end_speed > 0): then it flows, the cycle's leftover length carried into the next.
 // Feed hold / stop: all caps become 0, so the speed ramps down at the block's acceleration
 // along the path; resuming ramps up again from where it stood.
 #pragma once
@@ -43,6 +50,7 @@
 #include "geometry/axis_slerp.hpp"
 #include "geometry/kinematics.hpp"
 #include "motion/path.hpp"
+#include "motion/ruled_follower.hpp"
 #include "ipc/segment.hpp"
 #include "ipc/status.hpp"
 
@@ -140,6 +148,13 @@ class Executor {
   void place_joints(const Block& blk);
   /// Velocity and acceleration of the joints of a rotary block this cycle (ds = v·dt).
   void joint_rates(double v_new, double v_old);
+  /// One cycle of the ruled block in execution (see the header comment).
+  void ruled_step(MotionRing& ring, const ExecInput& in, ExecResult& out);
+  /// The speed the ruled block in execution may end with: > 0 only when the next block is
+  /// prepared, ruled, flows on from it and can stop within its own length.
+  double ruled_exit_speed(const MotionRing& ring, const ExecInput& in) const;
+  /// The setpoints from the follower's sample: joints, their rates, speed and progress.
+  void put_ruled(const RuledSample& s);
   /// Ends the probing block in execution where the machine stands (executor_probe.cpp).
   void finish_probe(MotionRing& ring, ExecResult& out, ProbeOutcome outcome);
 
@@ -179,6 +194,11 @@ class Executor {
   NurbsEval nurbs_at_{};
   int nurbs_hint_ = 0;
   Vec3 tangent_{}, curvature_{};
+
+  // ruled block in execution: the follower, and what a flowing join hands to the next block
+  RuledFollower ruled_{};
+  double ruled_carry_ = 0.0;  // mm left over past the previous ruled block's end
+  double ruled_speed_ = 0.0;  // the tip speed it ended with (0: from rest)
 
   // probing block in execution (docs/probe.md)
   bool probe_tripped_ = false;  // the input reached the state sought: braking

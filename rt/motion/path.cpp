@@ -65,7 +65,7 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
   pb.speed = b.speed;
   pb.accel = b.accel;
   const bool moving = (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc ||
-                       b.kind == BlockKind::kNurbs);
+                       b.kind == BlockKind::kNurbs || b.kind == BlockKind::kRuled);
   pb.motion = moving && b.length > 0.0;
   pb.v_first = pb.v_last = std::numeric_limits<double>::infinity();
   pb.brake_accel = pb.accel;
@@ -79,6 +79,21 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     pb.rot_end = r.end;
     pb.rotary = pb.tcp || r.start != r.end;
     if (pb.tcp) pb.land = r.joint_end;
+  }
+  if (b.kind == BlockKind::kRuled) {
+    // the RuledFollower runs it (executor.cpp): its schedule is the cap, the TCP joints its path
+    const RotaryMotion& r = b.rotary;
+    pb.tcp = pb.rotary = true;
+    pb.contouring = false;
+    pb.rot_start = r.start;
+    pb.rot_end = r.end;
+    pb.land = r.joint_end;
+    pb.v_machine = pb.speed;
+    pb.dir_start = normalized(b.dir_start);
+    pb.dir_end = normalized(b.dir_end);
+    pb.v_first = b.ruled.schedule_speed[0];
+    pb.v_last = b.ruled.schedule_speed[std::clamp(b.ruled.schedule_count, 1, kMaxRuledSchedule) - 1];
+    return pb;
   }
   if (!pb.motion) return pb;
   if (pb.rotary) {

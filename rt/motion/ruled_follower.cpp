@@ -47,7 +47,7 @@ RuledSample ruled_sample_at(const RuledGeometry& g, const Kinematics& kin, const
 }
 
 void RuledFollower::start(const RuledGeometry& g, const Kinematics& kin, const RotaryTravel& travel,
-                          const Joints& q_now, double carry) {
+                          const Joints& q_now, double carry, double speed) {
   kin_ = kin;
   travel_ = travel;
   s_ = 0.0;
@@ -63,11 +63,11 @@ void RuledFollower::start(const RuledGeometry& g, const Kinematics& kin, const R
     u0 = st.u_next;
     s_ = st.chord;
   }
-  sample_ = ruled_sample_at(g, kin_, travel_, q_now, u0, std::max(0.0, g.start_speed), 0.0);
+  sample_ = ruled_sample_at(g, kin_, travel_, q_now, u0, std::max(0.0, speed < 0.0 ? g.start_speed : speed), 0.0);
   sample_.chord = s_;
 }
 
-const RuledSample& RuledFollower::step(const RuledGeometry& g, double period_s) {
+const RuledSample& RuledFollower::step(const RuledGeometry& g, double period_s, double end_speed, double scale) {
   if (done_) {
     leftover_ = 0.0;
     return sample_;
@@ -84,14 +84,15 @@ const RuledSample& RuledFollower::step(const RuledGeometry& g, double period_s) 
   // it to the end speed).
   const double sp = norm(curve_jet(curves_of(g).directrix, u).d1);
   const double u_ahead = sp > 0.0 ? std::min(u_end, u + v * T / sp) : u;
-  const double floor = std::min(a * T, top_speed_);
-  const double sched = std::max(floor, std::min(ruled_schedule_speed(g, u, hint_), ruled_schedule_speed(g, u_ahead, hint_)));
+  scale = std::clamp(scale, 0.0, 1.0);
+  const double floor = scale > 0.0 ? std::min(a * T, top_speed_) : 0.0;
+  const double sched = std::max(floor, scale * std::min(ruled_schedule_speed(g, u, hint_), ruled_schedule_speed(g, u_ahead, hint_)));
   double v_next = sched < v ? std::max(sched, v - a * T) : std::min(sched, v + a * T);
   // Never faster than what still slows to the end speed within the remaining length when
   // the next cycle moves at this speed: v^2 + 2 a T v <= v_end^2 + 2 a rem (no cap below the
   // end speed itself: nothing to slow down for).
   const double rem = std::max(0.0, g.length - s_);
-  const double ve = std::max(0.0, g.end_speed);
+  const double ve = std::clamp(end_speed, 0.0, std::max(0.0, g.end_speed));
   const double cap = -a * T + std::sqrt(a * a * T * T + ve * ve + 2.0 * a * rem);
   v_next = std::max(0.0, std::min(v_next, std::max(cap, ve)));
   const double dfeed = (v_next - v) / T;
@@ -112,7 +113,7 @@ const RuledSample& RuledFollower::step(const RuledGeometry& g, double period_s) 
     last = u_next >= u_end;
   }
   s_ += chord;
-  sample_ = ruled_sample_at(g, kin_, travel_, sample_.q, u_next, last ? ve : v_next, dfeed);
+  sample_ = ruled_sample_at(g, kin_, travel_, sample_.q, u_next, last ? std::min(ve, v_next) : v_next, dfeed);
   sample_.target = target;
   sample_.chord = chord;
   sample_.last = last;

@@ -59,11 +59,18 @@ class RuledFollower {
   /// stands (for the choice among inverse solutions). `carry` (mm) is the length the cycle
   /// that ended the piece before still had to travel (its leftover()): the piece starts that
   /// far along its directrix, so a run of pieces keeps the feed across their joins.
+  /// `speed` (mm/s): the tip speed it starts with; negative: the piece's start_speed (the
+  /// executor passes the speed the cycle before ran at, 0 from rest).
   void start(const RuledGeometry& g, const Kinematics& kin, const RotaryTravel& travel, const Joints& q_now,
-             double carry = 0.0);
+             double carry = 0.0, double speed = -1.0);
 
   /// One cycle of period T (s). After the end, done() is true and the sample stays there.
-  const RuledSample& step(const RuledGeometry& g, double period_s);
+  const RuledSample& step(const RuledGeometry& g, double period_s) { return step(g, period_s, g.end_speed, 1.0); }
+  /// The same with the end speed the executor allows this cycle (0 when nothing flows on from
+  /// the piece's end; never above g.end_speed) and `scale` times the schedule (the feed
+  /// override, at most 1; 0 is a feed hold: the speed ramps down at the piece's acceleration
+  /// and the parameter stands still at rest, without the floor that otherwise keeps it moving).
+  const RuledSample& step(const RuledGeometry& g, double period_s, double end_speed, double scale);
 
   bool done() const { return done_; }
   double travelled() const { return s_; }  // sum of the chords so far, mm

@@ -12,6 +12,7 @@
 #include "geometry/nurbs_order.hpp"
 #include "geometry/vec3.hpp"
 #include "ipc/rotary_joints.hpp"
+#include "ipc/ruled_geometry.hpp"
 
 namespace pcnc {
 
@@ -23,6 +24,7 @@ enum class BlockKind : std::uint8_t {
   kDwell = 4,  // G04: stand still for dwell_s
   kPause = 5,  // M00/M01: stop at rest and wait for resume
   kEnd = 6,    // M02/M30: program end
+  kRuled = 7,  // G5.4 ... G5.5: ruled-surface piece under TCP (Block::ruled, layout version 9)
 };
 
 // How many axes a straight move uses (seed: myline / myplane / myspace).
@@ -145,6 +147,14 @@ struct Block {
   ArcGeometry arc{};      // kArc only
   NurbsGeometry nurbs{};  // kNurbs only
   RotaryMotion rotary{};  // machines with rotary joints (layout version 8)
+  // kRuled only (layout version 9): the piece the rt's RuledFollower runs. The block is a TCP
+  // block: start/end are the tool tip at the directrix's ends (workpiece coordinates), length,
+  // speed and accel restate ruled.length, the schedule's largest speed and ruled.accel,
+  // dir_start/dir_end the directrix's unit tangents at its ends; rotary holds tcp = 1, the
+  // joints at the start and end, the tool axis at the ends (the ruling's unit vectors there),
+  // joint_end and the tool length. The driving-axis plan is the NURBS one: only the axis with
+  // the widest extent of the set points and its flag, the rest 0.
+  RuledGeometry ruled{};
 };
 
 /// Block::probe_rule: G38.2-G38.5 (LinuxCNC's semantics, docs/probe.md). Toward: stop when the

@@ -320,6 +320,7 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
     case BlockKind::kEnd:
       return {};
     case BlockKind::kNurbs:
+    case BlockKind::kRuled:
     case BlockKind::kRapid:
     case BlockKind::kLine:
     case BlockKind::kArc:
@@ -340,7 +341,7 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
     }
   }
   // under TCP start and end are the tool tip in workpiece coordinates: check_rotary checks the joints
-  const bool tcp = b.rotary.tcp != 0 && (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid);
+  const bool tcp = b.rotary.tcp != 0 && (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kRuled);
   const bool angular = b.rotary.angular != 0 && (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid);
   if (int ax = tcp ? -1 : outside_travel(b.start, cfg, tol); ax >= 0) return bad("start point outside the travel", ax, b.start[ax]);
   if (int ax = tcp ? -1 : outside_travel(b.end, cfg, tol); ax >= 0) return bad("end point outside the travel", ax, b.end[ax]);
@@ -355,6 +356,7 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
   }
   if (b.kind == BlockKind::kArc) return check_arc(b, cfg, tol);
   if (b.kind == BlockKind::kNurbs) return check_nurbs(b, cfg, tol);
+  if (b.kind == BlockKind::kRuled) return check_ruled(b, cfg, tol);
   const double chord = norm(b.end - b.start);
   if (angular) return check_line_plan(b, tol);  // its length is an angle (check_rotary)
   if (std::abs(chord - b.length) > tol) return bad("length inconsistent with start and end", 0, b.length - chord);

@@ -38,11 +38,17 @@ BlockVerdict check_block(const Block& block, const Vec3& expected_start, std::ui
 
 /// The rotary joints' part (block_check_rotary.cpp): `tail_rot` is where the previous block left
 /// the rotary joints (rad). Refuses non-finite values, a joint the machine does not have, rotary
-/// motion or TCP on anything but a straight move, a start that does not continue, an end outside
+/// motion or TCP on anything but a straight move or a ruled block (always under TCP), a start that does not continue, an end outside
 /// a joint's travel, a TCP block whose end joints do not give its end tip and axis (forward
 /// kinematics) or end outside the travel, and an angular block whose length is not its turn.
 /// Run after check_block, which it does not repeat.
 BlockVerdict check_rotary(const Block& block, const Rot3& tail_rot, const MachineConfig& config);
+
+/// The ruled block's own part (block_check_ruled.cpp), called by check_block: the piece's data
+/// (counts, finite numbers, the Ferguson chains joining, the schedule), its agreement with the
+/// block's start, end, length, speed, accel, end tangents, TCP axes and driving-axis rule, and
+/// a machine with 5-axis kinematics. The joints are check_rotary's.
+BlockVerdict check_ruled(const Block& block, const MachineConfig& config, double tol_mm);
 
 /// Where a block must start: `xyz` (the linear axes where the previous block left them), or, for
 /// a block under TCP, the tool tip the joints (xyz, rot) give with the block's tool length.

@@ -31,7 +31,7 @@ int outside_rotary_travel(const Rot3& r, const MachineConfig& cfg, double tol_ra
 }
 
 Vec3 expected_block_start(const Block& b, const Vec3& xyz, const Rot3& rot, const MachineConfig& cfg) {
-  const bool straight = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid;
+  const bool straight = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kRuled;
   if (!straight || b.rotary.tcp == 0 || !std::isfinite(b.rotary.tool_length)) return xyz;
   return forward(kinematics_with_tool(cfg, b.rotary.tool_length), to_joints(cfg, xyz, rot)).tip;
 }
@@ -40,6 +40,7 @@ void block_tail(const Block& b, Vec3& xyz, Rot3& rot) {
   switch (b.kind) {
     case BlockKind::kLine:
     case BlockKind::kRapid:
+    case BlockKind::kRuled:
       xyz = b.rotary.tcp ? b.rotary.joint_end : b.end;
       rot = b.rotary.end;
       return;
@@ -54,7 +55,8 @@ void block_tail(const Block& b, Vec3& xyz, Rot3& rot) {
 
 BlockVerdict check_rotary(const Block& b, const Rot3& tail_rot, const MachineConfig& cfg) {
   const RotaryMotion& r = b.rotary;
-  const bool straight = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid;
+  // a ruled block is checked as a straight TCP block (check_ruled holds it to tcp 1, angular 0)
+  const bool straight = b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kRuled;
   const RotaryMask mask = cfg.rotary_mask();
   for (int i = 0; i < kRotaryJoints; ++i) {
     const auto k = static_cast<std::size_t>(i);

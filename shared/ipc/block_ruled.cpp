@@ -16,6 +16,24 @@ RuledCurves curves_of(const RuledGeometry& g) {
   return r;
 }
 
+RuledExtent ruled_extent(const RuledGeometry& g) {
+  const int n = std::clamp(g.segment_count, 0, kMaxRuledSegments);
+  RuledExtent e;
+  if (n == 0) return e;
+  Vec3 lo = g.directrix[0].p0, hi = lo;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = std::min(lo[i], g.directrix[j].p1[i]);
+      hi[i] = std::max(hi[i], g.directrix[j].p1[i]);
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (hi[i] - lo[i] > 1e-12) ++e.moving;
+    if (hi[i] - lo[i] > hi[e.widest] - lo[e.widest]) e.widest = i;
+  }
+  return e;
+}
+
 double hermite_arc_length(const HermiteView& c) {
   // 8 node pairs of the 16-point Gauss–Legendre rule on [-1, 1] (positive nodes, weights).
   static constexpr double kX[8] = {0.0950125098376374, 0.2816035507792589, 0.4580167776572274,

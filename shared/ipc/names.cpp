@@ -14,6 +14,7 @@ const char* to_string(BlockKind kind) {
     case BlockKind::kDwell: return "dwell";
     case BlockKind::kPause: return "pause";
     case BlockKind::kEnd: return "end";
+    case BlockKind::kRuled: return "ruled";
   }
   return "?";
 }

@@ -27,7 +27,7 @@
 namespace pcnc {
 
 constexpr std::uint64_t kSegmentMagic = 0x314D48534E434350ull;  // "PCCNSHM1" little-endian
-constexpr std::uint32_t kLayoutVersion = 8;  // bump on any change of the types below (8: rotary joints: Block::rotary, Status::rot_*; 4: the scope ring; 5: Block::path_tolerance_mm; 6: NurbsGeometry::schedule_accel and schedule_s; 7: the probe: Block::probe_rule, Status::probe_*)
+constexpr std::uint32_t kLayoutVersion = 9;  // bump on any change of the types below (9: the ruled block: BlockKind::kRuled, Block::ruled; 8: rotary joints: Block::rotary, Status::rot_*; 4: the scope ring; 5: Block::path_tolerance_mm; 6: NurbsGeometry::schedule_accel and schedule_s; 7: the probe: Block::probe_rule, Status::probe_*)
 constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
 constexpr std::size_t kMailboxSlots = 64;
 // 1.02 s of cycles at 2 kHz: how far a capture may lag (it reads every 5 ms). 2048 x 104 bytes

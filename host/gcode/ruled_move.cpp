@@ -1,0 +1,150 @@
+// ruled_move.cpp — a ruled move's joint walk, feed cap and blocks (see ruled_move.hpp).
+#include "gcode/ruled_move.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "config/joint_map.hpp"
+#include "geometry/kinematics_rates.hpp"
+#include "geometry/ruled_motion.hpp"
+#include "ipc/block_ruled.hpp"
+
+namespace pcnc {
+namespace {
+
+// The joints' limits in kinematics order (x y z tilt rotary); +inf where the joint is absent.
+void joint_limits(const MachineConfig& cfg, Joints& vmax, Joints& amax) {
+  for (int i = 0; i < 3; ++i) {
+    vmax[static_cast<std::size_t>(i)] = cfg.axes[static_cast<std::size_t>(i)].max_velocity_mm_s;
+    amax[static_cast<std::size_t>(i)] = cfg.axes[static_cast<std::size_t>(i)].max_accel_mm_s2;
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  vmax[kTilt] = vmax[kRotary] = amax[kTilt] = amax[kRotary] = inf;
+  const int idx[2] = {tilt_index(cfg), rotary_index(cfg)};
+  for (int k = 0; k < 2; ++k) {
+    if (idx[k] < 0 || !cfg.rotary[static_cast<std::size_t>(idx[k])]) continue;
+    vmax[static_cast<std::size_t>(kTilt + k)] = cfg.rotary[static_cast<std::size_t>(idx[k])]->max_velocity_rad_s;
+    amax[static_cast<std::size_t>(kTilt + k)] = cfg.rotary[static_cast<std::size_t>(idx[k])]->max_accel_rad_s2;
+  }
+}
+
+}  // namespace
+
+Joints ruled_start_joints(const Move& m, const MachineConfig& cfg) {
+  const Kinematics kin = kinematics_with_tool(cfg, m.tool_length);
+  const Joints seed = to_joints(cfg, Vec3{}, m.rot_start);
+  // the tool axis the joints give now, with the start tip: the linear axes where they stand
+  const ToolPose now = forward(kin, seed);
+  return inverse(kin, ToolPose{m.start, now.axis}, seed, cfg.rotary_travel());
+}
+
+RuledJointWalk walk_ruled_piece(const RuledModel& model, const MachineConfig& cfg, double tool_length, const Joints& q0) {
+  RuledJointWalk w;
+  const Kinematics kin = kinematics_with_tool(cfg, tool_length);
+  const RotaryTravel travel = cfg.rotary_travel();
+  Joints vmax{}, amax{};
+  joint_limits(cfg, vmax, amax);
+  const RuledCurves c = model.curves();
+  const int n = static_cast<int>(model.directrix.size());
+  Joints q = q0;
+  w.q_min = w.q_max = q0;
+  double cap = std::numeric_limits<double>::infinity();
+  for (int s = 0; s <= n * kRuledSamplesPerSegment; ++s) {
+    const double u = static_cast<double>(s) / kRuledSamplesPerSegment;
+    const RuledJet j = ruled_jet(c, u);
+    q = inverse(kin, ToolPose{j.c.p, j.e.p}, q, travel);
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      if (!std::isfinite(q[i])) {
+        w.error = "the tool pose at u = " + std::to_string(u) + " of the ruled piece has no joint solution";
+        return w;
+      }
+      w.q_min[i] = std::min(w.q_min[i], q[i]);
+      w.q_max[i] = std::max(w.q_max[i], q[i]);
+    }
+    // joint rates at a tip speed of 1 mm/s (constant): dq scales with F, ddq with F^2
+    const ToolMotion tm = tool_motion(j, u, 1.0, 0.0);
+    const Joints dq = joint_rates(kin, q, PoseRate{tm.velocity, tm.axis_velocity});
+    const Joints ddq = joint_accels(kin, q, dq, PoseRate{tm.acceleration, tm.axis_acceleration});
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const double fv = std::abs(dq[i]) > 0.0 ? kRuledLimitShare * vmax[i] / std::abs(dq[i]) : cap;
+      const double fa = std::abs(ddq[i]) > 0.0 ? std::sqrt(kRuledLimitShare * amax[i] / std::abs(ddq[i])) : cap;
+      if (std::min(fv, fa) < cap) {
+        cap = std::min(fv, fa);
+        w.speed_joint = static_cast<int>(i);
+      }
+    }
+  }
+  w.q_end = q;
+  w.feed_cap = cap;
+  return w;
+}
+
+RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
+  RuledMoveBlocks out;
+  if (!m.ruled || m.ruled->directrix.empty()) {
+    out.error = "a ruled move without its piece";
+    return out;
+  }
+  const Joints q0 = ruled_start_joints(m, cfg);
+  const RuledJointWalk whole = walk_ruled_piece(*m.ruled, cfg, m.tool_length, q0);
+  if (!whole.error.empty()) {
+    out.error = whole.error;
+    return out;
+  }
+  out.feed = std::min(m.feed_mm_s, whole.feed_cap);
+  out.speed_joint = whole.feed_cap < m.feed_mm_s ? whole.speed_joint : -1;
+  // the tip's tangential acceleration: what the slowest linear axis allows (kept for braking too)
+  double accel = std::numeric_limits<double>::infinity();
+  for (const AxisConfig& a : cfg.axes) accel = std::min(accel, a.max_accel_mm_s2);
+  accel *= kRuledLimitShare;
+  const Kinematics kin = kinematics_with_tool(cfg, m.tool_length);
+  const std::vector<RuledModel> parts = split_for_blocks(*m.ruled);
+  Joints q = q0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const RuledModel& part = parts[k];
+    const RuledJointWalk w = walk_ruled_piece(part, cfg, m.tool_length, q);
+    if (!w.error.empty()) {
+      out.error = w.error;
+      return out;
+    }
+    Block b{};
+    b.kind = BlockKind::kRuled;
+    b.line = static_cast<std::uint32_t>(m.line > 0 ? m.line : 0);
+    const double v_in = k == 0 ? 0.0 : out.feed;
+    const double v_out = k + 1 == parts.size() ? 0.0 : out.feed;
+    if (std::string e = to_geometry(part, out.feed, accel, v_in, v_out, b.ruled); !e.empty()) {
+      out.error = e;
+      return out;
+    }
+    const RuledCurves c = curves_of(b.ruled);
+    const RuledJet j0 = ruled_jet(c, 0.0), j1 = ruled_jet(c, b.ruled.segment_count);
+    b.start = j0.c.p;
+    b.end = j1.c.p;
+    b.length = b.ruled.length;
+    b.speed = out.feed;
+    b.accel = accel;
+    b.dir_start = normalized(j0.c.d1);
+    b.dir_end = normalized(j1.c.d1);
+    const RuledExtent e = ruled_extent(b.ruled);
+    b.motion_class = e.moving <= 1 ? MotionClass::kSingleAxis : static_cast<MotionClass>(e.moving);
+    b.driving_axis = static_cast<std::uint8_t>(e.widest);
+    b.driving_dir = b.end[e.widest] >= b.start[e.widest] ? 1 : -1;
+    RotaryMotion& r = b.rotary;
+    r.tcp = 1;
+    r.tool_length = m.tool_length;
+    r.axis_start = j0.e.p;
+    r.axis_end = j1.e.p;
+    Vec3 xyz{};
+    r.start = r.end = m.rot_start;
+    from_joints(cfg, q, xyz, r.start);
+    from_joints(cfg, w.q_end, r.joint_end, r.end);
+    // the end joints exactly as the block check recomputes the end tip from them
+    (void)kin;
+    out.blocks.push_back(b);
+    q = w.q_end;
+  }
+  return out;
+}
+
+}  // namespace pcnc

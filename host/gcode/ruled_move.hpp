@@ -1,0 +1,53 @@
+// ruled_move.hpp — a ruled-surface move (G5.4 ... G5.5, issue 17) in the front-end pipeline
+// (gcode/pipeline.hpp): the piece sampled through the inverse kinematics as the rt will run it
+// (the interpreter's joints after the group, the preflight's soft limits along it), the feed
+// the joints' velocity and acceleration limits allow, and its ring blocks (kRuled, one per
+// part of at most kMaxRuledSegments segments; the parts of one piece flow into each other).
+//
+// The piece arrives from the interpreter in workpiece coordinates (the tool tip after the
+// offsets and --fit) with unit tool vectors, under TCP with the move's tool length. Pure.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "config/config.hpp"
+#include "gcode/move.hpp"
+#include "geometry/kinematics.hpp"
+#include "geometry/ruled_model.hpp"
+#include "ipc/block.hpp"
+
+namespace pcnc {
+
+/// Samples per Ferguson segment when walking a piece through the inverse kinematics.
+constexpr int kRuledSamplesPerSegment = 16;
+/// The feed keeps this share of each joint's velocity and acceleration limit (as TCP moves).
+constexpr double kRuledLimitShare = 0.95;
+
+/// The piece walked through the inverse kinematics from the joints `q0`.
+struct RuledJointWalk {
+  std::string error;        // empty: every sample reached
+  Joints q_end{};           // the joints at the piece's end
+  Joints q_min{}, q_max{};  // their extremes over the samples
+  // the largest constant tip speed (mm/s) at which every joint keeps kRuledLimitShare of its
+  // velocity and acceleration limits at every sample (the tangential acceleration excluded: the
+  // piece's accel is taken from the linear axes' limits on top)
+  double feed_cap = 0.0;
+  int speed_joint = -1;     // the joint (0..4: x y z tilt rotary) that sets it, -1: none does
+};
+RuledJointWalk walk_ruled_piece(const RuledModel& model, const MachineConfig& cfg, double tool_length, const Joints& q0);
+
+/// The joints (kinematics order) where a move's rotary joints stand and its start tip lies.
+Joints ruled_start_joints(const Move& m, const MachineConfig& cfg);
+
+/// The blocks of a ruled move (seq 0: the pipeline numbers them), or an error sentence.
+struct RuledMoveBlocks {
+  std::string error;
+  std::vector<Block> blocks;
+  double feed = 0.0;  // the tip speed the blocks run at (the programmed feed or the joints' cap)
+  int speed_joint = -1;
+};
+RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg);
+
+}  // namespace pcnc
