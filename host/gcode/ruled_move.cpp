@@ -53,7 +53,17 @@ RuledJointWalk walk_ruled_piece(const RuledModel& model, const MachineConfig& cf
   for (int s = 0; s <= n * kRuledSamplesPerSegment; ++s) {
     const double u = static_cast<double>(s) / kRuledSamplesPerSegment;
     const RuledJet j = ruled_jet(c, u);
+    const Joints q_prev = q;
     q = inverse(kin, ToolPose{j.c.p, j.e.p}, q, travel);
+    // the rotary joints move continuously between samples: a jump is the tool axis leaving the
+    // pole of the rotary joint toward another angle than the one it stands at
+    if (s > 0 && (std::abs(q[kRotary] - q_prev[kRotary]) > kRuledJointJump || std::abs(q[kTilt] - q_prev[kTilt]) > kRuledJointJump)) {
+      w.error = "the ruled piece turns the rotary joint by " + std::to_string((q[kRotary] - q_prev[kRotary]) * 180.0 / 3.14159265358979) +
+                " deg between two samples at u = " + std::to_string(u) +
+                " (the tool axis leaves the pole toward another angle than the joint stands at); expected the joint "
+                "turned toward the piece's tilt before the G5.4";
+      return w;
+    }
     for (std::size_t i = 0; i < q.size(); ++i) {
       if (!std::isfinite(q[i])) {
         w.error = "the tool pose at u = " + std::to_string(u) + " of the ruled piece has no joint solution";

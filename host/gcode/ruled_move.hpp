@@ -22,6 +22,8 @@ namespace pcnc {
 
 /// Samples per Ferguson segment when walking a piece through the inverse kinematics.
 constexpr int kRuledSamplesPerSegment = 16;
+/// A rotary joint turning more than this (rad) between two samples is a jump (the pole).
+constexpr double kRuledJointJump = 0.1;
 /// The feed keeps this share of each joint's velocity and acceleration limit (as TCP moves).
 constexpr double kRuledLimitShare = 0.95;
 
