@@ -74,8 +74,21 @@ TEST(Seqlock, ReaderNeverSeesATornSnapshot) {
 // ends with the scope's ring (3, issue 19: Status carries trace_failed). Any change of Block, Command, Status or the segment bumps
 // kLayoutVersion, so that a host and an rt of different builds refuse each other, and a
 // restarted rt takes no position from a segment it cannot read.
+// Layout version 9 (issue 17): the ruled block: BlockKind::kRuled and its piece, Block::ruled,
+// appended after the rotary data.
+TEST(SharedContract, LayoutVersionNineCarriesTheRuledPiece) {
+  EXPECT_EQ(kLayoutVersion, 9u);
+  EXPECT_EQ(static_cast<int>(BlockKind::kRuled), 7);
+  EXPECT_STREQ(to_string(BlockKind::kRuled), "ruled");
+  const Block b{};
+  EXPECT_EQ(b.ruled.segment_count, 0);
+  EXPECT_EQ(b.ruled.schedule_count, 0);
+  EXPECT_GT(offsetof(Block, ruled), offsetof(Block, rotary)) << "appended after the rotary data";
+  EXPECT_EQ(sizeof(RuledGeometry), 6720u);
+  EXPECT_LT(sizeof(SharedSegment), 300000u);
+}
+
 TEST(SharedContract, LayoutVersionEightCarriesTheRotaryJoints) {
-  EXPECT_EQ(kLayoutVersion, 8u);
   const Block r{};
   EXPECT_EQ(r.rotary.tcp, 0);
   EXPECT_EQ(r.rotary.end[2], 0.0);

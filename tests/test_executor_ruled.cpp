@@ -1,0 +1,220 @@
+// test_executor_ruled.cpp — ruled blocks (issue 17) in the rt's executor and block check, in
+// process: blocks made by the host's plan_ruled_move from a piece of 60 segments (two blocks),
+// run by the Executor on the 5-axis config: the split flows with the carried remainder, the feed
+// override scales the speed (capped at 1), a feed hold brings the tip to rest on the piece and
+// resumes from there, the piece ends on the host's end joints, and the setpoints' feed-forward
+// is the analytic joint velocity. The block check refuses corrupted ruled blocks by name.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "config/joint_map.hpp"
+#include "gcode/ruled_move.hpp"
+#include "geometry/ruled_model.hpp"
+#include "ipc/block_check.hpp"
+#include "motion/executor.hpp"
+#include "test_paths.hpp"
+
+namespace pcnc {
+namespace {
+
+MachineConfig five() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
+
+struct Piece {
+  MachineConfig cfg = five();
+  Vec3 xyz{10.5, 11.5, 20.0};
+  Rot3 rot{0.2, 0.0, 0.6};
+  std::vector<Block> blocks;
+  double feed = 8.0;  // mm/s
+};
+
+// A 60-segment piece from the pose the joints give: 9 mm along X with a Y wave, the axis swinging.
+Piece make_setup() {
+  Piece s;
+  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
+  const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
+  std::vector<Vec3> pts, axes;
+  for (int k = 0; k <= 60; ++k) {
+    const double t = k / 60.0;
+    pts.push_back(p0.tip + Vec3{9.0 * t, 0.5 * std::sin(6.283185307179586 * t), 0.0});
+    axes.push_back(normalized(p0.axis + (0.1 * std::sin(3.141592653589793 * t)) * Vec3{1.0, 0.0, 0.0}));
+  }
+  RuledModelResult m = ruled_model_through(pts, axes, RulingForm::kVector);
+  EXPECT_TRUE(m.error.empty()) << m.error;
+  Move mv;
+  mv.kind = MoveKind::kRuled;
+  mv.line = 7;
+  mv.start = pts.front();
+  mv.end = pts.back();
+  mv.rot_start = mv.rot_end = s.rot;
+  mv.tcp = true;
+  mv.feed_mm_s = s.feed;
+  mv.ruled = std::make_shared<const RuledModel>(m.model);
+  RuledMoveBlocks rb = plan_ruled_move(mv, s.cfg);
+  EXPECT_TRUE(rb.error.empty()) << rb.error;
+  EXPECT_EQ(rb.blocks.size(), 2u);
+  EXPECT_EQ(rb.feed, s.feed) << "the joints allow the feed";
+  for (std::size_t i = 0; i < rb.blocks.size(); ++i) rb.blocks[i].seq = i + 1;
+  Block end{};
+  end.kind = BlockKind::kEnd;
+  end.seq = rb.blocks.size() + 1;
+  end.start = end.end = rb.blocks.back().rotary.joint_end;
+  end.rotary.start = end.rotary.end = rb.blocks.back().rotary.end;
+  rb.blocks.push_back(end);
+  s.blocks = rb.blocks;
+  return s;
+}
+
+struct Runner {
+  Executor ex;
+  MotionRing ring;
+  std::size_t next = 0;
+  explicit Runner(const Piece& s) : ex(s.cfg) {
+    ex.set_rotary(s.rot);
+    ex.set_position(s.xyz);
+  }
+  ExecResult step(const Piece& s, const ExecInput& in) {
+    while (next < s.blocks.size() && ring.try_push(s.blocks[next])) ++next;
+    ExecResult r;
+    ex.step(ring, in, r);
+    EXPECT_EQ(r.fault, FaultCode::kNone) << r.reason;
+    return r;
+  }
+};
+
+TEST(ExecutorRuled, SplitPieceFlowsAndEndsOnTheHostsEndJoints) {
+  const Piece s = make_setup();
+  Runner run(s);
+  const double dt = s.cfg.cycle_period_s();
+  int flows = 0, stops = 0, cycles = 0;
+  double min_mid = 1e9;
+  bool ended = false;
+  Vec3 last{};
+  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
+  double worst_ff = 0.0, last_speed = 0.0;
+  Vec3 last_vel{};
+  int constant = 0;
+  for (; cycles < 100000 && !ended; ++cycles) {
+    const ExecResult r = run.step(s, ExecInput{});
+    flows += r.junction_flows;
+    stops += r.junction_stops;
+    ended = r.program_end;
+    if (run.ex.seq() <= 2 && run.ex.speed() == s.feed && last_speed == s.feed) {
+      // the velocity feed-forward is the joints' rate: at constant feed the difference of the
+      // setpoints over the cycle agrees with the mean of the feed-forward at its ends
+      const Vec3 d = (1.0 / dt) * (run.ex.position() - last);
+      const Vec3 mean = 0.5 * (run.ex.velocity() + last_vel);
+      for (int i = 0; i < 3; ++i) worst_ff = std::max(worst_ff, std::abs(d[i] - mean[i]));
+      ++constant;
+    }
+    if (run.ex.seq() == 1 && run.ex.progress() > 5.0) min_mid = std::min(min_mid, run.ex.speed());
+    if (run.ex.seq() == 2 && run.ex.progress() > 0.0 && run.ex.progress() < 2.0) min_mid = std::min(min_mid, run.ex.speed());
+    last = run.ex.position();
+    last_vel = run.ex.velocity();
+    last_speed = run.ex.speed();
+  }
+  ASSERT_TRUE(ended);
+  EXPECT_EQ(flows, 1) << "the two parts of the piece flow";
+  EXPECT_NEAR(min_mid, s.feed, 1e-9) << "no slow-down around the split";
+  EXPECT_GT(constant, 1500);
+  EXPECT_LT(worst_ff, 1e-4 * s.feed) << "velocity feed-forward against the setpoints' differences, mm/s";
+  // the end: the host's end joints, exactly, and the tip at the piece's end
+  EXPECT_EQ(run.ex.position(), s.blocks[1].rotary.joint_end);
+  EXPECT_EQ(run.ex.rotary(), s.blocks[1].rotary.end);
+  EXPECT_LT(norm(forward(kin, to_joints(s.cfg, run.ex.position(), run.ex.rotary())).tip - s.blocks[1].end), 1e-6);
+  // time: the length at the feed plus about one ramp up and down (accel 0.95 of the slowest axis)
+  const double len = s.blocks[0].length + s.blocks[1].length;
+  EXPECT_NEAR(cycles * dt, len / s.feed + s.feed / s.blocks[0].accel, 0.01);
+}
+
+TEST(ExecutorRuled, FeedOverrideAndHoldOnThePiece) {
+  const Piece s = make_setup();
+  Runner run(s);
+  const double dt = s.cfg.cycle_period_s();
+  const double a = s.blocks[0].accel;
+  ExecInput in;
+  in.feed_override = 0.5;
+  for (int i = 0; i < 400; ++i) run.step(s, in);
+  EXPECT_NEAR(run.ex.speed(), 0.5 * s.feed, 1e-9) << "override 50 %";
+  in.feed_override = 2.0;
+  for (int i = 0; i < 400; ++i) run.step(s, in);
+  EXPECT_NEAR(run.ex.speed(), s.feed, 1e-9) << "override above 100 % is capped at the piece's schedule";
+  in.hold = true;
+  double prev = run.ex.speed();
+  int n = 0;
+  while (run.ex.speed() > 0.0 && n < 10000) {
+    run.step(s, in);
+    EXPECT_LE(prev - run.ex.speed(), a * dt * (1.0 + 1e-9));
+    prev = run.ex.speed();
+    ++n;
+  }
+  EXPECT_EQ(n, static_cast<int>(std::ceil(s.feed / (a * dt) - 1e-9))) << "ramps down at the piece's acceleration";
+  const Vec3 held = run.ex.position();
+  const Rot3 held_rot = run.ex.rotary();
+  const double progress = run.ex.progress();
+  for (int i = 0; i < 50; ++i) run.step(s, in);
+  EXPECT_EQ(run.ex.position(), held);
+  EXPECT_EQ(run.ex.rotary(), held_rot);
+  EXPECT_EQ(run.ex.velocity(), (Vec3{0.0, 0.0, 0.0}));
+  EXPECT_GT(progress, 0.0);
+  in.hold = false;
+  in.feed_override = 1.0;
+  bool ended = false;
+  for (int i = 0; i < 100000 && !ended; ++i) ended = run.step(s, in).program_end;
+  EXPECT_TRUE(ended);
+  EXPECT_EQ(run.ex.position(), s.blocks[1].rotary.joint_end);
+}
+
+TEST(ExecutorRuled, BlockCheckRefusesCorruptRuledBlocks) {
+  const Piece s = make_setup();
+  const Block good = s.blocks[0];
+  const Vec3 start = good.start;  // under TCP: the tip the joints give
+  auto verdict = [&](const Block& b, const MachineConfig& c) {
+    BlockVerdict v = check_block(b, start, 1, c);
+    if (v.fault == FaultCode::kNone) v = check_rotary(b, s.rot, c);
+    return v;
+  };
+  EXPECT_EQ(verdict(good, s.cfg).fault, FaultCode::kNone) << verdict(good, s.cfg).reason;
+  auto refused = [&](Block b, const char* what) {
+    const BlockVerdict v = verdict(b, s.cfg);
+    EXPECT_EQ(v.fault, FaultCode::kBadBlock) << what;
+    return std::string(v.reason);
+  };
+  Block b = good;
+  b.ruled.length *= 1.001;
+  b.length = b.ruled.length;
+  EXPECT_EQ(refused(b, "length"), "ruled: length is not the directrix's arc length");
+  b = good;
+  b.ruled.directrix[5].p0[1] += 0.01;
+  EXPECT_EQ(refused(b, "gap"), "ruled: the directrix's segments do not join");
+  b = good;
+  b.ruled.schedule_u[3] = b.ruled.schedule_u[2];
+  EXPECT_EQ(refused(b, "schedule"), "ruled: schedule parameters do not increase");
+  b = good;
+  b.ruled.segment_count = 33;
+  EXPECT_EQ(refused(b, "count"), "ruled: segment count outside 1 .. 32");
+  b = good;
+  b.rotary.tcp = 0;
+  EXPECT_EQ(refused(b, "tcp"), "ruled: a ruled block runs under TCP (tcp 1, angular 0)");
+  b = good;
+  b.speed *= 1.5;
+  EXPECT_EQ(refused(b, "speed"), "ruled: block speed is not the schedule's largest speed");
+  b = good;
+  b.rotary.axis_end = normalized(b.rotary.axis_end + Vec3{0.0, 1e-3, 0.0});
+  EXPECT_EQ(refused(b, "axis"), "ruled: the TCP tool axes are not the ruling's ends");
+  b = good;
+  b.rotary.end[2] += 0.01;
+  EXPECT_EQ(refused(b, "end joints"), std::string("rotary: TCP end joints do not put the tool tip at the end"));
+  // a 3-axis machine refuses the kind
+  const MachineConfig three = load_config(test::source_dir() + "/configs/desktop-mill.toml");
+  b = good;
+  b.rotary = RotaryMotion{};
+  b.rotary.tcp = 1;
+  const BlockVerdict v3 = check_block(b, start, 1, three);
+  EXPECT_EQ(v3.fault, FaultCode::kBadBlock);
+  EXPECT_STREQ(v3.reason, "ruled: a ruled block on a machine without 5-axis kinematics");
+}
+
+}  // namespace
+}  // namespace pcnc
