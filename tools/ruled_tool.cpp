@@ -188,7 +188,7 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
   out << "  path length       " << fmt("%.3f", total) << " mm (passes " << fmt("%.3f", pass_length) << ", links "
       << fmt("%.3f", link_length) << ", approach and retract " << fmt("%.3f", approach) << ")\n";
   out << "  feed time         " << fmt("%.3f", total / (o.feed / 60.0)) << " s at F" << fmt("%g", o.feed)
-      << " (path length over feed; the machine time needs the rt's ruled block, not yet built)\n";
+      << " (path length over feed; the machine time: pcnc run, or bench_ruled_machine)\n";
   out << "  program           " << o.output << ", " << lines.size() << " lines" << (o.json.empty() ? "" : ", " + o.json)
       << "\n";
   if (o.samples > 0) {
@@ -211,8 +211,9 @@ void add_ruled_subcommand(CLI::App& app, int& exit_code) {
       "5-axis method) and write them as G5.4 ... G5.5 groups (docs/ruled-surface.md); without SURFACE the seed's "
       "example (200 x 200 mm, 20 mm high) scaled to the config's X/Y travel. Prints the pass interval, the passes, "
       "the path length and the seed's Tables 1-2 (tool frame, ds/du, first- and second-order motion) for --samples "
-      "points of the first pass. The G5.4 form has no reader yet: the program does not run until the block kind is "
-      "built.");
+      "points of the first pass. pcnc check/run read the G5.4 form on a 5-axis machine (docs/ruled-surface.md); the "
+      "example's program does not run on desktop-5axis yet (its tilted passes leave the travel, its approach leaves "
+      "the pole of C).");
   sub->add_option("SURFACE", opts->surface, "a B-spline surface file (docs/surface.md), in program coordinates")
       ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", opts->output, "the program to write (.ngc)")->required();
