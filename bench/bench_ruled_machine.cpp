@@ -29,8 +29,7 @@
 #include "config/joint_map.hpp"
 #include "geometry/kinematics.hpp"
 #include "ipc/trace_format.hpp"
-#include "subprocess.hpp"
-#include "test_paths.hpp"
+#include "five_axis_trace.hpp"
 
 using namespace pcnc;
 
@@ -165,17 +164,12 @@ Figures measure(const Passes& ps, const Program& prog, const MachineConfig& cfg,
     f.error = "pcnc run exited " + std::to_string(r.exit_code) + ": " + r.out + r.err;
     return f;
   }
-  std::ifstream in(trace);
-  std::string s;
-  std::getline(in, s);
   std::vector<std::pair<TraceSample, TraceJoints>> rows;
-  while (std::getline(in, s)) {
-    TraceSample ts;
-    TraceJoints tj;
-    tj.mask = cfg.rotary_mask();
-    if (parse_trace_row(s, ts, &tj) && ts.line >= static_cast<std::uint32_t>(prog.first_line) && ts.state == MachineState::kRunning &&
+  for (const test::FiveAxisRow& row : test::read_five_axis_trace(trace, cfg.rotary_mask())) {
+    const TraceSample& ts = row.s;
+    if (ts.line >= static_cast<std::uint32_t>(prog.first_line) && ts.state == MachineState::kRunning &&
         prog.pass_of_line.count(static_cast<int>(ts.line)) != 0) {
-      rows.emplace_back(ts, tj);
+      rows.emplace_back(ts, row.j);
     }
   }
   if (rows.size() < 4) {
@@ -232,11 +226,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   const std::string dir = test::make_temp_dir("bench-ruled");
-  std::string text = test::read_file(test::source_dir() + "/configs/desktop-5axis.toml");
-  const std::string from = "shm_name = \"/pcnc-desktop-5axis\"";
-  text.replace(text.find(from), from.size(), "shm_name = \"" + test::test_shm_name("bench-ruled") + "\"");
-  const std::string config = dir + "/five.toml";
-  std::ofstream(config) << text;
+  const std::string config = test::write_five_axis_config(dir, "bench-ruled");
   const MachineConfig cfg = load_config(config);
 
   const Vec3 xyz0 = Vec3{-4.0, -2.0, -5.0} + kG54;

@@ -17,25 +17,12 @@
 #include "config/joint_map.hpp"
 #include "geometry/kinematics.hpp"
 #include "ipc/trace_format.hpp"
-#include "subprocess.hpp"
-#include "test_paths.hpp"
+#include "five_axis_trace.hpp"
 
 namespace pcnc::test {
 namespace {
 
 std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
-
-// The 5-axis config with a private segment name.
-std::string write_five_axis_config(const std::string& dir, const std::string& tag) {
-  std::string text = read_file(source_dir() + "/configs/desktop-5axis.toml");
-  const std::string from = "shm_name = \"/pcnc-desktop-5axis\"";
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::runtime_error("desktop-5axis.toml: no shm_name line");
-  text.replace(at, from.size(), "shm_name = \"" + test_shm_name(tag) + "\"");
-  const std::string path = dir + "/five.toml";
-  std::ofstream(path) << text;
-  return path;
-}
 
 struct Segment {
   Vec3 a, b;  // machine (= workpiece) coordinates of the tool tip, mm
@@ -48,23 +35,10 @@ double distance_to_segment(const Vec3& p, const Segment& s) {
   return norm(p - (s.a + t * d));
 }
 
-struct Row {
-  TraceSample s;
-  TraceJoints j;
-};
+using Row = FiveAxisRow;
 
 std::vector<Row> read_trace(const std::string& path, RotaryMask mask, std::string& header) {
-  std::ifstream f(path);
-  std::getline(f, header);
-  std::vector<Row> rows;
-  std::string line;
-  while (std::getline(f, line)) {
-    Row r;
-    r.j.mask = mask;
-    if (!parse_trace_row(line, r.s, &r.j)) throw std::runtime_error("bad trace row: " + line);
-    rows.push_back(r);
-  }
-  return rows;
+  return read_five_axis_trace(path, mask, &header);
 }
 
 constexpr double kToolLength = 4.25;  // T2 of configs/desktop-mill.tbl

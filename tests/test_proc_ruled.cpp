@@ -20,43 +20,14 @@
 #include "geometry/kinematics.hpp"
 #include "geometry/ruled_model.hpp"
 #include "ipc/trace_format.hpp"
-#include "subprocess.hpp"
-#include "test_paths.hpp"
+#include "five_axis_trace.hpp"
 
 namespace pcnc::test {
 namespace {
 
 std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
-std::string write_config(const std::string& dir, const std::string& tag) {
-  std::string text = read_file(source_dir() + "/configs/desktop-5axis.toml");
-  const std::string from = "shm_name = \"/pcnc-desktop-5axis\"";
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::runtime_error("desktop-5axis.toml: no shm_name line");
-  text.replace(at, from.size(), "shm_name = \"" + test_shm_name(tag) + "\"");
-  const std::string path = dir + "/five.toml";
-  std::ofstream(path) << text;
-  return path;
-}
-
-struct Row {
-  TraceSample s;
-  TraceJoints j;
-};
-
-std::vector<Row> read_trace(const std::string& path, RotaryMask mask) {
-  std::ifstream f(path);
-  std::string line;
-  std::getline(f, line);
-  std::vector<Row> rows;
-  while (std::getline(f, line)) {
-    Row r;
-    r.j.mask = mask;
-    if (!parse_trace_row(line, r.s, &r.j)) throw std::runtime_error("bad trace row: " + line);
-    rows.push_back(r);
-  }
-  return rows;
-}
+using Row = FiveAxisRow;
 
 // One piece as programmed: set points (workpiece = machine coordinates of the tip, mm) and unit
 // tool vectors, and the ruled surface they define.
@@ -93,7 +64,7 @@ const Vec3 kG54{12.5, 12.5, 25.0};
 
 TEST(RuledRun, PiecesFollowTheRuledSurfaceAtTheFeedWithinTheJointLimits) {
   const std::string dir = make_temp_dir("ruled");
-  const std::string config = write_config(dir, "ruled");
+  const std::string config = write_five_axis_config(dir, "ruled");
   const MachineConfig cfg = load_config(config);
   ASSERT_EQ(cfg.kinematics.kind, KinematicsKind::kTableTable);
   const Kinematics kin = kinematics_with_tool(cfg, 0.0);  // no tool table: TCP with length 0
@@ -179,7 +150,7 @@ TEST(RuledRun, PiecesFollowTheRuledSurfaceAtTheFeedWithinTheJointLimits) {
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("result            completed"), std::string::npos) << r.out;
 
-  const std::vector<Row> rows = read_trace(trace, cfg.rotary_mask());
+  const std::vector<Row> rows = read_five_axis_trace(trace, cfg.rotary_mask());
   ASSERT_GT(rows.size(), 1000u);
   const RotaryAxisConfig& A = *cfg.rotary[0];
   const RotaryAxisConfig& C = *cfg.rotary[2];

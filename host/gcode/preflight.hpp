@@ -17,6 +17,7 @@
 #include "config/config.hpp"
 #include "gcode/diagnostics.hpp"
 #include "gcode/move.hpp"
+#include "geometry/kinematics.hpp"
 
 namespace pcnc {
 
@@ -76,6 +77,8 @@ class Preflight {
   void add_ruled(const Move& m);  // G5.4 ... G5.5: the joints along the piece (preflight_rotary.cpp)
   void check_joint(const Move& m, int joint, double value_rad, const char* where);
   void check_linear_joint(const Move& m, int axis, double value_mm);
+  // every joint's extremes along a TCP move or a ruled piece (linear ones included)
+  void check_joint_extremes(const Move& m, const Joints& q_min, const Joints& q_max, const char* where);
   std::vector<Vec3> points_;                     // scratch: a NURBS curve's extreme points
 };
 

@@ -63,18 +63,22 @@ void Preflight::add_rotary(const Move& m) {
     sink_.error(m.line, m.column, plan.error);
     return;
   }
+  check_joint_extremes(m, plan.q_min, plan.q_max, " (along the TCP move)");
+}
+
+void Preflight::check_joint_extremes(const Move& m, const Joints& q_min, const Joints& q_max, const char* where) {
   for (int i = 0; i < kAxes; ++i) {
-    check_linear_joint(m, i, plan.q_min[static_cast<std::size_t>(i)]);
-    check_linear_joint(m, i, plan.q_max[static_cast<std::size_t>(i)]);
+    check_linear_joint(m, i, q_min[static_cast<std::size_t>(i)]);
+    check_linear_joint(m, i, q_max[static_cast<std::size_t>(i)]);
   }
   const int t = tilt_index(config_), c = rotary_index(config_);
   if (t >= 0) {
-    check_joint(m, t, plan.q_min[kTilt], " (along the TCP move)");
-    check_joint(m, t, plan.q_max[kTilt], " (along the TCP move)");
+    check_joint(m, t, q_min[kTilt], where);
+    check_joint(m, t, q_max[kTilt], where);
   }
   if (c >= 0) {
-    check_joint(m, c, plan.q_min[kRotary], " (along the TCP move)");
-    check_joint(m, c, plan.q_max[kRotary], " (along the TCP move)");
+    check_joint(m, c, q_min[kRotary], where);
+    check_joint(m, c, q_max[kRotary], where);
   }
 }
 
@@ -86,19 +90,7 @@ void Preflight::add_ruled(const Move& m) {
   if (!w.error.empty()) {
     sink_.error(m.line, m.column, w.error);
   } else {
-    for (int i = 0; i < kAxes; ++i) {
-      check_linear_joint(m, i, w.q_min[static_cast<std::size_t>(i)]);
-      check_linear_joint(m, i, w.q_max[static_cast<std::size_t>(i)]);
-    }
-    const int t = tilt_index(config_), c = rotary_index(config_);
-    if (t >= 0) {
-      check_joint(m, t, w.q_min[kTilt], " (along the ruled piece)");
-      check_joint(m, t, w.q_max[kTilt], " (along the ruled piece)");
-    }
-    if (c >= 0) {
-      check_joint(m, c, w.q_min[kRotary], " (along the ruled piece)");
-      check_joint(m, c, w.q_max[kRotary], " (along the ruled piece)");
-    }
+    check_joint_extremes(m, w.q_min, w.q_max, " (along the ruled piece)");
   }
   all_.add(m.end);
   if (!m.machine_frame) fit_.add(m.end, m.known);

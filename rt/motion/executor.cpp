@@ -434,17 +434,8 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
       return;
     }
     // flowing junction: carry the distance left over into the next block
-    pop(ring, out);
-    fresh_ = false;
-    ++out.junction_flows;
+    const Block& next = flow_into_next(ring, out);
     crossed_ = 2;
-    after_motion_ = true;
-    ended_at_rest_ = false;
-    const Block& next = ring.peek(0);
-    contouring_ = prep_[0].contouring;
-    line_ = next.line;
-    seq_ = next.seq;
-    begin_block(next);
     const double carry = leftover;
     at_end = advance(next, carry, leftover);
   }
@@ -503,7 +494,13 @@ void Executor::ruled_step(MotionRing& ring, const ExecInput& in, ExecResult& out
   // cycle's leftover length already travelled along it
   ruled_carry_ = ruled_.leftover();
   ruled_speed_ = s.feed;
+  flow_into_next(ring, out);
+  put_ruled(ruled_.sample());
+}
+
+const Block& Executor::flow_into_next(MotionRing& ring, ExecResult& out) {
   pop(ring, out);
+  fresh_ = false;
   ++out.junction_flows;
   after_motion_ = true;
   ended_at_rest_ = false;
@@ -511,9 +508,8 @@ void Executor::ruled_step(MotionRing& ring, const ExecInput& in, ExecResult& out
   contouring_ = prep_[0].contouring;
   line_ = next.line;
   seq_ = next.seq;
-  fresh_ = false;
   begin_block(next);
-  put_ruled(ruled_.sample());
+  return next;
 }
 
 }  // namespace pcnc

@@ -148,6 +148,8 @@ class Executor {
   void place_joints(const Block& blk);
   /// Velocity and acceleration of the joints of a rotary block this cycle (ds = v·dt).
   void joint_rates(double v_new, double v_old);
+  /// Pops the finished block at a flowing junction and begins the next one (returned).
+  const Block& flow_into_next(MotionRing& ring, ExecResult& out);
   /// One cycle of the ruled block in execution (see the header comment).
   void ruled_step(MotionRing& ring, const ExecInput& in, ExecResult& out);
   /// The speed the ruled block in execution may end with: > 0 only when the next block is
