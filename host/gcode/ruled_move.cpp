@@ -108,7 +108,6 @@ RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
   double accel = std::numeric_limits<double>::infinity();
   for (const AxisConfig& a : cfg.axes) accel = std::min(accel, a.max_accel_mm_s2);
   accel *= kRuledLimitShare;
-  const Kinematics kin = kinematics_with_tool(cfg, m.tool_length);
   const std::vector<RuledModel> parts = split_for_blocks(*m.ruled);
   Joints q = q0;
   for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -149,8 +148,6 @@ RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
     r.start = r.end = m.rot_start;
     from_joints(cfg, q, xyz, r.start);
     from_joints(cfg, w.q_end, r.joint_end, r.end);
-    // the end joints exactly as the block check recomputes the end tip from them
-    (void)kin;
     out.blocks.push_back(b);
     q = w.q_end;
   }
