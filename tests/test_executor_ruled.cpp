@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include "config/joint_map.hpp"
@@ -164,6 +165,70 @@ TEST(ExecutorRuled, FeedOverrideAndHoldOnThePiece) {
   for (int i = 0; i < 100000 && !ended; ++i) ended = run.step(s, in).program_end;
   EXPECT_TRUE(ended);
   EXPECT_EQ(run.ex.position(), s.blocks[1].rotary.joint_end);
+}
+
+// A piece whose tool axis swings fast in its middle at F3000: the host's schedule slows the tip
+// there so that every joint keeps its velocity limit on every cycle, and runs at F elsewhere.
+TEST(ExecutorRuled, ScheduleFromTheJointLimitsKeepsEveryJointWithinItsVelocity) {
+  Piece s;
+  s.feed = 50.0;
+  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
+  const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
+  std::vector<Vec3> pts, axes;
+  for (int k = 0; k <= 30; ++k) {
+    const double t = k / 30.0;
+    pts.push_back(p0.tip + Vec3{6.0 * t, 0.0, 0.0});
+    const double bump = std::exp(-std::pow((t - 0.5) / 0.06, 2.0));  // 0.3 rad within about a millimetre
+    axes.push_back(normalized(p0.axis + (0.3 * bump) * Vec3{1.0, 0.0, 0.0}));
+  }
+  RuledModelResult m = ruled_model_through(pts, axes, RulingForm::kVector);
+  ASSERT_TRUE(m.error.empty()) << m.error;
+  Move mv;
+  mv.kind = MoveKind::kRuled;
+  mv.start = pts.front();
+  mv.end = pts.back();
+  mv.rot_start = mv.rot_end = s.rot;
+  mv.tcp = true;
+  mv.feed_mm_s = s.feed;
+  mv.ruled = std::make_shared<const RuledModel>(m.model);
+  RuledMoveBlocks rb = plan_ruled_move(mv, s.cfg);
+  ASSERT_TRUE(rb.error.empty()) << rb.error;
+  ASSERT_EQ(rb.blocks.size(), 1u);
+  const RuledGeometry& g = rb.blocks[0].ruled;
+  double lo = 1e9, hi = 0.0;
+  for (int i = 0; i < g.schedule_count; ++i) lo = std::min(lo, g.schedule_speed[i]), hi = std::max(hi, g.schedule_speed[i]);
+  EXPECT_EQ(hi, s.feed) << "away from the swing the feed stands";
+  EXPECT_LT(lo, 0.5 * s.feed) << "the swing is slowed";
+  EXPECT_NE(rb.speed_joint, -1);
+  rb.blocks[0].seq = 1;
+  Block end{};
+  end.kind = BlockKind::kEnd;
+  end.seq = 2;
+  rb.blocks.push_back(end);
+  s.blocks = rb.blocks;
+  Runner run(s);
+  const double dt = s.cfg.cycle_period_s();
+  bool ended = false;
+  Vec3 last = s.xyz;
+  Rot3 last_rot = s.rot;
+  double worst = 0.0;  // the largest share of a joint's velocity limit, by the setpoints' differences
+  for (int i = 0; i < 100000 && !ended; ++i) {
+    ended = run.step(s, ExecInput{}).program_end;
+    for (int a = 0; a < 3; ++a) {
+      worst = std::max(worst, std::abs(run.ex.position()[a] - last[a]) / dt / s.cfg.axes[static_cast<std::size_t>(a)].max_velocity_mm_s);
+    }
+    for (int a : {0, 2}) {
+      const auto k = static_cast<std::size_t>(a);
+      worst = std::max(worst, std::abs(run.ex.rotary()[k] - last_rot[k]) / dt / s.cfg.rotary[k]->max_velocity_rad_s);
+    }
+    last = run.ex.position();
+    last_rot = run.ex.rotary();
+  }
+  EXPECT_TRUE(ended);
+  EXPECT_LE(worst, 1.0) << "a joint above its velocity limit";
+  EXPECT_GT(worst, 0.5) << "the schedule uses the joints' speed where it caps";
+  std::printf("[ figures ] schedule %.2f .. %.2f mm/s, joint %d caps it; the joints reach %.1f %% of a velocity limit\n", lo,
+              hi, rb.speed_joint, worst * 100.0);
 }
 
 TEST(ExecutorRuled, BlockCheckRefusesCorruptRuledBlocks) {

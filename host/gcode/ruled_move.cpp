@@ -76,18 +76,45 @@ RuledJointWalk walk_ruled_piece(const RuledModel& model, const MachineConfig& cf
     const ToolMotion tm = tool_motion(j, u, 1.0, 0.0);
     const Joints dq = joint_rates(kin, q, PoseRate{tm.velocity, tm.axis_velocity});
     const Joints ddq = joint_accels(kin, q, dq, PoseRate{tm.acceleration, tm.axis_acceleration});
+    double here = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < q.size(); ++i) {
-      const double fv = std::abs(dq[i]) > 0.0 ? kRuledLimitShare * vmax[i] / std::abs(dq[i]) : cap;
-      const double fa = std::abs(ddq[i]) > 0.0 ? std::sqrt(kRuledLimitShare * amax[i] / std::abs(ddq[i])) : cap;
+      const double fv = std::abs(dq[i]) > 0.0 ? kRuledLimitShare * vmax[i] / std::abs(dq[i]) : here;
+      const double fa = std::abs(ddq[i]) > 0.0 ? std::sqrt(kRuledLimitShare * amax[i] / std::abs(ddq[i])) : here;
+      here = std::min({here, fv, fa});
       if (std::min(fv, fa) < cap) {
         cap = std::min(fv, fa);
         w.speed_joint = static_cast<int>(i);
       }
     }
+    w.sample_caps.push_back(here);
   }
   w.q_end = q;
   w.feed_cap = cap;
   return w;
+}
+
+std::vector<double> ruled_feed_schedule(const RuledModel& part, const std::vector<double>& sample_caps, double feed,
+                                        double accel) {
+  const int n = static_cast<int>(part.directrix.size());
+  const int per = kRuledSamplesPerSegment;
+  std::vector<double> v(static_cast<std::size_t>(n) + 1, feed);
+  // point i caps the speed on [i - 1, i + 1]: the line to either neighbour stays under every
+  // sample's cap of the segment between them
+  for (int i = 0; i <= n; ++i) {
+    const int lo = std::max(0, (i - 1) * per), hi = std::min(n * per, (i + 1) * per);
+    for (int s = lo; s <= hi && s < static_cast<int>(sample_caps.size()); ++s) {
+      v[static_cast<std::size_t>(i)] = std::min(v[static_cast<std::size_t>(i)], sample_caps[static_cast<std::size_t>(s)]);
+    }
+  }
+  // the backward pass: every drop reachable at half the tangential acceleration (the rt reads
+  // the schedule one cycle ahead only, and a line in u between two points asks up to twice the
+  // acceleration of the squares' difference)
+  for (int i = n - 1; i >= 0; --i) {
+    const double ds = hermite_arc_length(HermiteView{part.directrix.data() + i, 1});
+    const auto k = static_cast<std::size_t>(i);
+    v[k] = std::min(v[k], std::sqrt(v[k + 1] * v[k + 1] + accel * ds));
+  }
+  return v;
 }
 
 RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
@@ -102,7 +129,6 @@ RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
     out.error = whole.error;
     return out;
   }
-  out.feed = std::min(m.feed_mm_s, whole.feed_cap);
   out.speed_joint = whole.feed_cap < m.feed_mm_s ? whole.speed_joint : -1;
   // the tip's tangential acceleration: what the slowest linear axis allows (kept for braking too)
   double accel = std::numeric_limits<double>::infinity();
@@ -120,18 +146,26 @@ RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
     Block b{};
     b.kind = BlockKind::kRuled;
     b.line = static_cast<std::uint32_t>(m.line > 0 ? m.line : 0);
-    const double v_in = k == 0 ? 0.0 : out.feed;
-    const double v_out = k + 1 == parts.size() ? 0.0 : out.feed;
-    if (std::string e = to_geometry(part, out.feed, accel, v_in, v_out, b.ruled); !e.empty()) {
+    const std::vector<double> sched = ruled_feed_schedule(part, w.sample_caps, m.feed_mm_s, accel);
+    if (std::string e = to_geometry(part, m.feed_mm_s, accel, 0.0, 0.0, b.ruled); !e.empty()) {
       out.error = e;
       return out;
     }
+    double top = 0.0;
+    for (std::size_t i = 0; i < sched.size(); ++i) {
+      b.ruled.schedule_speed[i] = sched[i];
+      top = std::max(top, sched[i]);
+    }
+    // the parts of one piece flow at the slower of the two schedules at their join
+    if (k > 0) b.ruled.start_speed = std::min(out.blocks.back().ruled.schedule_speed[out.blocks.back().ruled.schedule_count - 1], sched.front());
+    if (k > 0) out.blocks.back().ruled.end_speed = b.ruled.start_speed;
+    out.feed = std::max(out.feed, top);
     const RuledCurves c = curves_of(b.ruled);
     const RuledJet j0 = ruled_jet(c, 0.0), j1 = ruled_jet(c, b.ruled.segment_count);
     b.start = j0.c.p;
     b.end = j1.c.p;
     b.length = b.ruled.length;
-    b.speed = out.feed;
+    b.speed = top;
     b.accel = accel;
     b.dir_start = normalized(j0.c.d1);
     b.dir_end = normalized(j1.c.d1);

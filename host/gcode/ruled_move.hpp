@@ -37,18 +37,25 @@ struct RuledJointWalk {
   // piece's accel is taken from the linear axes' limits on top)
   double feed_cap = 0.0;
   int speed_joint = -1;     // the joint (0..4: x y z tilt rotary) that sets it, -1: none does
+  std::vector<double> sample_caps;  // that cap at each sample (kRuledSamplesPerSegment per segment, and the end)
 };
 RuledJointWalk walk_ruled_piece(const RuledModel& model, const MachineConfig& cfg, double tool_length, const Joints& q0);
 
 /// The joints (kinematics order) where a move's rotary joints stand and its start tip lies.
 Joints ruled_start_joints(const Move& m, const MachineConfig& cfg);
 
+/// A part's feed schedule, one speed per set point (u = 0 .. n): the feed, capped at each point
+/// by the joints' limits over the segments on either side (`sample_caps` of its walk), then a
+/// backward pass so that every drop is reachable at half of `accel` (mm/s^2) along the arc length.
+std::vector<double> ruled_feed_schedule(const RuledModel& part, const std::vector<double>& sample_caps, double feed,
+                                        double accel);
+
 /// The blocks of a ruled move (seq 0: the pipeline numbers them), or an error sentence.
 struct RuledMoveBlocks {
   std::string error;
   std::vector<Block> blocks;
-  double feed = 0.0;  // the tip speed the blocks run at (the programmed feed or the joints' cap)
-  int speed_joint = -1;
+  double feed = 0.0;  // the largest speed of the blocks' schedules (the programmed feed, or less where the joints cap it)
+  int speed_joint = -1;  // the joint that caps the piece somewhere, -1: none
 };
 RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg);
 
