@@ -30,17 +30,9 @@ struct Piece {
   double feed = 8.0;  // mm/s
 };
 
-// A 60-segment piece from the pose the joints give: 9 mm along X with a Y wave, the axis swinging.
-Piece make_setup() {
-  Piece s;
-  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
-  const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
-  std::vector<Vec3> pts, axes;
-  for (int k = 0; k <= 60; ++k) {
-    const double t = k / 60.0;
-    pts.push_back(p0.tip + Vec3{9.0 * t, 0.5 * std::sin(6.283185307179586 * t), 0.0});
-    axes.push_back(normalized(p0.axis + (0.1 * std::sin(3.141592653589793 * t)) * Vec3{1.0, 0.0, 0.0}));
-  }
+// The blocks of a piece through `pts` and `axes` planned from the pose of `s`, numbered 1, 2, ...
+// and followed by an End block.
+RuledMoveBlocks plan_piece(Piece& s, const std::vector<Vec3>& pts, const std::vector<Vec3>& axes) {
   RuledModelResult m = ruled_model_through(pts, axes, RulingForm::kVector);
   EXPECT_TRUE(m.error.empty()) << m.error;
   Move mv;
@@ -54,16 +46,34 @@ Piece make_setup() {
   mv.ruled = std::make_shared<const RuledModel>(m.model);
   RuledMoveBlocks rb = plan_ruled_move(mv, s.cfg);
   EXPECT_TRUE(rb.error.empty()) << rb.error;
-  EXPECT_EQ(rb.blocks.size(), 2u);
-  EXPECT_EQ(rb.feed, s.feed) << "the joints allow the feed";
+  const RuledMoveBlocks planned = rb;
   for (std::size_t i = 0; i < rb.blocks.size(); ++i) rb.blocks[i].seq = i + 1;
   Block end{};
   end.kind = BlockKind::kEnd;
   end.seq = rb.blocks.size() + 1;
-  end.start = end.end = rb.blocks.back().rotary.joint_end;
-  end.rotary.start = end.rotary.end = rb.blocks.back().rotary.end;
-  rb.blocks.push_back(end);
+  if (!rb.blocks.empty()) {
+    end.start = end.end = rb.blocks.back().rotary.joint_end;
+    end.rotary.start = end.rotary.end = rb.blocks.back().rotary.end;
+  }
   s.blocks = rb.blocks;
+  s.blocks.push_back(end);
+  return planned;
+}
+
+// A 60-segment piece from the pose the joints give: 9 mm along X with a Y wave, the axis swinging.
+Piece make_setup() {
+  Piece s;
+  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
+  const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
+  std::vector<Vec3> pts, axes;
+  for (int k = 0; k <= 60; ++k) {
+    const double t = k / 60.0;
+    pts.push_back(p0.tip + Vec3{9.0 * t, 0.5 * std::sin(6.283185307179586 * t), 0.0});
+    axes.push_back(normalized(p0.axis + (0.1 * std::sin(3.141592653589793 * t)) * Vec3{1.0, 0.0, 0.0}));
+  }
+  const RuledMoveBlocks rb = plan_piece(s, pts, axes);
+  EXPECT_EQ(rb.blocks.size(), 2u);
+  EXPECT_EQ(rb.feed, s.feed) << "the joints allow the feed";
   return s;
 }
 
@@ -181,18 +191,7 @@ TEST(ExecutorRuled, ScheduleFromTheJointLimitsKeepsEveryJointWithinItsVelocity) 
     const double bump = std::exp(-std::pow((t - 0.5) / 0.06, 2.0));  // 0.3 rad within about a millimetre
     axes.push_back(normalized(p0.axis + (0.3 * bump) * Vec3{1.0, 0.0, 0.0}));
   }
-  RuledModelResult m = ruled_model_through(pts, axes, RulingForm::kVector);
-  ASSERT_TRUE(m.error.empty()) << m.error;
-  Move mv;
-  mv.kind = MoveKind::kRuled;
-  mv.start = pts.front();
-  mv.end = pts.back();
-  mv.rot_start = mv.rot_end = s.rot;
-  mv.tcp = true;
-  mv.feed_mm_s = s.feed;
-  mv.ruled = std::make_shared<const RuledModel>(m.model);
-  RuledMoveBlocks rb = plan_ruled_move(mv, s.cfg);
-  ASSERT_TRUE(rb.error.empty()) << rb.error;
+  const RuledMoveBlocks rb = plan_piece(s, pts, axes);
   ASSERT_EQ(rb.blocks.size(), 1u);
   const RuledGeometry& g = rb.blocks[0].ruled;
   double lo = 1e9, hi = 0.0;
@@ -200,12 +199,6 @@ TEST(ExecutorRuled, ScheduleFromTheJointLimitsKeepsEveryJointWithinItsVelocity) 
   EXPECT_EQ(hi, s.feed) << "away from the swing the feed stands";
   EXPECT_LT(lo, 0.5 * s.feed) << "the swing is slowed";
   EXPECT_NE(rb.speed_joint, -1);
-  rb.blocks[0].seq = 1;
-  Block end{};
-  end.kind = BlockKind::kEnd;
-  end.seq = 2;
-  rb.blocks.push_back(end);
-  s.blocks = rb.blocks;
   Runner run(s);
   const double dt = s.cfg.cycle_period_s();
   bool ended = false;

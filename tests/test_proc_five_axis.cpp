@@ -98,8 +98,6 @@ TEST(FiveAxisRun, TcpProgramKeepsTheTipOnTheLineAndTheJointsWithinTheirLimits) {
 
   const Kinematics kin = kinematics_with_tool(cfg, kToolLength);
   const RotaryAxisConfig& A = *cfg.rotary[0];
-  const RotaryAxisConfig& C = *cfg.rotary[2];
-  const double dt = cfg.cycle_period_s();
   double worst_cmd = 0.0, worst_act = 0.0;
   int on_tcp = 0;
   std::map<int, int> rows_per_line;
@@ -107,28 +105,16 @@ TEST(FiveAxisRun, TcpProgramKeepsTheTipOnTheLineAndTheJointsWithinTheirLimits) {
     const Row& row = rows[i];
     const Joints qc = to_joints(cfg, row.s.commanded, row.j.commanded);
     const Joints qa = to_joints(cfg, row.s.actual, row.j.actual);
-    // every joint inside its travel, commanded and measured, on every cycle
+    // every joint inside its travel, commanded and measured, on every cycle; within its velocity
+    // (the commanded joints' difference over one cycle)
+    ASSERT_EQ(commanded_joint_violation(cfg, rows, i), "");
     for (int ax = 0; ax < kAxes; ++ax) {
       const AxisConfig& ac = cfg.axes[static_cast<std::size_t>(ax)];
-      ASSERT_GE(qc[ax], ac.travel_min_mm) << "row " << i;
-      ASSERT_LE(qc[ax], ac.travel_max_mm) << "row " << i;
       ASSERT_GE(qa[ax], ac.travel_min_mm - 1e-3) << "row " << i;
       ASSERT_LE(qa[ax], ac.travel_max_mm + 1e-3) << "row " << i;
     }
-    ASSERT_GE(qc[kTilt], A.travel_min_rad) << "row " << i;
-    ASSERT_LE(qc[kTilt], A.travel_max_rad) << "row " << i;
     ASSERT_GE(qa[kTilt], A.travel_min_rad - 1e-4) << "row " << i;
     ASSERT_LE(qa[kTilt], A.travel_max_rad + 1e-4) << "row " << i;
-    // every joint within its velocity (the commanded joints' difference over one cycle)
-    if (i > 0) {
-      const Joints qp = to_joints(cfg, rows[i - 1].s.commanded, rows[i - 1].j.commanded);
-      for (int ax = 0; ax < kAxes; ++ax) {
-        EXPECT_LE(std::abs(qc[ax] - qp[ax]) / dt, cfg.axes[static_cast<std::size_t>(ax)].max_velocity_mm_s * 1.001)
-            << "axis " << ax << " row " << i;
-      }
-      EXPECT_LE(std::abs(qc[kTilt] - qp[kTilt]) / dt, A.max_velocity_rad_s * 1.001) << "A, row " << i;
-      EXPECT_LE(std::abs(qc[kRotary] - qp[kRotary]) / dt, C.max_velocity_rad_s * 1.001) << "C, row " << i;
-    }
     // the tool tip on the programmed line of a TCP move
     const auto seg = lines.find(static_cast<int>(row.s.line));
     if (seg == lines.end() || row.s.state != MachineState::kRunning) continue;

@@ -3,11 +3,14 @@
 // rotary joints' columns (ipc/trace_format.hpp). Header only.
 #pragma once
 
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "config/config.hpp"
+#include "config/joint_map.hpp"
 #include "ipc/trace_format.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
@@ -48,4 +51,41 @@ inline std::vector<FiveAxisRow> read_five_axis_trace(const std::string& path, Ro
   return rows;
 }
 
+/// The first limit the commanded joints of row i break, or "": a linear axis or a rotary joint
+/// with a travel outside it, or a joint faster than its velocity limit (its difference from row
+/// i - 1 over one cycle, 0.1 % for rounding in the trace).
+inline std::string commanded_joint_violation(const MachineConfig& cfg, const std::vector<FiveAxisRow>& rows, std::size_t i) {
+  const Joints q = to_joints(cfg, rows[i].s.commanded, rows[i].j.commanded);
+  const std::string row = " at row " + std::to_string(i);
+  for (int ax = 0; ax < kAxes; ++ax) {
+    const AxisConfig& a = cfg.axes[static_cast<std::size_t>(ax)];
+    if (!(q[static_cast<std::size_t>(ax)] >= a.travel_min_mm && q[static_cast<std::size_t>(ax)] <= a.travel_max_mm)) {
+      return std::string(1, axis_name(ax)) + " outside its travel" + row;
+    }
+  }
+  const int idx[2] = {tilt_index(cfg), rotary_index(cfg)};
+  for (int k = 0; k < 2; ++k) {
+    if (idx[k] < 0 || !cfg.rotary[static_cast<std::size_t>(idx[k])]) continue;
+    const RotaryAxisConfig& r = *cfg.rotary[static_cast<std::size_t>(idx[k])];
+    const double v = q[static_cast<std::size_t>(kTilt + k)];
+    if (!r.continuous && !(v >= r.travel_min_rad && v <= r.travel_max_rad)) return std::string(1, joint_letter(idx[k])) + " outside its travel" + row;
+  }
+  if (i == 0) return "";
+  const Joints p = to_joints(cfg, rows[i - 1].s.commanded, rows[i - 1].j.commanded);
+  const double dt = cfg.cycle_period_s();
+  for (int ax = 0; ax < kAxes; ++ax) {
+    const auto k = static_cast<std::size_t>(ax);
+    if (std::abs(q[k] - p[k]) / dt > cfg.axes[k].max_velocity_mm_s * 1.001) return std::string(1, axis_name(ax)) + " above its velocity" + row;
+  }
+  for (int k = 0; k < 2; ++k) {
+    if (idx[k] < 0 || !cfg.rotary[static_cast<std::size_t>(idx[k])]) continue;
+    const auto j = static_cast<std::size_t>(kTilt + k);
+    if (std::abs(q[j] - p[j]) / dt > cfg.rotary[static_cast<std::size_t>(idx[k])]->max_velocity_rad_s * 1.001) {
+      return std::string(1, joint_letter(idx[k])) + " above its velocity" + row;
+    }
+  }
+  return "";
+}
+
 }  // namespace pcnc::test
+
