@@ -114,8 +114,6 @@ void apply_tcp_plan(const Move& m, const TcpMovePlan& plan, Block& b) {
   b.rotary.joint_end = plan.joint_end;
   b.rotary.end = plan.rot_end;
   b.rotary.tool_length = m.tool_length;
-  b.contouring = 0;
-  b.path_tolerance_mm = 0.0f;
   b.length = plan.length;
   if (plan.angular) {
     b.speed = plan.speed;
