@@ -18,6 +18,7 @@
 
 #include "config/config.hpp"
 #include "config/joint_map.hpp"
+#include "gcode/tcp_move.hpp"
 #include "geometry/kinematics.hpp"
 #include "ipc/trace_format.hpp"
 #include "subprocess.hpp"
@@ -39,6 +40,16 @@ std::string write_five_axis_config(const std::string& dir, const std::string& ta
   std::ofstream(path) << text;
   return path;
 }
+
+// A program written line by line, with each line's number.
+struct ProgramText {
+  std::ostringstream text;
+  int lines = 0;
+  int line(const std::string& s) {
+    text << s << "\n";
+    return ++lines;
+  }
+};
 
 struct Segment {
   Vec3 a, b;  // machine (= workpiece) coordinates of the tool tip, mm
@@ -80,13 +91,9 @@ TEST(FiveAxisRun, TcpProgramKeepsTheTipOnTheLineAndTheJointsWithinTheirLimits) {
   ASSERT_EQ(cfg.kinematics.kind, KinematicsKind::kTableTable);
 
   // the program, and the tip's programmed segment per source line (program point + G54)
-  std::ostringstream prog;
+  ProgramText prog;
   std::map<int, Segment> lines;
-  int n = 0;
-  auto line = [&](const std::string& text) {
-    prog << text << "\n";
-    return ++n;
-  };
+  auto line = [&](const std::string& text) { return prog.line(text); };
   Vec3 at{0.0, 0.0, -8.0};
   auto tcp = [&](const Vec3& p, double a, double c, double f) {
     char buf[160];
@@ -111,7 +118,7 @@ TEST(FiveAxisRun, TcpProgramKeepsTheTipOnTheLineAndTheJointsWithinTheirLimits) {
   line("M429");
   line("M2");
   const std::string path = dir + "/five.ngc";
-  std::ofstream(path) << prog.str();
+  std::ofstream(path) << prog.text.str();
 
   const std::string trace = dir + "/five.csv";
   const ProcessResult r = run_process({pcnc_exe(), "run", path, "--config", config, "--tool-table",
@@ -233,13 +240,9 @@ TEST(FiveAxisRun, DenseTcpProgramFlowsThroughItsJunctions) {
   const std::string dir = make_temp_dir("five-dense");
   const std::string config = write_five_axis_config(dir, "five-dense");
   const MachineConfig cfg = load_config(config);
-  std::ostringstream prog;
+  ProgramText prog;
   std::map<int, Segment> lines;
-  int n = 0;
-  auto line = [&](const std::string& text) {
-    prog << text << "\n";
-    return ++n;
-  };
+  auto line = [&](const std::string& text) { return prog.line(text); };
   constexpr double kFeed = 600.0;  // mm/min: 10 mm/s
   auto point = [](int k) {
     const double t = k * kRadPerDeg;
@@ -267,7 +270,7 @@ TEST(FiveAxisRun, DenseTcpProgramFlowsThroughItsJunctions) {
   line("M429");
   line("M2");
   const std::string path = dir + "/dense.ngc";
-  std::ofstream(path) << prog.str();
+  std::ofstream(path) << prog.text.str();
   const std::string trace = dir + "/dense.csv";
   const ProcessResult r = run_process({pcnc_exe(), "run", path, "--config", config, "--clock", "virtual", "--trace", trace}, 300);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
@@ -277,15 +280,9 @@ TEST(FiveAxisRun, DenseTcpProgramFlowsThroughItsJunctions) {
 
   const Kinematics kin = kinematics_with_tool(cfg, 0.0);
   const double dt = cfg.cycle_period_s();
-  std::array<double, kJoints> vmax{}, amax{};
-  for (int ax = 0; ax < kAxes; ++ax) {
-    vmax[static_cast<std::size_t>(ax)] = cfg.axes[static_cast<std::size_t>(ax)].max_velocity_mm_s;
-    amax[static_cast<std::size_t>(ax)] = cfg.axes[static_cast<std::size_t>(ax)].max_accel_mm_s2;
-  }
-  vmax[kTilt] = cfg.rotary[0]->max_velocity_rad_s;
-  amax[kTilt] = cfg.rotary[0]->max_accel_rad_s2;
-  vmax[kRotary] = cfg.rotary[2]->max_velocity_rad_s;
-  amax[kRotary] = cfg.rotary[2]->max_accel_rad_s2;
+  const JointLimits limits = joint_limits(cfg);
+  const Joints& vmax = limits.velocity;
+  const Joints& amax = limits.acceleration;
   double worst_v = 0.0, worst_a = 0.0;  // the largest share of a joint's limit on any cycle
   double helix_v = 0.0, helix_a = 0.0;  // the same on the helix's moves
   double worst_cmd = 0.0, worst_act = 0.0, slowest = 1e9;

@@ -9,6 +9,7 @@
 #include "motion/nurbs_follower.hpp"
 #include "ipc/block_check.hpp"
 #include "config/joint_map.hpp"
+#include "geometry/kinematics_rates.hpp"
 
 namespace pcnc {
 
@@ -175,12 +176,7 @@ void Executor::begin_block(const Block& blk, bool from_rest) {
     kin_ = kinematics_with_tool(cfg_, blk.rotary.tool_length);
     slerp_ = make_axis_slerp(blk.rotary.axis_start, blk.rotary.axis_end);
   }
-  if (from_rest) {  // across a flowing junction last cycle's setpoints stay (remember_cycle)
-    last_pos_ = pos_;
-    last_rot_ = rot_;
-    last_vel_ = {0.0, 0.0, 0.0};
-    last_rot_vel_ = {0.0, 0.0, 0.0};
-  }
+  if (from_rest) last_pos_ = pos_;  // across a flowing junction last cycle's stays (remember_cycle)
   if (blk.kind == BlockKind::kNurbs) {
     const NurbsView view = view_of(blk.nurbs);
     nurbs_u_ = view.u_min();
@@ -266,25 +262,32 @@ void Executor::joint_rates(double v_new, double v_old) {
       acc_ = {0.0, 0.0, 0.0};
     }
   } else {
-    // the joints are the inverse kinematics of the path: their rates by differences over the cycle
-    for (int i = 0; i < kAxes; ++i) {
-      vel_[i] = (pos_[i] - last_pos_[i]) / dt_;
-      acc_[i] = (vel_[i] - last_vel_[i]) / dt_;
+    // the joints are the inverse kinematics of the path: their rates from the analytic kinematics
+    // rates where the cycle lands (tip on the line, axis on the great circle at u = s/L):
+    // q̇ = q'·ṡ, q̈ = q'·s̈ + q''·ṡ²
+    const double inv = b.length > 0.0 ? 1.0 / b.length : 0.0;
+    const double u = std::clamp(s_ * inv, 0.0, 1.0);
+    const PoseRate d1{inv * (b.end - b.start), inv * slerp_axis_d1(slerp_, u)};
+    const PoseRate d2{{0.0, 0.0, 0.0}, (inv * inv) * slerp_axis_d2(slerp_, u)};
+    const Joints q = to_joints(cfg_, pos_, rot_);
+    const Joints dq = pcnc::joint_rates(kin_, q, d1);
+    const Joints ddq = joint_accels(kin_, q, dq, d2);
+    const double s_acc = (v_new - v_old) / dt_;
+    Joints qv{}, qa{};
+    for (int j = 0; j < kJoints; ++j) {
+      const auto k = static_cast<std::size_t>(j);
+      qv[k] = dq[k] * v_new;
+      qa[k] = dq[k] * s_acc + ddq[k] * v_new * v_new;
     }
-    for (int i = 0; i < kRotaryJoints; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      rot_vel_[k] = (rot_[k] - last_rot_[k]) / dt_;
-      rot_acc_[k] = (rot_vel_[k] - last_rot_vel_[k]) / dt_;
-    }
+    Rot3 rv{}, ra{};  // a joint the kinematics do not use stands still
+    from_joints(cfg_, qv, vel_, rv);
+    from_joints(cfg_, qa, acc_, ra);
+    rot_vel_ = rv;
+    rot_acc_ = ra;
   }
 }
 
-void Executor::remember_cycle() {
-  last_pos_ = pos_;
-  last_vel_ = vel_;
-  last_rot_ = rot_;
-  last_rot_vel_ = rot_vel_;
-}
+void Executor::remember_cycle() { last_pos_ = pos_; }
 
 void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
   out = ExecResult{};

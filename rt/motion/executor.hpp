@@ -142,10 +142,11 @@ class Executor {
   void begin_block(const Block& blk, bool from_rest);
   /// The rotary joints (and under TCP the linear axes) at path length s_ of the current block.
   void place_joints(const Block& blk);
-  /// Velocity and acceleration of the joints of a rotary block this cycle (ds = v·dt).
+  /// Velocity and acceleration of the joints of a rotary block this cycle (ds = v·dt): TCP off,
+  /// the path's times each joint's share; under TCP from the analytic kinematics rates.
   void joint_rates(double v_new, double v_old);
-  /// This cycle's setpoints become last cycle's (the TCP rates' differences continue across a
-  /// flowing junction from whatever block came before).
+  /// This cycle's linear joints become last cycle's (the seed of the TCP inverse continues across
+  /// a flowing junction from whatever block came before).
   void remember_cycle();
   /// Ends the probing block in execution where the machine stands (executor_probe.cpp).
   void finish_probe(MotionRing& ring, ExecResult& out, ProbeOutcome outcome);
@@ -198,14 +199,13 @@ class Executor {
   Vec3 pos_{}, vel_{}, acc_{};
   // rotary joints (rad) and the tail the next block must continue from; TCP: the kinematics,
   // the joints' travel for the inverse's choice, the tool axis's arc of the block in execution,
-  // and last cycle's joints (the inverse's seed and the finite-difference rates)
+  // and last cycle's linear joints (with rot_, the inverse's seed)
   Rot3 rot_{}, rot_vel_{}, rot_acc_{};
   Rot3 rot_tail_{};
   Kinematics kin_{};
   RotaryTravel travel_{};
   AxisSlerp slerp_{};
-  Vec3 last_pos_{}, last_vel_{};
-  Rot3 last_rot_{}, last_rot_vel_{};
+  Vec3 last_pos_{};
   std::uint32_t line_ = 0;
   std::uint64_t seq_ = 0;
   bool contouring_ = false;
