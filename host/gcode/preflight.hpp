@@ -17,6 +17,7 @@
 #include "config/config.hpp"
 #include "gcode/diagnostics.hpp"
 #include "gcode/move.hpp"
+#include "geometry/tcp_fit.hpp"
 
 namespace pcnc {
 
@@ -48,6 +49,14 @@ class Preflight {
   Preflight(const MachineConfig& config, DiagnosticSink& sink, bool check_limits);
 
   void add(const Move& m);
+  /// --fit on a machine with rotary joints: also hand every move's end pose (tip in the frame's
+  /// machine coordinates, tool axis, TCP on or off, the joints' values) to `out`, in order, and
+  /// the tool length of the TCP moves to `tool_length` (geometry/tcp_fit.hpp). Only the --fit
+  /// measuring pass collects; a normal run keeps O(1) memory.
+  void collect_fit_poses(std::vector<FitPose>* out, double* tool_length) {
+    fit_poses_ = out;
+    fit_tool_length_ = tool_length;
+  }
   /// Reports the soft-limit counts per axis (call once at the end).
   void finish();
 
@@ -76,6 +85,9 @@ class Preflight {
   void check_joint(const Move& m, int joint, double value_rad, const char* where);
   void check_linear_joint(const Move& m, int axis, double value_mm);
   std::vector<Vec3> points_;                     // scratch: a NURBS curve's extreme points
+  void add_fit_pose(const Move& m);
+  std::vector<FitPose>* fit_poses_ = nullptr;
+  double* fit_tool_length_ = nullptr;
 };
 
 /// The --fit transform for program points spanning `box` (machine coordinates under the frame
