@@ -299,15 +299,15 @@ TEST(NurbsSchedule, TangentialAccelerationIsWhatTheAxesLeaveAtEachSample) {
     const double r = worst_axis_ratio(view, f.u, f.speed, f.accel, lim);
     worst = std::max(worst, r);
     EXPECT_LE(r, 1.0 + 1e-4) << "u=" << f.u;
-    EXPECT_GE(r, 0.9 - 1e-4) << "u=" << f.u << ": the acceleration the axes leave is used";
+    EXPECT_GE(r, kTangentialAccelMargin - 1e-4) << "u=" << f.u << ": the acceleration the axes leave is used";
     Vec3 t, k;
     frame_by_differences(view, f.u, t, k);
     for (std::size_t i = 0; i < 3; ++i) most_normal = std::max(most_normal, std::fabs(k[i]) * f.speed * f.speed / 2000.0);
     if (norm(k) < 1e-6) straight_accel = std::max(straight_accel, f.accel);
   }
-  // straight: 0.9 * min_i A_i / |t_i| along the first leg's direction
+  // straight: the margin (0.97) * min_i A_i / |t_i| along the first leg's direction
   const Vec3 t0 = normalized(pts[1] - pts[0]);
-  EXPECT_NEAR(straight_accel, 0.9 * 2000.0 / std::max(std::fabs(t0[0]), std::fabs(t0[1])), 1e-3);
+  EXPECT_NEAR(straight_accel, kTangentialAccelMargin * 2000.0 / std::max(std::fabs(t0[0]), std::fabs(t0[1])), 1e-3);
   EXPECT_GT(most_normal, 0.6) << "the bend gives the centripetal part more than half an axis";
   EXPECT_LE(most_normal, lim.normal_accel_share + 1e-4);
   std::printf("hairpin: worst axis load %.4f of its limit, largest centripetal share %.3f\n", worst, most_normal);
