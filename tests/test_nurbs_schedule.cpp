@@ -101,12 +101,13 @@ TEST(NurbsSchedule, LimitsComeFromTheConfig) {
 
 TEST(NurbsSchedule, StraightLineAcceleratesOnceAndDeceleratesOnce) {
   const NurbsLimits lim = desktop_limits(40.0);
-  // along X, no curvature: the whole 2000 mm/s² but the 10 % sampling margin is tangential
+  // along X, no curvature: the whole 2000 mm/s² but the 3 % sampling margin is tangential
   const NurbsCurve c = line({1, 1, 0}, {21, 1, 0});
   const FeedSchedule fs = plan_nurbs_feed(c, lim);
   EXPECT_NEAR(fs.length_mm, 20.0, 1e-9);
-  EXPECT_DOUBLE_EQ(fs.accel_mm_s2, 1800.0);
-  for (const FeedSample& f : fs.samples) EXPECT_DOUBLE_EQ(f.accel, 1800.0);
+  const double a = kTangentialAccelMargin * 2000.0;  // 1940
+  EXPECT_DOUBLE_EQ(fs.accel_mm_s2, a);
+  for (const FeedSample& f : fs.samples) EXPECT_NEAR(f.accel, a, 1e-9);
   EXPECT_EQ(fs.samples.front().speed, 0.0);
   EXPECT_EQ(fs.samples.back().speed, 0.0);
   expect_accel_consistent(fs);
@@ -115,7 +116,7 @@ TEST(NurbsSchedule, StraightLineAcceleratesOnceAndDeceleratesOnce) {
     const FeedSample& f = fs.samples[j];
     EXPECT_EQ(f.binding, FeedLimit::kFeed);
     // v = min(F, sqrt(2 a s), sqrt(2 a (L - s))) exactly, a the ramp acceleration.
-    const double want = std::min({40.0, std::sqrt(3240.0 * f.s), std::sqrt(3240.0 * (fs.length_mm - f.s))});
+    const double want = std::min({40.0, std::sqrt(2.0 * kRampShare * a * f.s), std::sqrt(2.0 * kRampShare * a * (fs.length_mm - f.s))});
     EXPECT_NEAR(f.speed, want, 1e-9 * 40.0) << "s=" << f.s;
     if (f.speed < fs.samples[j - 1].speed) falling = true;
     if (falling) {

@@ -2,6 +2,7 @@
 // projected speed and acceleration, driving axis, deceleration start, tangents, arc geometry.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -147,7 +148,9 @@ TEST(Preprocessor, ArcsAtThePlaneShareKeepEveryAxisWithinItsLimit) {
       const double cap = std::sqrt(kArcCentripetalShare * 1500.0 * r);
       EXPECT_LE(b.speed, cap * (1 + 1e-12)) << "r " << r << " F " << feed;
       if (b.speed > cap * (1 - 1e-9)) ++at_cap;
-      const double v_top = std::min(cap, 2.0 * b.speed);
+      // the block's top speed: what the axes allow (the centripetal cap, Y's 80 mm/s on a half
+      // circle), at most twice its speed
+      const double v_top = std::min({cap, 80.0, 2.0 * b.speed});
       for (int k = 0; k <= 20; ++k) {
         const double v = v_top * k / 20.0;
         const double an = v * v / r;
