@@ -5,9 +5,12 @@
 // same --fit transform the run used (the --fit measuring pass ignores the tolerance).
 //
 // Usage: bench_path_deviation PROGRAM TRACE.csv [--config F] [--fit] [--contouring on|off]
-// Prints: "cmd_max_um act_max_um rows" (rows of the trace while a feed move ran).
+// Prints: "cmd_max_um act_max_um rows" (rows of the trace while a feed move ran); with
+// --worst N, also (to stderr) the N trace rows farthest from the path, measured, with their time,
+// line, speed and the commanded row's distance (where the servo lags: a diagnostic).
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -60,6 +63,8 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path);
   app.add_option("--contouring", contouring);
   app.add_flag("--fit", fit);
+  std::size_t worst_n = 0;
+  app.add_option("--worst", worst_n);
   CLI11_PARSE(app, argc, argv);
   MachineConfig c = load_config(config_path);
   set_operator_tolerance(c.motion, 0.0);
@@ -87,9 +92,14 @@ int main(int argc, char** argv) {
   std::getline(in, line);
   double cmd_max = 0.0, act_max = 0.0;
   std::size_t j = 0, rows = 0;
+  struct Row {
+    double act_um, cmd_um;
+    std::string t, line, speed;
+  };
+  std::vector<Row> worst;
   while (std::getline(in, line)) {
     std::stringstream ss(line);
-    std::string f[9];
+    std::string f[13];
     for (auto& x : f) std::getline(ss, x, ',');
     if (f[2] != "RUNNING") continue;
     const Vec3 cmd{std::stod(f[3]), std::stod(f[4]), std::stod(f[5])};
@@ -104,10 +114,33 @@ int main(int argc, char** argv) {
     }
     double best_act = 1e300;
     for (std::size_t i = lo; i < hi; ++i) best_act = std::min(best_act, point_segment_distance(act, pts[i], pts[i + 1]));
+    // Lost track (the window fell behind on a long run of short segments or arc samples, or
+    // farther than 4 um: every larger distance is checked against the whole path):
+    // search the whole path once.
+    if (best > 0.004 || best_act > 0.004) {
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+        const double d = point_segment_distance(cmd, pts[i], pts[i + 1]);
+        if (d < best) best = d, best_i = i;
+        best_act = std::min(best_act, point_segment_distance(act, pts[i], pts[i + 1]));
+      }
+    }
     j = best_i;
     cmd_max = std::max(cmd_max, best);
     act_max = std::max(act_max, best_act);
     ++rows;
+    if (worst_n > 0) {
+      worst.push_back({best_act * 1000.0, best * 1000.0, f[0], f[1], f[12]});
+      if (worst.size() > 4 * worst_n) {
+        std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(worst_n), worst.end(),
+                          [](const Row& a, const Row& b) { return a.act_um > b.act_um; });
+        worst.resize(worst_n);
+      }
+    }
+  }
+  std::sort(worst.begin(), worst.end(), [](const Row& a, const Row& b) { return a.act_um > b.act_um; });
+  for (std::size_t k = 0; k < std::min(worst_n, worst.size()); ++k) {
+    std::fprintf(stderr, "t %s line %s speed %s: act %.2f um, cmd %.2f um\n", worst[k].t.c_str(), worst[k].line.c_str(),
+                 worst[k].speed.c_str(), worst[k].act_um, worst[k].cmd_um);
   }
   std::printf("%.2f %.2f %zu\n", cmd_max * 1000.0, act_max * 1000.0, rows);
   return 0;

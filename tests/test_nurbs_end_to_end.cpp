@@ -295,14 +295,16 @@ TEST(NurbsEndToEnd, FullCircleAsNurbsMatchesG03InPathAndTime) {
     const double d_qa = std::max(max_distance_to_polyline(pq, pa), max_distance_to_polyline(pa, pq));
     EXPECT_LT(d_na, 1e-3);
     EXPECT_LT(d_qa, 1e-3);
-    // and take the same time within 1 %
+    // and take the same time within 1.5 % (1 % until 2026-11-26: the NURBS schedule now ramps at
+    // 0.95 of what the axes leave at each sample, the arc at one tangential acceleration for its
+    // top speed; at F3000 the NURBS circle is 1.2 % faster)
     const double dt = mill().cycle_period_s();
     const double ta = time_of_line(arc, 2, dt), tn = time_of_line(nurbs, 2, dt);
     const double tq = time_of_line(quarters, 16, dt) + (static_cast<double>(
         std::find_if(quarters.rec.begin(), quarters.rec.end(), [](const CycleRecord& c) { return c.line == 16; }) -
         std::find_if(quarters.rec.begin(), quarters.rec.end(), [](const CycleRecord& c) { return c.line == 4; }))) * dt;
-    EXPECT_NEAR(tn / ta, 1.0, 0.01);
-    EXPECT_NEAR(tq / ta, 1.0, 0.01);
+    EXPECT_NEAR(tn / ta, 1.0, 0.015);
+    EXPECT_NEAR(tq / ta, 1.0, 0.015);
     EXPECT_EQ(quarters.status.junction_flows, 3u) << "the quarters join without stopping";
     std::printf("full circle r 5 mm at F%g: G03 %.4f s, G6.2 %.4f s (%+.2f %%), 4 x G5.2 M21 %.4f s (%+.2f %%); "
                 "radius error %.1e / %.1e mm; path distance to G03 %.2e / %.2e mm\n",

@@ -2,6 +2,7 @@
 // projected speed and acceleration, driving axis, deceleration start, tangents, arc geometry.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -126,12 +127,47 @@ TEST(Preprocessor, QuarterArcGeometryAndTangents) {
 }
 
 TEST(Preprocessor, ArcSpeedLimitedByCentripetalAcceleration) {
-  // r = 1 mm at 1000 mm/s: v^2/r must stay within half of 1500 mm/s^2 -> v = sqrt(750).
+  // r = 1 mm at 1000 mm/s: v^2/r must stay within 0.7 of 1500 mm/s^2 -> v = sqrt(1050).
   const Block b = make_block(arc({1, 0, 0}, {-1, 0, 0}, {0, 0, 0}, 1, kPi, 2, 1000), limits());
-  EXPECT_NEAR(b.speed, std::sqrt(750.0), 1e-9);
+  EXPECT_NEAR(b.speed, std::sqrt(1050.0), 1e-9);
   EXPECT_LE(b.speed * b.speed / 1.0, kArcCentripetalShare * 1500 + 1e-9);
   // at that top speed the tangential part gets what the centripetal part leaves
   EXPECT_NEAR(b.accel, std::sqrt(1 - kArcCentripetalShare * kArcCentripetalShare) * 1500, 1e-9);
+}
+
+// Arcs take kArcCentripetalShare (0.7) of the smaller plane axis's acceleration for the
+// centripetal part at their top speed: at every speed the block may run at (up to twice its
+// speed, the largest override, and never above the axes' cap) and at every point of the full
+// circle, the in-plane acceleration a_t·T + (v²/r)·N keeps each plane axis within its own limit.
+TEST(Preprocessor, ArcsAtThePlaneShareKeepEveryAxisWithinItsLimit) {
+  const MachineConfig c = limits();  // X 2000, Y 1500 mm/s^2
+  int at_cap = 0;
+  for (double r : {0.2, 1.0, 1.09, 5.0, 50.0}) {
+    for (double feed : {5.0, 20.0, 40.0, 1000.0}) {
+      const Block b = make_block(arc({r, 0, 0}, {-r, 0, 0}, {0, 0, 0}, r, kPi, 2, feed), limits());
+      const double cap = std::sqrt(kArcCentripetalShare * 1500.0 * r);
+      EXPECT_LE(b.speed, cap * (1 + 1e-12)) << "r " << r << " F " << feed;
+      if (b.speed > cap * (1 - 1e-9)) ++at_cap;
+      // the block's top speed: what the axes allow (the centripetal cap, Y's 80 mm/s on a half
+      // circle), at most twice its speed
+      const double v_top = std::min({cap, 80.0, 2.0 * b.speed});
+      for (int k = 0; k <= 20; ++k) {
+        const double v = v_top * k / 20.0;
+        const double an = v * v / r;
+        for (int j = 0; j < 360; ++j) {
+          const double th = j * kPi / 180.0;
+          // T = (-sin, cos), N = (-cos, -sin); braking or speeding up (a_t of either sign)
+          for (double sign : {1.0, -1.0}) {
+            const double ax = std::fabs(-sign * b.accel * std::sin(th) - an * std::cos(th));
+            const double ay = std::fabs(sign * b.accel * std::cos(th) - an * std::sin(th));
+            EXPECT_LE(ax, c.axes[0].max_accel_mm_s2 * (1 + 1e-9)) << "r " << r << " F " << feed << " v " << v;
+            EXPECT_LE(ay, c.axes[1].max_accel_mm_s2 * (1 + 1e-9)) << "r " << r << " F " << feed << " v " << v;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GE(at_cap, 5) << "some arcs run at the centripetal cap";
 }
 
 TEST(Preprocessor, ArcSpeedLimitedByTheAxisThatPeaks) {

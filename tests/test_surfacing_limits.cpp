@@ -7,6 +7,9 @@
 // across the tangent joins between the pieces of one curve), within its acceleration limit
 // (second differences). Real corners between blocks are passed at the junction-deviation speed
 // with a deliberate velocity step (docs/rt-executor.md); those cycles are not the curves'.
+// The arcs (the programs' G2/G3: LHchips4's lead-in and lead-out arcs, at 0.7 of the plane's
+// acceleration for the centripetal part) are held to the same limits on the cycles inside
+// one arc block.
 // The setpoints are exact doubles here (no trace rounding); the only margin is 0.1 % of the
 // limit for the second difference averaging the acceleration over two cycles while the
 // curvature and the tangent turn. The worst ratios are printed as figures.
@@ -30,9 +33,9 @@ namespace {
 constexpr double kAccelMargin = 1e-3;  // second differences against the limit (see above)
 
 struct Run {
-  std::size_t blocks = 0, nurbs = 0, curve_cycles = 0;
+  std::size_t blocks = 0, nurbs = 0, curve_cycles = 0, arc_cycles = 0;
   double machine_time_s = 0.0;
-  double worst_velocity = 0.0, worst_accel = 0.0;  // ratios to the axis limits
+  double worst_velocity = 0.0, worst_accel = 0.0, worst_arc_accel = 0.0;  // ratios to the axis limits
   int accel_violations = 0;
   std::string first_violation;
 };
@@ -72,16 +75,23 @@ Run run_smoothed(const std::string& file) {
     }
     return true;
   };
+  auto on_arc = [&](std::size_t k) {
+    const std::uint64_t q = rec[k].seq;
+    return rec[k - 2].seq == q && q >= 1 && q <= blocks.size() && blocks[q - 1].kind == BlockKind::kArc;
+  };
   for (std::size_t k = 2; k < rec.size(); ++k) {
     const bool curve = on_curve(k);
+    const bool arc = on_arc(k);
     if (curve) ++out.curve_cycles;
+    if (arc) ++out.arc_cycles;
     for (int i = 0; i < kAxes; ++i) {
       const AxisConfig& ax = c.axes[static_cast<std::size_t>(i)];
       const double v = std::abs(rec[k].cmd[i] - rec[k - 1].cmd[i]) / dt;
       const double a = std::abs(rec[k].cmd[i] - 2.0 * rec[k - 1].cmd[i] + rec[k - 2].cmd[i]) / (dt * dt);
       out.worst_velocity = std::max(out.worst_velocity, v / ax.max_velocity_mm_s);
-      if (!curve) continue;
-      out.worst_accel = std::max(out.worst_accel, a / ax.max_accel_mm_s2);
+      if (!curve && !arc) continue;
+      double& worst = curve ? out.worst_accel : out.worst_arc_accel;
+      worst = std::max(worst, a / ax.max_accel_mm_s2);
       if (a > ax.max_accel_mm_s2 * (1.0 + kAccelMargin) && out.accel_violations++ == 0) {
         out.first_violation = "cycle " + std::to_string(k) + " line " + std::to_string(rec[k].line) + " axis " +
                               std::to_string(i) + ": " + std::to_string(a) + " mm/s^2";
@@ -96,11 +106,13 @@ void expect_within_limits(const char* name) {
   const Run r = run_smoothed(file);
   EXPECT_GT(r.nurbs, 10u) << name << ": smoothed into curves";
   EXPECT_GT(r.curve_cycles, 10000u) << name;
+  EXPECT_GT(r.arc_cycles, 1000u) << name << ": the programs' arcs";
   EXPECT_LE(r.worst_velocity, 1.0 + 1e-9) << name;
   EXPECT_EQ(r.accel_violations, 0) << name << ": first " << r.first_violation;
   std::printf("[ figures  ] %s: %zu blocks (%zu NURBS), machine time %.2f s, worst setpoint velocity %.4f of "
-              "the axis limit, on the curves (%zu cycles) acceleration %.4f\n",
-              name, r.blocks, r.nurbs, r.machine_time_s, r.worst_velocity, r.curve_cycles, r.worst_accel);
+              "the axis limit, on the curves (%zu cycles) acceleration %.4f, on the arcs (%zu cycles) %.4f\n",
+              name, r.blocks, r.nurbs, r.machine_time_s, r.worst_velocity, r.curve_cycles, r.worst_accel, r.arc_cycles,
+              r.worst_arc_accel);
 }
 
 TEST(SurfacingLimits, LHchips4KeepsEveryAxisWithinItsLimits) { expect_within_limits("LHchips4.ngc"); }

@@ -6,7 +6,9 @@
 # before the compact trace), N times each, and prints for the fastest run: machine time / wall
 # time of the whole command (both processes' start, the check, the replay, the report), the
 # CPU time of all three processes (user + system: less sensitive to a busy machine than the
-# wall time), the report's size and the CSV's size.
+# wall time), the report's size and the CSV's size. The runs use the surfacing bench's settings
+# (tools/bench_surfacing.sh: --contouring on --tolerance 0.005, smoothing on), not the programs'
+# own G64 P0.1.
 # Usage: tools/bench_report_speed.sh [BUILD_DIR] [RUNS] [PROGRAM...]
 #   default: build 3 linuxcnc-tp/LHchips4.ngc linuxcnc-tp/blur_torus.ngc fusion360/Key_Pockets.nc
 #   (programs relative to ../shared/gcode/cam)
@@ -60,6 +62,8 @@ print(f"{best[0]:.3f} {best[1]:.3f}")
 EOF
 }
 
+OPTS=(--fit --clock virtual --contouring on --tolerance 0.005)
+
 mb() { [ -f "$1" ] && python3 -c "import os,sys; print(f'{os.path.getsize(sys.argv[1])/1e6:.2f} MB')" "$1" || echo "-"; }
 
 echo "== pcnc replay speed with and without --report ($(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg) at the start; fastest of $RUNS)"
@@ -67,10 +71,10 @@ printf "   %-28s %9s  %-15s %8s %7s %8s %10s %10s\n" program machine run wall sp
 for p in "${PROGRAMS[@]}"; do
   f=$SHARED/gcode/cam/$p
   rm -f "$TMP"/*.html "$TMP"/*.csv
-  read -r w0 c0 < <(timed "$TMP/o0" "$f" --fit --clock virtual)
+  read -r w0 c0 < <(timed "$TMP/o0" "$f" "${OPTS[@]}")
   machine=$(sed -n 's/^  program time *\([0-9.]*\) s machine time.*/\1/p' "$TMP/o0.best")
-  read -r w1 c1 < <(timed "$TMP/o1" "$f" --fit --clock virtual --report "$TMP/r1.html")
-  read -r w2 c2 < <(timed "$TMP/o2" "$f" --fit --clock virtual --report "$TMP/r2.html" --trace "$TMP/t2.csv")
+  read -r w1 c1 < <(timed "$TMP/o1" "$f" "${OPTS[@]}" --report "$TMP/r1.html")
+  read -r w2 c2 < <(timed "$TMP/o2" "$f" "${OPTS[@]}" --report "$TMP/r2.html" --trace "$TMP/t2.csv")
   for row in "plain|$w0|$c0|-|-" "--report|$w1|$c1|$TMP/r1.html|-" "--report --trace|$w2|$c2|$TMP/r2.html|$TMP/t2.csv"; do
     IFS='|' read -r kind w c r t <<<"$row"
     speed=$(python3 -c "print(f'{$machine / $w:.0f}x')")

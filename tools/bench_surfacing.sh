@@ -35,7 +35,10 @@ SHARED=$(cd .. && pwd)/shared
 [ ${#FILES[@]} -gt 0 ] || FILES=("$SHARED/gcode/cam/linuxcnc-tp/LHchips4.ngc" "$SHARED/gcode/cam/linuxcnc-tp/blur_torus.ngc")
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-sed -e "s#^shm_name = .*#shm_name = \"/pcnc-bench-surf-$$\"#" configs/desktop-mill.toml >"$TMP/mill.toml"
+# heartbeat timeouts of 2 s instead of 0.1 s: on a busy machine a starved process would end a
+# run early as "host lost" (a shorter machine time); they change no figure of a run that completes
+sed -e "s#^shm_name = .*#shm_name = \"/pcnc-bench-surf-$$\"#" -e "s#^host_timeout_s = .*#host_timeout_s = 2.0#" \
+    -e "s#^rt_timeout_s = .*#rt_timeout_s = 2.0#" configs/desktop-mill.toml >"$TMP/mill.toml"
 MILL=$TMP/mill.toml
 TOL=0.005
 
@@ -46,6 +49,8 @@ ideal() {
     *) echo - ;;
   esac
 }
+# the machine time of a run that completed without a fault, else "fail"
+DONE="'%.1f' % j['status']['program_time_s'] if j['status']['program_done'] == 1 and j['status']['fault'] == 'none' else 'fail'"
 field() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
 run_time() {  # run_time FILE ARGS... -> machine time (s) of a virtual-clock run
   local f=$1
@@ -54,7 +59,7 @@ run_time() {  # run_time FILE ARGS... -> machine time (s) of a virtual-clock run
     echo fail
     return
   }
-  field "$TMP/s.json" "'%.1f' % j['status']['program_time_s']"
+  field "$TMP/s.json" "$DONE"
 }
 
 echo "== smoothing bench ($(date -u +%Y-%m-%d), $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)); desktop mill, --fit --contouring on, tolerance $TOL mm"
@@ -67,7 +72,7 @@ for f in "${FILES[@]}"; do
   t0=$(run_time "$f" --contouring on --tolerance 0)
   "$PCNC" run "$f" --config "$MILL" --fit --clock virtual -q --contouring on --tolerance $TOL --summary "$TMP/s.json" \
     --trace "$TMP/t.csv" >/dev/null 2>&1 || true
-  ts=$(field "$TMP/s.json" "'%.1f' % j['status']['program_time_s']")
+  ts=$(field "$TMP/s.json" "$DONE")
   lf=$(field "$TMP/s.json" "'%.1f' % j['check']['feed_length_time_s']")
   mb=$(field "$TMP/s.json" "'%d>%d' % (j['check']['smoothed_moves'], j['check']['smoothed_blocks'])")
   hd=$(field "$TMP/s.json" "'%.2f' % (1000 * j['check']['max_path_deviation_mm'])")
@@ -76,8 +81,8 @@ for f in "${FILES[@]}"; do
     >/dev/null 2>&1 || true
   cpu=$(awk '{print $1 + $2}' "$TMP/cpu")
   id=$(ideal "$f")
-  ratio=$( [ "$id" = - ] && echo - || python3 -c "print('%.2f' % ($ts / $id))")
-  pct=$(python3 -c "print('%.1f' % (100 * $cpu / $ts))")
+  ratio=$( [ "$id" = - ] || [ "$ts" = fail ] && echo - || python3 -c "print('%.2f' % ($ts / $id))")
+  pct=$( [ "$ts" = fail ] && echo - || python3 -c "print('%.1f' % (100 * $cpu / $ts))")
   printf '%-16s %7s %7s %8s %8s %8s %6s %13s %8s %8s %8s %8s %7s\n' "$name" "$lf" "$id" "$t22" "$t0" "$ts" "$ratio" "$mb" "$hd" "$cd" "$ad" "$cpu" "$pct"
 done
 echo "(host um: the host's measure of the curves against the programmed moves; cmd/act um: the traced commanded and"

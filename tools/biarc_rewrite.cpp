@@ -14,11 +14,11 @@ namespace pcnc {
 namespace {
 
 using Kind = BiarcLineKind;
-constexpr char kAxis[3] = {'X', 'Y', 'Z'};
+constexpr char kAxisLetter[3] = {'X', 'Y', 'Z'};
 constexpr char kOffset[3] = {'I', 'J', 'K'};
 
 // At most 6 decimals, trailing zeros trimmed, never "-0".
-std::string num(double v) {
+std::string num6(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6f", v);
   std::string s = buf;
@@ -71,15 +71,15 @@ struct ArcWriter {
       const Vec2 d = m.incremental ? t - q : t;
       // axis words in X Y Z order
       const double v0 = d.x, v1 = d.y;
-      if (pa[0] < pa[1]) l += std::string(" ") + kAxis[pa[0]] + num(v0) + " " + kAxis[pa[1]] + num(v1);
-      else l += std::string(" ") + kAxis[pa[1]] + num(v1) + " " + kAxis[pa[0]] + num(v0);
+      if (pa[0] < pa[1]) l += std::string(" ") + kAxisLetter[pa[0]] + num6(v0) + " " + kAxisLetter[pa[1]] + num6(v1);
+      else l += std::string(" ") + kAxisLetter[pa[1]] + num6(v1) + " " + kAxisLetter[pa[0]] + num6(v0);
       if (!as_line) {
         const Vec2 c{a.centre.x * s, a.centre.y * s};
         const Vec2 off = m.arc_absolute ? c : c - q;
-        if (pa[0] < pa[1]) l += std::string(" ") + kOffset[pa[0]] + num(off.x) + " " + kOffset[pa[1]] + num(off.y);
-        else l += std::string(" ") + kOffset[pa[1]] + num(off.y) + " " + kOffset[pa[0]] + num(off.x);
+        if (pa[0] < pa[1]) l += std::string(" ") + kOffset[pa[0]] + num6(off.x) + " " + kOffset[pa[1]] + num6(off.y);
+        else l += std::string(" ") + kOffset[pa[1]] + num6(off.y) + " " + kOffset[pa[0]] + num6(off.x);
       }
-      if (with_feed && i == 0) l += " F" + num(m.feed);
+      if (with_feed && i == 0) l += " F" + num6(m.feed);
       out += l + eol;
       ++lines;
       q = t;

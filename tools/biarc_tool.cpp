@@ -15,7 +15,6 @@
 namespace pcnc {
 namespace {
 
-std::string fmt(const char* f, double v) { return format_number(f, v); }
 
 }  // namespace
 
@@ -46,13 +45,13 @@ int run_biarc_tool(const BiarcToolOptions& o, std::ostream& out, std::ostream& e
   for (const BiarcRewriteItem& it : rep.items) {
     err << o.file << ":" << it.first_line << "-" << it.last_line << ": "
         << (it.nurbs ? std::string("NURBS") : std::to_string(it.moves_in) + " G1 moves") << " -> " << it.moves_out
-        << " arcs, deviation " << fmt("%.6f", it.deviation_mm) << " mm";
+        << " arcs, deviation " << format_number("%.6f", it.deviation_mm) << " mm";
     if (!it.nurbs)
-      err << " (points), " << fmt("%.6f", it.segment_deviation_mm) << " mm from the segments (their sagitta "
-          << fmt("%.6f", it.sagitta_mm) << ")";
+      err << " (points), " << format_number("%.6f", it.segment_deviation_mm) << " mm from the segments (their sagitta "
+          << format_number("%.6f", it.sagitta_mm) << ")";
     if (it.loops_removed > 0)
       err << "; " << it.loops_removed << " loop" << (it.loops_removed == 1 ? "" : "s") << " removed, contour moved up to "
-          << fmt("%.4f", it.loop_change_mm) << " mm";
+          << format_number("%.4f", it.loop_change_mm) << " mm";
     if (it.unresolved > 0)
       err << "; warning: " << it.unresolved << " piece" << (it.unresolved == 1 ? "" : "s")
           << " this tool cannot follow left (a start cut off, or walls closer than its diameter; docs/biarc-fit.md)";
@@ -71,13 +70,13 @@ int run_biarc_tool(const BiarcToolOptions& o, std::ostream& out, std::ostream& e
   for (const std::string& n : rep.notes) err << o.file << ": " << n << "\n";
   err << "pcnc biarc: " << curves << " NURBS curve" << (curves == 1 ? "" : "s") << " and " << runs << " smooth G1 run"
       << (runs == 1 ? "" : "s") << " (" << moves_in << " blocks) rewritten as " << moves_out << " blocks; program "
-      << rep.lines_in << " lines before, " << rep.lines_out << " after; tolerance " << fmt("%g", r.tolerance_mm) << " mm\n";
-  err << "pcnc biarc: max deviation " << fmt("%.6f", dev_nurbs) << " mm from the NURBS curves (Newton), "
-      << fmt("%.6f", dev_points) << " mm from the G1 points, " << fmt("%.6f", dev_segments)
-      << " mm from the G1 segments (their own sagitta up to " << fmt("%.6f", sagitta) << " mm)\n";
+      << rep.lines_in << " lines before, " << rep.lines_out << " after; tolerance " << format_number("%g", r.tolerance_mm) << " mm\n";
+  err << "pcnc biarc: max deviation " << format_number("%.6f", dev_nurbs) << " mm from the NURBS curves (Newton), "
+      << format_number("%.6f", dev_points) << " mm from the G1 points, " << format_number("%.6f", dev_segments)
+      << " mm from the G1 segments (their own sagitta up to " << format_number("%.6f", sagitta) << " mm)\n";
   if (r.max_tool_radius_mm > 0.0)
-    err << "pcnc biarc: tool radius " << fmt("%g", r.max_tool_radius_mm) << " mm: " << loops << " loop"
-        << (loops == 1 ? "" : "s") << " removed, the contour moved up to " << fmt("%.4f", change) << " mm\n";
+    err << "pcnc biarc: tool radius " << format_number("%g", r.max_tool_radius_mm) << " mm: " << loops << " loop"
+        << (loops == 1 ? "" : "s") << " removed, the contour moved up to " << format_number("%.4f", change) << " mm\n";
   if (!within) err << "pcnc biarc: warning: some pieces are not within the tolerance (see above)\n";
   return kExitOk;
 }

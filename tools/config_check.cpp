@@ -16,7 +16,7 @@
 namespace pcnc {
 namespace {
 
-std::string num(double v) {
+std::string plain_num(double v) {
   std::ostringstream os;
   os << v;
   return os.str();
@@ -27,7 +27,7 @@ std::string pad(const std::string& s, std::size_t width) { return s.size() >= wi
 // The rotary joints and the kinematics (degrees at this edge; the config holds radians).
 void print_rotary(const MachineConfig& c, std::ostream& out) {
   const Kinematics& k = c.kinematics;
-  auto point = [](const Vec3& p) { return "(" + num(p[0]) + ", " + num(p[1]) + ", " + num(p[2]) + ") mm"; };
+  auto point = [](const Vec3& p) { return "(" + plain_num(p[0]) + ", " + plain_num(p[1]) + ", " + plain_num(p[2]) + ") mm"; };
   if (k.kind == KinematicsKind::kTrivial) {
     out << "  kinematics   trivial (X Y Z, no rotary joints)\n";
     return;
@@ -36,7 +36,7 @@ void print_rotary(const MachineConfig& c, std::ostream& out) {
                                                                      : "xyzbc-head-table (B tilts the head, C turns the table)")
       << "; tilt pivot " << point(k.tilt_pivot) << ", rotary pivot " << point(k.rotary_pivot)
       << "; tool length from the tool table\n";
-  auto deg = [](double rad) { return num(rad * kDegPerRad); };
+  auto deg = [](double rad) { return plain_num(rad * kDegPerRad); };
   out << "  joint travel deg            home deg  v_max deg/s  a_max deg/s^2  f.err limit deg  encoder deg\n";
   for (const auto& r : c.rotary) {
     if (!r) continue;
@@ -52,20 +52,20 @@ void print_rotary(const MachineConfig& c, std::ostream& out) {
   for (const auto& r : c.rotary) {
     if (!r) continue;
     const double torque = r->torque_constant_nm_per_a * r->current_limit_a;
-    out << "  " << pad(std::string(1, r->letter), 6) << pad(num(r->inertia_kg_m2), 10)
-        << pad(num(r->torque_constant_nm_per_a), 10) << pad(num(r->current_limit_a), 9) << pad(num(torque), 11)
-        << pad(num(r->viscous_friction_nm_s_per_rad), 19) << pad(num(r->coulomb_friction_nm), 13)
+    out << "  " << pad(std::string(1, r->letter), 6) << pad(plain_num(r->inertia_kg_m2), 10)
+        << pad(plain_num(r->torque_constant_nm_per_a), 10) << pad(plain_num(r->current_limit_a), 9) << pad(plain_num(torque), 11)
+        << pad(plain_num(r->viscous_friction_nm_s_per_rad), 19) << pad(plain_num(r->coulomb_friction_nm), 13)
         << deg(torque / r->inertia_kg_m2) << "\n";
   }
   out << "  joint Kp A/deg  Ki A/(deg s)  Kd A s/deg  D filter Hz  Vff A s/deg  Aff A s^2/deg  Fff A  I limit A\n";
   for (const auto& r : c.rotary) {
     if (!r) continue;
     const double per_deg = kRadPerDeg;  // gains per rad inside, per deg in the file
-    out << "  " << pad(std::string(1, r->letter), 6) << pad(num(r->kp_a_per_rad * per_deg), 10)
-        << pad(num(r->ki_a_per_rad_s * per_deg), 14) << pad(num(r->kd_a_s_per_rad * per_deg), 12)
-        << pad(num(r->derivative_filter_hz), 13) << pad(num(r->velocity_ff_a_s_per_rad * per_deg), 13)
-        << pad(num(r->accel_ff_a_s2_per_rad * per_deg), 15) << pad(num(r->friction_ff_a), 7)
-        << num(r->integrator_limit_a) << "\n";
+    out << "  " << pad(std::string(1, r->letter), 6) << pad(plain_num(r->kp_a_per_rad * per_deg), 10)
+        << pad(plain_num(r->ki_a_per_rad_s * per_deg), 14) << pad(plain_num(r->kd_a_s_per_rad * per_deg), 12)
+        << pad(plain_num(r->derivative_filter_hz), 13) << pad(plain_num(r->velocity_ff_a_s_per_rad * per_deg), 13)
+        << pad(plain_num(r->accel_ff_a_s2_per_rad * per_deg), 15) << pad(plain_num(r->friction_ff_a), 7)
+        << plain_num(r->integrator_limit_a) << "\n";
   }
 }
 
@@ -73,30 +73,30 @@ void print_rotary(const MachineConfig& c, std::ostream& out) {
 void print_machine(const MachineConfig& c, std::ostream& out) {
   const char* axis_names = "XYZ";
   out << c.source_path << ": OK: machine '" << c.name << "'\n";
-  out << "  cycle        " << num(c.motion.cycle_hz) << " Hz (period " << num(c.cycle_period_s() * 1e6)
-      << " us); plant sub-steps " << num(c.motion.subsample_steps) << "; shared memory " << c.process.shm_name << "\n";
-  out << "  contouring   angle " << num(c.motion.contouring_angle_deg) << " deg, at program start "
+  out << "  cycle        " << plain_num(c.motion.cycle_hz) << " Hz (period " << plain_num(c.cycle_period_s() * 1e6)
+      << " us); plant sub-steps " << plain_num(c.motion.subsample_steps) << "; shared memory " << c.process.shm_name << "\n";
+  out << "  contouring   angle " << plain_num(c.motion.contouring_angle_deg) << " deg, at program start "
       << (c.motion.contouring_default ? "on (M21)" : "off (M22)") << ", junction velocity step "
-      << num(c.motion.junction_velocity_step_fraction) << " x a_max x period, path tolerance "
-      << num(c.motion.path_tolerance_mm) << " mm"
+      << plain_num(c.motion.junction_velocity_step_fraction) << " x a_max x period, path tolerance "
+      << plain_num(c.motion.path_tolerance_mm) << " mm"
       << (c.motion.path_tolerance_mm > 0.0
-              ? " (G1 runs smoothed, real corners over " + num(c.motion.smoothing_angle_deg) +
+              ? " (G1 runs smoothed, real corners over " + plain_num(c.motion.smoothing_angle_deg) +
                     " deg passed at the junction-deviation speed)"
               : std::string(" (off: corners sharper than the angle stop)"))
       << "\n";
   out << "  speeds       rapids "
-      << (c.motion.rapid_speed_mm_s > 0.0 ? num(c.motion.rapid_speed_mm_s) + " mm/s" : std::string("each axis's max velocity"))
+      << (c.motion.rapid_speed_mm_s > 0.0 ? plain_num(c.motion.rapid_speed_mm_s) + " mm/s" : std::string("each axis's max velocity"))
       << "; max feed "
-      << (c.gcode.max_feed_mm_min > 0.0 ? num(c.gcode.max_feed_mm_min) + " mm/min" : std::string("from the axis limits"))
+      << (c.gcode.max_feed_mm_min > 0.0 ? plain_num(c.gcode.max_feed_mm_min) + " mm/min" : std::string("from the axis limits"))
       << ", F above it " << (c.gcode.clamp_excess_feed ? "clamped with a warning" : "refused") << "; jogs at "
-      << num(c.motion.jog_accel_fraction) << " of each axis's acceleration\n";
+      << plain_num(c.motion.jog_accel_fraction) << " of each axis's acceleration\n";
   out << "  axis  travel mm           home mm   v_max mm/s  a_max mm/s^2  f.err limit mm  encoder mm\n";
   for (int i = 0; i < kAxes; ++i) {
     const AxisConfig& a = c.axes[static_cast<std::size_t>(i)];
     out << "  " << pad(std::string(1, axis_names[i]), 6)
-        << pad(num(a.travel_min_mm) + " .. " + num(a.travel_max_mm) + " (" + num(a.travel_max_mm - a.travel_min_mm) + ")", 20)
-        << pad(num(a.home_mm), 10) << pad(num(a.max_velocity_mm_s), 12) << pad(num(a.max_accel_mm_s2), 14)
-        << pad(num(a.following_error_limit_mm), 16) << num(a.encoder_resolution_mm) << "\n";
+        << pad(plain_num(a.travel_min_mm) + " .. " + plain_num(a.travel_max_mm) + " (" + plain_num(a.travel_max_mm - a.travel_min_mm) + ")", 20)
+        << pad(plain_num(a.home_mm), 10) << pad(plain_num(a.max_velocity_mm_s), 12) << pad(plain_num(a.max_accel_mm_s2), 14)
+        << pad(plain_num(a.following_error_limit_mm), 16) << plain_num(a.encoder_resolution_mm) << "\n";
   }
   out << "  axis  mass kg  Kf N/A  I_max A  F_max N  gravity N  viscous N s/m  Coulomb N  drive a_max mm/s^2\n";
   for (int i = 0; i < kAxes; ++i) {
@@ -104,62 +104,62 @@ void print_machine(const MachineConfig& c, std::ostream& out) {
     const double force = a.force_constant_n_per_a * a.current_limit_a;
     // what the drive can give against gravity, before friction: the planner's a_max must stay below it
     const double drive_accel = (force - std::abs(a.gravity_load_n)) / a.moving_mass_kg * 1000.0;
-    out << "  " << pad(std::string(1, axis_names[i]), 6) << pad(num(a.moving_mass_kg), 9)
-        << pad(num(a.force_constant_n_per_a), 8) << pad(num(a.current_limit_a), 9) << pad(num(force), 9)
-        << pad(num(a.gravity_load_n), 11) << pad(num(a.viscous_friction_n_s_per_m), 15) << pad(num(a.coulomb_friction_n), 11)
-        << num(drive_accel) << "\n";
+    out << "  " << pad(std::string(1, axis_names[i]), 6) << pad(plain_num(a.moving_mass_kg), 9)
+        << pad(plain_num(a.force_constant_n_per_a), 8) << pad(plain_num(a.current_limit_a), 9) << pad(plain_num(force), 9)
+        << pad(plain_num(a.gravity_load_n), 11) << pad(plain_num(a.viscous_friction_n_s_per_m), 15) << pad(plain_num(a.coulomb_friction_n), 11)
+        << plain_num(drive_accel) << "\n";
   }
   out << "  axis  Kp A/mm  Ki A/(mm s)  Kd A s/mm  D filter Hz  Vff A s/mm  Aff A s^2/mm  Fff A  I limit A\n";
   for (int i = 0; i < kAxes; ++i) {
     const AxisConfig& a = c.axes[static_cast<std::size_t>(i)];
-    out << "  " << pad(std::string(1, axis_names[i]), 6) << pad(num(a.kp_a_per_mm), 9) << pad(num(a.ki_a_per_mm_s), 13)
-        << pad(num(a.kd_a_s_per_mm), 11) << pad(num(a.derivative_filter_hz), 13) << pad(num(a.velocity_ff_a_s_per_mm), 12)
-        << pad(num(a.accel_ff_a_s2_per_mm), 14) << pad(num(a.friction_ff_a), 7) << num(a.integrator_limit_a) << "\n";
+    out << "  " << pad(std::string(1, axis_names[i]), 6) << pad(plain_num(a.kp_a_per_mm), 9) << pad(plain_num(a.ki_a_per_mm_s), 13)
+        << pad(plain_num(a.kd_a_s_per_mm), 11) << pad(plain_num(a.derivative_filter_hz), 13) << pad(plain_num(a.velocity_ff_a_s_per_mm), 12)
+        << pad(plain_num(a.accel_ff_a_s2_per_mm), 14) << pad(plain_num(a.friction_ff_a), 7) << plain_num(a.integrator_limit_a) << "\n";
   }
   print_rotary(c, out);
-  out << "  timing       host lost after " << num(c.process.host_timeout_s) << " s, rt lost after "
-      << num(c.process.rt_timeout_s) << " s, jog dead-man " << num(c.process.jog_deadman_s) << " s, idle client closed after "
-      << (c.process.client_idle_timeout_s > 0.0 ? num(c.process.client_idle_timeout_s) + " s" : std::string("never"))
-      << "; rt SCHED_FIFO priority " << c.process.rt_priority << ", spin " << num(c.process.rt_spin_us) << " us\n";
-  out << "  g-code       arc radius tolerance " << num(c.gcode.arc_radius_tolerance_mm) << " mm + "
-      << num(c.gcode.arc_radius_tolerance_rel) << " x r; NURBS knots "
+  out << "  timing       host lost after " << plain_num(c.process.host_timeout_s) << " s, rt lost after "
+      << plain_num(c.process.rt_timeout_s) << " s, jog dead-man " << plain_num(c.process.jog_deadman_s) << " s, idle client closed after "
+      << (c.process.client_idle_timeout_s > 0.0 ? plain_num(c.process.client_idle_timeout_s) + " s" : std::string("never"))
+      << "; rt SCHED_FIFO priority " << c.process.rt_priority << ", spin " << plain_num(c.process.rt_spin_us) << " us\n";
+  out << "  g-code       arc radius tolerance " << plain_num(c.gcode.arc_radius_tolerance_mm) << " mm + "
+      << plain_num(c.gcode.arc_radius_tolerance_rel) << " x r; NURBS knots "
       << (c.gcode.nurbs_knots == 0 ? "open uniform" : "chord length") << ", chord tolerance "
-      << num(c.gcode.nurbs_chord_tolerance_mm) << " mm\n";
+      << plain_num(c.gcode.nurbs_chord_tolerance_mm) << " mm\n";
   for (int i = 0; i < 6; ++i) {
     const Vec3& o = c.gcode.work_offsets[static_cast<std::size_t>(i)];
-    out << (i == 0 ? "  offsets      " : "               ") << "G" << 54 + i << " (" << num(o[0]) << ", " << num(o[1])
-        << ", " << num(o[2]) << ") mm\n";
+    out << (i == 0 ? "  offsets      " : "               ") << "G" << 54 + i << " (" << plain_num(o[0]) << ", " << plain_num(o[1])
+        << ", " << plain_num(o[2]) << ") mm\n";
   }
   out << "  files        socket " << (c.process.socket_path.empty() ? std::string("(default runtime directory)") : c.process.socket_path)
       << ", journal " << (c.process.state_dir.empty() ? std::string("(default state directory)") : c.process.state_dir)
       << "; trace failure: " << (c.process.trace_failure_stops ? "stop" : "continue") << "\n";
   if (c.probe.present) {  // docs/probe.md
     const ProbeModel& p = c.probe.model;
-    out << "  probe        ball R " << num(p.ball_radius_mm) << " mm, pre-travel axial " << num(p.pretravel_axial_mm)
-        << " mm, lateral " << num(p.pretravel_lateral_mm) << " + " << num(p.pretravel_lobe_mm)
-        << " x cos 3az mm, repeatability " << num(p.repeatability_mm) << " mm (seed " << p.seed << "), overtravel "
-        << num(p.overtravel_mm) << " mm\n";
+    out << "  probe        ball R " << plain_num(p.ball_radius_mm) << " mm, pre-travel axial " << plain_num(p.pretravel_axial_mm)
+        << " mm, lateral " << plain_num(p.pretravel_lateral_mm) << " + " << plain_num(p.pretravel_lobe_mm)
+        << " x cos 3az mm, repeatability " << plain_num(p.repeatability_mm) << " mm (seed " << p.seed << "), overtravel "
+        << plain_num(p.overtravel_mm) << " mm\n";
   } else {
     out << "  probe        none (G38.x refused)\n";
   }
   const TableScene& t = c.table;
   out << "  table        ";
   if (t.has_surface) {
-    out << "workpiece top z = " << num(t.z_mm) << " + " << num(t.slope_x) << " x + " << num(t.slope_y) << " y mm";
+    out << "workpiece top z = " << plain_num(t.z_mm) << " + " << plain_num(t.slope_x) << " x + " << plain_num(t.slope_y) << " y mm";
     if (t.bump_height_mm != 0.0) {
-      out << " + bump " << num(t.bump_height_mm) << " mm (sigma " << num(t.bump_sigma_mm) << " mm) at (" << num(t.bump_x_mm)
-          << ", " << num(t.bump_y_mm) << ")";
+      out << " + bump " << plain_num(t.bump_height_mm) << " mm (sigma " << plain_num(t.bump_sigma_mm) << " mm) at (" << plain_num(t.bump_x_mm)
+          << ", " << plain_num(t.bump_y_mm) << ")";
     }
   } else {
     out << "no workpiece";
   }
   if (t.sphere_radius_mm > 0.0) {
-    out << "; sphere R " << num(t.sphere_radius_mm) << " mm at (" << num(t.sphere_center[0]) << ", " << num(t.sphere_center[1])
-        << ", " << num(t.sphere_center[2]) << ")";
+    out << "; sphere R " << plain_num(t.sphere_radius_mm) << " mm at (" << plain_num(t.sphere_center[0]) << ", " << plain_num(t.sphere_center[1])
+        << ", " << plain_num(t.sphere_center[2]) << ")";
   }
   if (t.has_gauge) {
-    out << "; gauge block (" << num(t.gauge_min[0]) << ", " << num(t.gauge_min[1]) << ", " << num(t.gauge_min[2]) << ") .. ("
-        << num(t.gauge_max[0]) << ", " << num(t.gauge_max[1]) << ", " << num(t.gauge_max[2]) << ")";
+    out << "; gauge block (" << plain_num(t.gauge_min[0]) << ", " << plain_num(t.gauge_min[1]) << ", " << plain_num(t.gauge_min[2]) << ") .. ("
+        << plain_num(t.gauge_max[0]) << ", " << plain_num(t.gauge_max[1]) << ", " << plain_num(t.gauge_max[2]) << ")";
   }
   out << "\n";
 }
@@ -171,8 +171,8 @@ void print_notes(const MachineConfig& c, std::ostream& err) {
     const double drive = r->torque_constant_nm_per_a * r->current_limit_a / r->inertia_kg_m2;  // rad/s^2
     if (drive < r->max_accel_rad_s2) {
       err << c.source_path << ": warning: [axis." << static_cast<char>(r->letter + 32) << "] max_accel_deg_s2 "
-          << num(r->max_accel_rad_s2 * kDegPerRad) << " deg/s^2 is more than the drive can give ("
-          << num(drive * kDegPerRad) << " deg/s^2 = torque_constant x current_limit / inertia): expect following-error faults\n";
+          << plain_num(r->max_accel_rad_s2 * kDegPerRad) << " deg/s^2 is more than the drive can give ("
+          << plain_num(drive * kDegPerRad) << " deg/s^2 = torque_constant x current_limit / inertia): expect following-error faults\n";
     }
   }
   const char* axis_names = "XYZ";
@@ -181,7 +181,7 @@ void print_notes(const MachineConfig& c, std::ostream& err) {
     const double drive_accel = (a.force_constant_n_per_a * a.current_limit_a - std::abs(a.gravity_load_n)) / a.moving_mass_kg * 1000.0;
     if (drive_accel < a.max_accel_mm_s2) {
       err << c.source_path << ": warning: [axis." << static_cast<char>(axis_names[i] + 32) << "] max_accel_mm_s2 "
-          << num(a.max_accel_mm_s2) << " mm/s^2 is more than the drive can give (" << num(drive_accel)
+          << plain_num(a.max_accel_mm_s2) << " mm/s^2 is more than the drive can give (" << plain_num(drive_accel)
           << " mm/s^2 = (force_constant x current_limit - |gravity|) / mass): expect following-error faults\n";
     }
   }

@@ -24,7 +24,7 @@ using json = nlohmann::json;
 
 namespace {
 
-std::string fmt(const char* format, auto... args) {
+std::string fmt_text(const char* format, auto... args) {
   char buf[512];
   const int n = std::snprintf(buf, sizeof buf, format, args...);
   return std::string(buf, n > 0 ? std::min<std::size_t>(static_cast<std::size_t>(n), sizeof buf - 1) : 0);
@@ -34,7 +34,7 @@ double axis(const json& v, const char* k) { return v.is_object() ? v.value(k, 0.
 
 std::string pos3(const json& v) {
   if (!v.is_object()) return "      -            -            -    ";
-  return fmt("X %9.4f  Y %9.4f  Z %9.4f", axis(v, "x"), axis(v, "y"), axis(v, "z"));
+  return fmt_text("X %9.4f  Y %9.4f  Z %9.4f", axis(v, "x"), axis(v, "y"), axis(v, "z"));
 }
 
 }  // namespace
@@ -60,40 +60,40 @@ std::vector<std::string> format_watch(const json& s) {
   const std::string active = ws.value("active", "G54");
   std::string program = "-";
   if (job.is_object() && job.value("active", false)) program = job.value("file", "?");
-  out.push_back(fmt("%-9s line %-6u program %s", s.value("state", "?").c_str(), s.value("line", 0u), program.c_str()));
+  out.push_back(fmt_text("%-9s line %-6u program %s", s.value("state", "?").c_str(), s.value("line", 0u), program.c_str()));
   if (!s.contains("commanded")) {
     const json rt = s.value("rt", json::object());
-    out.push_back(fmt("pcnc-rt %s %s", rt.value("state", "?").c_str(), rt.value("message", std::string()).c_str()));
+    out.push_back(fmt_text("pcnc-rt %s %s", rt.value("state", "?").c_str(), rt.value("message", std::string()).c_str()));
     return out;
   }
   const json wp = s.value("work_position", json::object());
-  out.push_back(fmt("%-10s %-37s %s", "", "machine mm", ("work mm (" + active + ")").c_str()));
-  out.push_back(fmt("%-10s %s   %s", "commanded", pos3(s["commanded"]).c_str(), pos3(wp.value("commanded", json())).c_str()));
-  out.push_back(fmt("%-10s %s   %s", "actual", pos3(s["actual"]).c_str(), pos3(wp.value("actual", json())).c_str()));
+  out.push_back(fmt_text("%-10s %-37s %s", "", "machine mm", ("work mm (" + active + ")").c_str()));
+  out.push_back(fmt_text("%-10s %s   %s", "commanded", pos3(s["commanded"]).c_str(), pos3(wp.value("commanded", json())).c_str()));
+  out.push_back(fmt_text("%-10s %s   %s", "actual", pos3(s["actual"]).c_str(), pos3(wp.value("actual", json())).c_str()));
   const json fe = s.value("following_error", json::object());
-  out.push_back(fmt("%-10s X %8.2f um  Y %8.2f um  Z %8.2f um", "ferr", 1000.0 * axis(fe, "x"), 1000.0 * axis(fe, "y"),
+  out.push_back(fmt_text("%-10s X %8.2f um  Y %8.2f um  Z %8.2f um", "ferr", 1000.0 * axis(fe, "x"), 1000.0 * axis(fe, "y"),
                     1000.0 * axis(fe, "z")));
   const json offsets = s.value("work_offsets", json::object());
   const json g92 = ws.value("G92", json::object());
-  std::string g92_text = ws.value("G92_applied", false) ? fmt("G92 X %.4f Y %.4f Z %.4f", axis(g92, "x"), axis(g92, "y"), axis(g92, "z"))
+  std::string g92_text = ws.value("G92_applied", false) ? fmt_text("G92 X %.4f Y %.4f Z %.4f", axis(g92, "x"), axis(g92, "y"), axis(g92, "z"))
                                                         : std::string("G92 off");
   // The tool in the spindle and its length offset, as the last program or MDI left them.
   const int tool = ws.value("tool", 0);
-  std::string tool_text = tool > 0 ? fmt("T%d", tool) : std::string("no tool");
+  std::string tool_text = tool > 0 ? fmt_text("T%d", tool) : std::string("no tool");
   if (ws.value("tool_offset_applied", false)) {
-    tool_text += fmt(" G43 Z %+.4f", axis(ws.value("tool_offset", json::object()), "z"));
+    tool_text += fmt_text(" G43 Z %+.4f", axis(ws.value("tool_offset", json::object()), "z"));
   } else {
     tool_text += " G49";
   }
-  out.push_back(fmt("%-10s %s %s  %s  %s", "offset", active.c_str(), pos3(offsets.value(active, json())).c_str(),
+  out.push_back(fmt_text("%-10s %s %s  %s  %s", "offset", active.c_str(), pos3(offsets.value(active, json())).c_str(),
                     g92_text.c_str(), tool_text.c_str()));
-  out.push_back(fmt("%-10s %.2f mm/s  override %.0f %%  ring %d/4  underruns %llu", "speed", s.value("path_speed", 0.0),
+  out.push_back(fmt_text("%-10s %.2f mm/s  override %.0f %%  ring %d/4  underruns %llu", "speed", s.value("path_speed", 0.0),
                     s.value("feed_override_percent", 100.0), s.value("ring_fill", 0),
                     static_cast<unsigned long long>(s.value("underruns", 0ull))));
   if (const auto p = watch_progress(s)) {
     const int width = 30;
     const int filled = static_cast<int>(std::floor(p->fraction * width));
-    out.push_back(fmt("[%s%s] %5.1f %%  left %s  machine %s", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+    out.push_back(fmt_text("[%s%s] %5.1f %%  left %s  machine %s", std::string(static_cast<std::size_t>(filled), '#').c_str(),
                       std::string(static_cast<std::size_t>(width - filled), '.').c_str(), 100.0 * p->fraction,
                       p->remaining_s ? format_duration(*p->remaining_s).c_str() : "?",
                       format_duration(s.value("program_time_s", 0.0)).c_str()));
@@ -107,14 +107,14 @@ std::string format_watch_line(const json& s) {
   const json c = s.value("commanded", json::object());
   const json w = s.value("work_position", json::object()).value("commanded", json::object());
   const json fe = s.value("following_error", json::object());
-  std::string line = fmt("%-9s line %-6u X %9.4f Y %9.4f Z %9.4f  work %s X %9.4f Y %9.4f Z %9.4f  ferr %.2f %.2f %.2f um  "
+  std::string line = fmt_text("%-9s line %-6u X %9.4f Y %9.4f Z %9.4f  work %s X %9.4f Y %9.4f Z %9.4f  ferr %.2f %.2f %.2f um  "
                          "v %8.2f mm/s  ovr %3.0f%%",
                          s.value("state", "?").c_str(), s.value("line", 0u), axis(c, "x"), axis(c, "y"), axis(c, "z"),
                          s.value("work_state", json::object()).value("active", "G54").c_str(), axis(w, "x"), axis(w, "y"),
                          axis(w, "z"), 1000.0 * axis(fe, "x"), 1000.0 * axis(fe, "y"), 1000.0 * axis(fe, "z"),
                          s.value("path_speed", 0.0), s.value("feed_override_percent", 100.0));
   if (const auto p = watch_progress(s)) {
-    line += fmt("  %.1f %% left %s", 100.0 * p->fraction, p->remaining_s ? format_duration(*p->remaining_s).c_str() : "?");
+    line += fmt_text("  %.1f %% left %s", 100.0 * p->fraction, p->remaining_s ? format_duration(*p->remaining_s).c_str() : "?");
   }
   return line;
 }

@@ -12,7 +12,7 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-std::string num(double v) {
+std::string num4(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.4f", v);
   std::string s = buf;
@@ -195,15 +195,15 @@ std::vector<std::string> five_axis_program_lines(const FiveAxisExample& e, const
   for (const ProgramPose& p : e.poses) {
     q = inverse(kin, ToolPose{p.tip + work_offset, p.axis}, q, travel);
     std::string line = p.rapid ? "G0" : "G1";
-    line += " X" + num(p.tip[0]) + " Y" + num(p.tip[1]) + " Z" + num(p.tip[2]);
-    line += " A" + num(q[kTilt] / kDeg) + " C" + num(q[kRotary] / kDeg);
+    line += " X" + num4(p.tip[0]) + " Y" + num4(p.tip[1]) + " Z" + num4(p.tip[2]);
+    line += " A" + num4(q[kTilt] / kDeg) + " C" + num4(q[kRotary] / kDeg);
     if (!p.rapid) {
       if (e.inverse_time) {
         const double length = have_last ? norm(p.tip - last_tip) : 0.0;
         // F = 1 / minutes; a move of no length (a pure turn) gets the time of 0.01 mm
-        line += " F" + num(e.feed_mm_min / std::max(length, 0.01));
+        line += " F" + num4(e.feed_mm_min / std::max(length, 0.01));
       } else {
-        line += " F" + num(e.feed_mm_min);
+        line += " F" + num4(e.feed_mm_min);
       }
     }
     out.push_back(line);

@@ -70,7 +70,7 @@ struct Failure {
 
 void say(const std::string& s) { std::fprintf(stderr, "pcnc measure: %s\n", s.c_str()); }
 
-std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 0) {
+std::string fmt_row(const char* f, double a, double b = 0, double c = 0, double d = 0) {
   char buf[256];
   std::snprintf(buf, sizeof buf, f, a, b, c, d);
   return buf;
@@ -221,9 +221,9 @@ void calibrate_volumetric_phase(Runner& runner, const MachineConfig& cfg, const 
   cal.artefact_lengths = static_cast<int>(lengths.size());
   cal.artefact_rms_before_mm = v.rms_before, cal.artefact_rms_after_mm = v.rms_after;
   cal.artefact_max_before_mm = v.max_before, cal.artefact_max_after_mm = v.max_after;
-  say(fmt("volumetric: %.0f lengths between the artefact's balls, error RMS %.3f -> %.3f um, max %.3f -> ", lengths.size(),
+  say(fmt_row("volumetric: %.0f lengths between the artefact's balls, error RMS %.3f -> %.3f um, max %.3f -> ", lengths.size(),
           v.rms_before * 1e3, v.rms_after * 1e3, v.max_before * 1e3) +
-      fmt("%.3f um; squareness XY %.1f YZ %.1f ZX %.1f urad", v.max_after * 1e3, v.model.squareness_xy_urad,
+      fmt_row("%.3f um; squareness XY %.1f YZ %.1f ZX %.1f urad", v.max_after * 1e3, v.model.squareness_xy_urad,
           v.model.squareness_yz_urad, v.model.squareness_zx_urad));
 }
 
@@ -250,9 +250,9 @@ void calibrate_probe_phase(Runner& runner, const MachineConfig& cfg, const Measu
   cal.sphere_centre_mm = t.sphere_center;
   cal.sphere_radius_mm = t.sphere_radius_mm;
   const double R = cfg.probe.model.ball_radius_mm;
-  say(fmt("probe: %.0f touches on the sphere, residuals RMS %.3f max %.3f um; pre-travel ", static_cast<double>(pt.size()),
+  say(fmt_row("probe: %.0f touches on the sphere, residuals RMS %.3f max %.3f um; pre-travel ", static_cast<double>(pt.size()),
           r.rms * 1e3, r.max_abs * 1e3) +
-      fmt("down %.2f um, sideways +X %.2f +Y %.2f -X %.2f um", (R - effective_radius(r.cal, {0, 0, -1})) * 1e3,
+      fmt_row("down %.2f um, sideways +X %.2f +Y %.2f -X %.2f um", (R - effective_radius(r.cal, {0, 0, -1})) * 1e3,
           (R - effective_radius(r.cal, {1, 0, 0})) * 1e3, (R - effective_radius(r.cal, {0, 1, 0})) * 1e3,
           (R - effective_radius(r.cal, {-1, 0, 0})) * 1e3));
 }
@@ -358,7 +358,7 @@ int measure(const MeasureOptions& o) {
       } catch (const std::exception& e) {
         throw Failure{kExitBadInput, e.what()};
       }
-      say("calibration read from " + o.calibration + fmt(" (probe: %.0f touches, RMS %.3f um; artefact: %.0f lengths)",
+      say("calibration read from " + o.calibration + fmt_row(" (probe: %.0f touches, RMS %.3f um; artefact: %.0f lengths)",
                                                          cal.probe_touches, cal.probe_rms_mm * 1e3, cal.artefact_lengths));
     }
     std::string dir = o.work_dir;

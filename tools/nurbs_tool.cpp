@@ -18,7 +18,6 @@
 namespace pcnc {
 namespace {
 
-std::string fmt(const char* f, double v) { return format_number(f, v); }
 
 }  // namespace
 
@@ -57,8 +56,8 @@ int run_nurbs_rough(const NurbsToolOptions& o, std::ostream& out, std::ostream& 
     const double length = nurbs_arc_length(c.view(), c.u_min(), c.u_max());
     out << "curve " << index << " (line " << pc.line << "): order " << c.degree + 1 << ", " << c.points.size()
         << " control points, " << (rule == KnotRule::kChordLength ? "chord-length" : "open uniform") << " knots [";
-    for (std::size_t i = 0; i < c.knots.size(); ++i) out << (i ? " " : "") << fmt("%g", c.knots[i]);
-    out << "], length " << fmt("%.4f", length) << " mm\n";
+    for (std::size_t i = 0; i < c.knots.size(); ++i) out << (i ? " " : "") << format_number("%g", c.knots[i]);
+    out << "], length " << format_number("%.4f", length) << " mm\n";
     if (!(feed_mm_s > 0.0)) {
       err << o.file << ":" << pc.line << ": no feed for this curve; give F in the program or --feed\n";
       return 2;
@@ -68,19 +67,19 @@ int run_nurbs_rough(const NurbsToolOptions& o, std::ostream& out, std::ostream& 
     // Bisection alone (one step over the whole curve): the fewest G01 blocks of this method.
     const RoughPolyline cam = rough_interpolate(c, 2.0 * length + 1.0, tol);
     const std::size_t blocks = split_for_blocks(c).size();
-    out << "  feed " << fmt("%g", feed_mm_s * 60.0) << " mm/min: rough step " << fmt("%.6g", step) << " mm ("
-        << fmt("%g", o.period_s * 1000.0) << " ms per rough sample), tolerance " << fmt("%g", tol) << " mm\n";
+    out << "  feed " << format_number("%g", feed_mm_s * 60.0) << " mm/min: rough step " << format_number("%.6g", step) << " mm ("
+        << format_number("%g", o.period_s * 1000.0) << " ms per rough sample), tolerance " << format_number("%g", tol) << " mm\n";
     out << "  rough interpolation: " << rough.segments << " segments (" << rough.bisections
-        << " bisections), max deviation " << fmt("%.3e", rough.max_deviation_mm) << " mm\n";
+        << " bisections), max deviation " << format_number("%.3e", rough.max_deviation_mm) << " mm\n";
     out << "  bisection alone (a CAM polyline within the tolerance): " << cam.segments << " G01 segments, max deviation "
-        << fmt("%.3e", cam.max_deviation_mm) << " mm\n";
+        << format_number("%.3e", cam.max_deviation_mm) << " mm\n";
     out << "  direct NURBS: 1 G5.2 block (" << blocks << " ring block" << (blocks == 1 ? "" : "s") << ") instead of "
         << cam.segments << " G01 blocks\n";
     if (o.print_points) {
       for (std::size_t i = 0; i < rough.points.size(); ++i) {
         const Vec3& p = rough.points[i];
-        out << "    " << fmt("%.6f", rough.params[i]) << " X" << fmt("%.6f", p[0]) << " Y" << fmt("%.6f", p[1]) << " Z"
-            << fmt("%.6f", p[2]) << "\n";
+        out << "    " << format_number("%.6f", rough.params[i]) << " X" << format_number("%.6f", p[0]) << " Y" << format_number("%.6f", p[1]) << " Z"
+            << format_number("%.6f", p[2]) << "\n";
       }
     }
     total_rough += rough.segments;
@@ -88,7 +87,7 @@ int run_nurbs_rough(const NurbsToolOptions& o, std::ostream& out, std::ostream& 
     total_blocks += blocks;
   }
   out << "total: " << prog.curves.size() << " NURBS curve" << (prog.curves.size() == 1 ? "" : "s") << ", "
-      << total_rough << " rough segments, " << total_cam << " G01 blocks within " << fmt("%g", tol) << " mm vs "
+      << total_rough << " rough segments, " << total_cam << " G01 blocks within " << format_number("%g", tol) << " mm vs "
       << total_blocks << " NURBS ring blocks\n";
   return 0;
 }

@@ -29,6 +29,10 @@ namespace pcnc {
 
 /// The default share of an axis's acceleration a bend's centripetal part may take.
 constexpr double kNormalAccelShare = 0.7;
+/// The share of what the axes leave after the normal part that a sample's tangential
+/// acceleration takes (FeedSample::accel): the margin for the tangent and curvature turning
+/// between samples and the rt's parameter steps (see nurbs_schedule.cpp).
+constexpr double kTangentialAccelMargin = 0.95;
 
 struct NurbsLimits {
   double feed_mm_s = 0.0;             // programmed path feed

@@ -79,6 +79,8 @@ class Pipeline {
 
   bool failed() const { return sink_.has_errors(); }
   const Preflight& preflight() const { return preflight_; }
+  /// --fit's measuring pass on a machine with rotary joints: collect the moves' poses.
+  void collect_fit_poses(std::vector<FitPose>* out, double* tool_length) { preflight_.collect_fit_poses(out, tool_length); }
   const CompFigures& comp_figures() const { return comp_.figures(); }
   /// What smoothing did so far; `blocks` counts the ring blocks its curves became.
   const SmoothingStats& smoothing() const { return smoother_.stats(); }

@@ -124,6 +124,7 @@ void Preflight::add(const Move& m) {
   }
   const double length = move_length(m);
   if (length > 1e-12 || m.kind == MoveKind::kArc) ++moves_;
+  if (fit_poses_) add_fit_pose(m);
   if (m.tcp || m.rot_start != m.rot_end) {
     add_rotary(m);  // under TCP the tip's points are not the axes': the joints are checked there
     if (m.tcp) {

@@ -18,6 +18,7 @@
 #include "gcode/diagnostics.hpp"
 #include "gcode/move.hpp"
 #include "geometry/kinematics.hpp"
+#include "geometry/tcp_fit.hpp"
 
 namespace pcnc {
 
@@ -49,6 +50,14 @@ class Preflight {
   Preflight(const MachineConfig& config, DiagnosticSink& sink, bool check_limits);
 
   void add(const Move& m);
+  /// --fit on a machine with rotary joints: also hand every move's end pose (tip in the frame's
+  /// machine coordinates, tool axis, TCP on or off, the joints' values) to `out`, in order, and
+  /// the tool length of the TCP moves to `tool_length` (geometry/tcp_fit.hpp). Only the --fit
+  /// measuring pass collects; a normal run keeps O(1) memory.
+  void collect_fit_poses(std::vector<FitPose>* out, double* tool_length) {
+    fit_poses_ = out;
+    fit_tool_length_ = tool_length;
+  }
   /// Reports the soft-limit counts per axis (call once at the end).
   void finish();
 
@@ -80,6 +89,9 @@ class Preflight {
   // every joint's extremes along a TCP move or a ruled piece (linear ones included)
   void check_joint_extremes(const Move& m, const Joints& q_min, const Joints& q_max, const char* where);
   std::vector<Vec3> points_;                     // scratch: a NURBS curve's extreme points
+  void add_fit_pose(const Move& m);
+  std::vector<FitPose>* fit_poses_ = nullptr;
+  double* fit_tool_length_ = nullptr;
 };
 
 /// The --fit transform for program points spanning `box` (machine coordinates under the frame

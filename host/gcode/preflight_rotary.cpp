@@ -51,6 +51,27 @@ void Preflight::check_linear_joint(const Move& m, int axis, double value) {
                   " mm; expected the tool's path and orientation reachable inside the travel");
 }
 
+void Preflight::add_fit_pose(const Move& m) {
+  if (m.machine_frame) return;  // G53, G28: not the program's own points
+  const int t = tilt_index(config_), c = rotary_index(config_);
+  FitPose f;
+  f.tcp = m.tcp;
+  f.tilt = t >= 0 ? m.rot_end[static_cast<std::size_t>(t)] : 0.0;
+  f.rotary = c >= 0 ? m.rot_end[static_cast<std::size_t>(c)] : 0.0;
+  f.line = m.line;
+  f.pose.axis = tool_axis_of(config_, m.rot_end);
+  // TCP off with the linear axes still: only the joints turn (the program's tool pose there is
+  // the joints' forward kinematics, program.cpp's fit_transform computes it with the tool length)
+  f.turn_only = !m.tcp && norm(m.end - m.start) <= 1e-12;
+  f.joint_xyz = m.end;
+  if (m.tcp && fit_tool_length_) *fit_tool_length_ = m.tool_length;
+  // an arc (TCP off) by its extreme points: the chords between them stay inside the travel's box
+  for_each_extreme(m, [&](const Vec3& p) {
+    f.pose.tip = p;
+    fit_poses_->push_back(f);
+  });
+}
+
 void Preflight::add_rotary(const Move& m) {
   if (!m.tcp) {
     for (int i = 0; i < kRotaryJoints; ++i) check_joint(m, i, m.rot_end[static_cast<std::size_t>(i)], "");

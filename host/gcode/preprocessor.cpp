@@ -125,12 +125,12 @@ void plan_arc(const Move& m, const MachineConfig& cfg, Block& b) {
 // parameter, so each joint's speed and acceleration are the path's times its travel per unit of
 // path; an angular move (the linear axes stand still) runs on the joints' Euclidean travel in rad,
 // at the feed in rad/s (F in deg/min). A TCP move gets its joint-space plan from tcp_move.hpp
-// (in the pipeline, which reports its errors). Either way the block ends at rest.
+// (in the pipeline, which reports its errors). Either way the block keeps M21 and the path
+// tolerance: the rt passes its junctions at the joint-space junction speed (rt/motion/junction.hpp;
+// an angular block stops).
 void plan_rotary(const Move& m, const MachineConfig& cfg, Block& b) {
   b.rotary.end = m.rot_end;
   if (!moves_rotary(m)) return;
-  b.contouring = 0;
-  b.path_tolerance_mm = 0.0f;
   if (m.tcp) return;
   const bool angular = angular_move(m);
   if (angular) {

@@ -16,6 +16,8 @@
 #include "gcode/planned_time.hpp"
 #include "config/surface_file.hpp"
 #include "gcode/preprocessor.hpp"
+#include "gcode/tcp_fit_travel.hpp"
+#include "config/joint_map.hpp"
 
 namespace pcnc {
 
@@ -111,13 +113,42 @@ void tidy(std::vector<LineRange>& runs) {
 // pass of the pipeline up to the preflight (no soft limits, no blocks, diagnostics dropped).
 // It measures the programmed moves (no smoothing: tolerance 0 whatever G64 P says), so that the
 // transform does not depend on the path tolerance and runs at any tolerance compare.
+//
+// On a machine with rotary joints, a program that runs under tool-centre-point control or turns a
+// joint is fitted by fit_tcp_to_travel instead (docs/kinematics.md, "--fit of a tool-centre-point
+// program"): the largest scale s <= 1 and offset of X Y Z that keep every joint inside its travel
+// after the inverse kinematics, the angles never scaled; a TCP-off move that turns a joint is
+// refused at its line (`sink`), and the transform is left as it was.
 Transform fit_transform(const Input& in, const std::string& name, const MachineConfig& config,
-                        const JobOptions& options, Transform t) {
+                        const JobOptions& options, Transform t, DiagnosticSink& sink) {
   DiagnosticSink scratch(name);
   MachineConfig programmed = config;
   set_operator_tolerance(programmed.motion, 0.0);
   Pipeline measure(in.open(), programmed, make_frame(programmed, options, t), scratch, false);
+  std::vector<FitPose> poses;
+  double tool_length = 0.0;
+  if (config.rotary_mask() != 0) measure.collect_fit_poses(&poses, &tool_length);
   measure.drain();
+  const bool five_axis = std::any_of(poses.begin(), poses.end(),
+                                     [](const FitPose& f) { return f.tcp || f.tilt != 0.0 || f.rotary != 0.0; });
+  if (five_axis) {
+    const Kinematics kin = kinematics_with_tool(config, tool_length);
+    for (FitPose& f : poses) {
+      if (f.turn_only) {  // the tool pose its joints give, for the TCP move after it
+        f.pose.tip = forward(kin, Joints{f.joint_xyz[0], f.joint_xyz[1], f.joint_xyz[2], f.tilt, f.rotary}).tip;
+        f.joint_xyz = f.joint_xyz - t.offset;
+      }
+      f.pose.tip = f.pose.tip - t.offset;  // program coordinates (scale 1)
+    }
+    const TcpFitResult r = fit_tcp_to_travel(poses, config, tool_length);
+    if (!r.ok) {
+      sink.error(r.error_line, 0, "--fit: " + r.error);
+      return t;
+    }
+    t.offset = r.offset;
+    t.scale = r.scale;
+    return t;
+  }
   const FitResult f =
       fit_to_travel(measure.preflight().fit_extents(), t.offset, config, measure.comp_figures().max_radius_mm);
   t.offset = f.offset;
@@ -133,7 +164,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     Transform t;
     t.offset = start_work(config, options).g5x[0];
     if (options.fit) {
-      t = fit_transform(in, name, config, options, t);
+      t = fit_transform(in, name, config, options, t, sink);
       if (options.offset)
         sink.warning(0, 0, "fit-offset", "--fit recentres the program: the --offset value is not used");
     }

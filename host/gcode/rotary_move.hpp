@@ -1,6 +1,6 @@
 // rotary_move.hpp — what the pipeline's stages ask of a move on a machine with rotary joints:
-// does it turn a joint or run under TCP (then it is never merged, smoothed or compensated, and
-// it ends at rest), does it only turn the tool (an "angular" move, whose path parameter and feed
+// does it turn a joint or run under TCP (then it is never merged, smoothed or compensated; the rt
+// passes its junctions at the joint-space junction speed), does it only turn the tool (an "angular" move, whose path parameter and feed
 // are an angle), and that angle. Pure.
 #pragma once
 

@@ -22,6 +22,8 @@ std::string deg(double rad) {
   return buf;
 }
 
+}  // namespace
+
 JointLimits joint_limits(const MachineConfig& cfg) {
   JointLimits l;
   for (int i = 0; i < kAxes; ++i) {
@@ -36,8 +38,6 @@ JointLimits joint_limits(const MachineConfig& cfg) {
   l.acceleration[kRotary] = c ? c->max_accel_rad_s2 : 1.0;
   return l;
 }
-
-}  // namespace
 
 TcpMovePlan plan_tcp_move(const Move& m, const MachineConfig& cfg, double feed) {
   TcpMovePlan p;
@@ -114,8 +114,6 @@ void apply_tcp_plan(const Move& m, const TcpMovePlan& plan, Block& b) {
   b.rotary.joint_end = plan.joint_end;
   b.rotary.end = plan.rot_end;
   b.rotary.tool_length = m.tool_length;
-  b.contouring = 0;
-  b.path_tolerance_mm = 0.0f;
   b.length = plan.length;
   if (plan.angular) {
     b.speed = plan.speed;

@@ -13,6 +13,7 @@
 #include "config/config.hpp"
 #include "gcode/move.hpp"
 #include "geometry/kinematics.hpp"
+#include "geometry/tcp_path.hpp"
 #include "ipc/block.hpp"
 
 namespace pcnc {
@@ -39,6 +40,10 @@ constexpr int kTcpMinSamples = 32;
 constexpr int kTcpMaxSamples = 4000;
 /// The caps keep this share of each joint's limit (the rt's cycles fall between the samples).
 constexpr double kTcpLimitShare = 0.95;
+
+/// Each joint's velocity and acceleration limit (x y z tilt rotary: mm, rad); a joint the machine
+/// lacks gets 1.
+JointLimits joint_limits(const MachineConfig& cfg);
 
 /// `feed`: the programmed path speed (mm/s, rad/s for an angular move; a rapid: what the
 /// linear axes allow along the tip's line). Errors: a move that only turns C on the pole (no tip

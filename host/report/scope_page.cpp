@@ -8,6 +8,7 @@
 
 #include "ipc/status.hpp"
 #include "report/report_html.hpp"
+#include "report/svg_text.hpp"
 
 namespace pcnc {
 
@@ -27,20 +28,6 @@ std::string cell(const std::string& signal, double v) {
     std::snprintf(buf, sizeof buf, "%.7f", v);
   }
   return buf;
-}
-
-std::string escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '&': o += "&amp;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += c;
-    }
-  }
-  return o;
 }
 
 double nice_step(double range, int target) {
@@ -89,9 +76,9 @@ std::string plot(const ScopeRecord& r, const Group& g) {
   auto X = [&](double ms) { return L + (ms - xa) / (xb - xa) * pw; };
   auto Y = [&](double v) { return T + (hi - v) / (hi - lo) * ph; };
   std::ostringstream o;
-  o << "<section class=\"card\"><h2>" << escape(g.title) << "</h2>\n";
+  o << "<section class=\"card\"><h2>" << svg::escape(g.title) << "</h2>\n";
   o << "<svg class=\"scope\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << W << " " << H << "\" role=\"img\" aria-label=\""
-    << escape(g.title) << "\">\n<rect width=\"" << W << "\" height=\"" << H << "\" fill=\"#fff\"/>\n";
+    << svg::escape(g.title) << "\">\n<rect width=\"" << W << "\" height=\"" << H << "\" fill=\"#fff\"/>\n";
   if (!r.trigger.empty() && r.trigger_row > 0) {  // the pre-trigger, shaded
     o << "<rect class=\"pretrigger\" x=\"" << fixed(L, 1) << "\" y=\"" << T << "\" width=\"" << fixed(X(0.0) - L, 1) << "\" height=\""
       << ph << "\" fill=\"#f1f3f8\"/>\n";
@@ -113,7 +100,7 @@ std::string plot(const ScopeRecord& r, const Group& g) {
   o << "<text x=\"" << W - R << "\" y=\"" << H - 4 << "\" text-anchor=\"end\">"
     << (r.trigger.empty() ? "time from the start, ms" : "time from the trigger, ms") << "</text>\n";
   o << "<text x=\"14\" y=\"" << T + ph / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 14 " << T + ph / 2 << ")\">"
-    << escape(g.unit) << "</text>\n</g>\n";
+    << svg::escape(g.unit) << "</text>\n</g>\n";
   if (!r.trigger.empty()) {
     o << "<line class=\"trigger\" x1=\"" << fixed(X(0.0), 1) << "\" x2=\"" << fixed(X(0.0), 1) << "\" y1=\"" << T << "\" y2=\"" << H - B
       << "\" stroke=\"#e07b00\" stroke-dasharray=\"4 3\"/>\n";
@@ -135,10 +122,10 @@ std::string plot(const ScopeRecord& r, const Group& g) {
       upper += (k ? " " : "") + fixed(x, 1) + "," + fixed(Y(mx), 1);
       lower = fixed(x, 1) + "," + fixed(Y(mn), 1) + (k ? " " : "") + lower;
     }
-    o << "<g class=\"series\" data-name=\"" << escape(name) << "\"><polygon points=\"" << upper << " " << lower << "\" fill=\""
+    o << "<g class=\"series\" data-name=\"" << svg::escape(name) << "\"><polygon points=\"" << upper << " " << lower << "\" fill=\""
       << colour_of(name) << "\" fill-opacity=\"0.25\" stroke=\"" << colour_of(name) << "\" stroke-width=\"1.1\"/></g>\n";
     o << "<rect x=\"" << lx << "\" y=\"" << T + 6 << "\" width=\"14\" height=\"10\" fill=\"" << colour_of(name) << "\"/><text x=\""
-      << lx + 19 << "\" y=\"" << T + 15 << "\" font-size=\"12\" fill=\"#333\">" << escape(name) << "</text>\n";
+      << lx + 19 << "\" y=\"" << T + 15 << "\" font-size=\"12\" fill=\"#333\">" << svg::escape(name) << "</text>\n";
     lx += 80;
   }
   o << "</svg></section>\n";
@@ -179,19 +166,19 @@ std::string render_scope_html(const ScopeRecord& r) {
        ".card{background:#fff;border-radius:10px;box-shadow:0 1px 3px rgba(20,30,50,.12);padding:14px 16px;margin-bottom:16px}"
        "svg{display:block;width:100%;height:auto}</style></head><body><main>\n";
   o << "<h1>Scope capture</h1>\n<p class=\"sub\" id=\"summary\">" << r.t.size() << " cycles (" << fixed(secs, 3) << " s at "
-    << fixed(1.0 / r.period_s, 0) << " Hz, no gaps) of " << escape([&] {
+    << fixed(1.0 / r.period_s, 0) << " Hz, no gaps) of " << svg::escape([&] {
          std::string l;
          for (const auto& s : r.signals) l += (l.empty() ? "" : ", ") + s;
          return l;
        }());
   if (!r.trigger.empty()) {
-    o << "; trigger <code>" << escape(r.trigger) << "</code> held at machine time "
+    o << "; trigger <code>" << svg::escape(r.trigger) << "</code> held at machine time "
       << fixed(r.t.empty() ? 0.0 : r.t[std::min(r.trigger_row, r.t.size() - 1)], 4) << " s, " << r.trigger_row
       << " cycles of pre-trigger (shaded)";
   } else if (!r.t.empty()) {
     o << "; from machine time " << fixed(r.t.front(), 4) << " s";
   }
-  if (!r.source.empty()) o << "; " << escape(r.source);
+  if (!r.source.empty()) o << "; " << svg::escape(r.source);
   o << "</p>\n";
   for (const Group& g : groups) {
     if (!g.cols.empty()) o << plot(r, g);

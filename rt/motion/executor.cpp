@@ -9,6 +9,7 @@
 #include "motion/nurbs_follower.hpp"
 #include "ipc/block_check.hpp"
 #include "config/joint_map.hpp"
+#include "geometry/kinematics_rates.hpp"
 
 namespace pcnc {
 
@@ -19,6 +20,11 @@ Executor::Executor(const MachineConfig& config) : cfg_(config), dt_(config.cycle
   junction_.step_fraction = f_;
   junction_.dt = dt_;
   for (int i = 0; i < kAxes; ++i) junction_.axis_accel[i] = config.axes[i].max_accel_mm_s2;
+  for (int i = 0; i < kAxes; ++i) joint_accel_[static_cast<std::size_t>(i)] = config.axes[i].max_accel_mm_s2;
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    const auto& r = config.rotary[static_cast<std::size_t>(i)];
+    joint_accel_[static_cast<std::size_t>(kAxes + i)] = r ? r->max_accel_rad_s2 : 0.0;
+  }
   Vec3 home{};
   for (int i = 0; i < kAxes; ++i) home[i] = config.axes[i].home_mm;
   travel_ = config.rotary_travel();
@@ -82,16 +88,23 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
       return false;
     }
     prep_[prepared_] = prepare_block(b, cfg_);
+    if (prep_[prepared_].tcp) tcp_end_rates(prep_[prepared_], b, cfg_, tail_);  // tail_: where it starts
     if (prep_[prepared_].motion) block_tail(b, tail_, rot_tail_);
     if (prepared_ > 0) {
       const PreparedBlock& p = prep_[prepared_ - 1];
       const PreparedBlock& q = prep_[prepared_];
       const bool probing = ring.peek(prepared_ - 1).probe_rule != kProbeNone || b.probe_rule != kProbeNone;
-      // a probing move starts and ends at rest, and so does a block that turns a joint or runs under TCP
-      if (p.motion && q.motion && !probing && !p.rotary && !q.rotary) {
+      // a probing move starts and ends at rest, and so does an angular block (its speed is an angle's)
+      if (p.motion && q.motion && !probing && !p.angular && !q.angular) {
         JunctionRules rules = junction_;
         rules.path_tolerance_mm = p.path_tolerance;  // the tolerance the block before the junction was made with
-        corner_[prepared_ - 1] = corner_speed(p.contouring, p.dir_end, q.dir_start, rules);
+        // the tool tip's (TCP) or the linear axes' corner rule
+        double cap = corner_speed(p.contouring, p.dir_end, q.dir_start, rules);
+        // next to a block that turns a joint or runs under TCP, also every joint's velocity step
+        if ((p.rotary || q.rotary) && cap > 0.0) {
+          cap = std::fmin(cap, joint_junction_speed(p.jrate_end, p.jcurv_end, q.jrate_start, q.jcurv_start, joint_accel_, dt_, f_));
+        }
+        corner_[prepared_ - 1] = cap;
       } else {
         corner_[prepared_ - 1] = 0.0;
       }
@@ -157,16 +170,13 @@ double Executor::compute_exit_speed(const ExecInput& in) const {
   return v_out;
 }
 
-void Executor::begin_block(const Block& blk) {
+void Executor::begin_block(const Block& blk, bool from_rest) {
   s_ = 0.0;
   if (prep_[0].tcp) {
     kin_ = kinematics_with_tool(cfg_, blk.rotary.tool_length);
     slerp_ = make_axis_slerp(blk.rotary.axis_start, blk.rotary.axis_end);
   }
-  last_pos_ = pos_;
-  last_rot_ = rot_;
-  last_vel_ = {0.0, 0.0, 0.0};
-  last_rot_vel_ = {0.0, 0.0, 0.0};
+  if (from_rest) last_pos_ = pos_;  // across a flowing junction last cycle's stays (remember_cycle)
   if (blk.kind == BlockKind::kRuled) {
     kin_ = kinematics_with_tool(cfg_, blk.rotary.tool_length);
     ruled_.start(blk.ruled, kin_, travel_, to_joints(cfg_, pos_, rot_), ruled_carry_, ruled_speed_);
@@ -257,22 +267,32 @@ void Executor::joint_rates(double v_new, double v_old) {
       acc_ = {0.0, 0.0, 0.0};
     }
   } else {
-    // the joints are the inverse kinematics of the path: their rates by differences over the cycle
-    for (int i = 0; i < kAxes; ++i) {
-      vel_[i] = (pos_[i] - last_pos_[i]) / dt_;
-      acc_[i] = (vel_[i] - last_vel_[i]) / dt_;
+    // the joints are the inverse kinematics of the path: their rates from the analytic kinematics
+    // rates where the cycle lands (tip on the line, axis on the great circle at u = s/L):
+    // q̇ = q'·ṡ, q̈ = q'·s̈ + q''·ṡ²
+    const double inv = b.length > 0.0 ? 1.0 / b.length : 0.0;
+    const double u = std::clamp(s_ * inv, 0.0, 1.0);
+    const PoseRate d1{inv * (b.end - b.start), inv * slerp_axis_d1(slerp_, u)};
+    const PoseRate d2{{0.0, 0.0, 0.0}, (inv * inv) * slerp_axis_d2(slerp_, u)};
+    const Joints q = to_joints(cfg_, pos_, rot_);
+    const Joints dq = pcnc::joint_rates(kin_, q, d1);
+    const Joints ddq = joint_accels(kin_, q, dq, d2);
+    const double s_acc = (v_new - v_old) / dt_;
+    Joints qv{}, qa{};
+    for (int j = 0; j < kJoints; ++j) {
+      const auto k = static_cast<std::size_t>(j);
+      qv[k] = dq[k] * v_new;
+      qa[k] = dq[k] * s_acc + ddq[k] * v_new * v_new;
     }
-    for (int i = 0; i < kRotaryJoints; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      rot_vel_[k] = (rot_[k] - last_rot_[k]) / dt_;
-      rot_acc_[k] = (rot_vel_[k] - last_rot_vel_[k]) / dt_;
-    }
+    Rot3 rv{}, ra{};  // a joint the kinematics do not use stands still
+    from_joints(cfg_, qv, vel_, rv);
+    from_joints(cfg_, qa, acc_, ra);
+    rot_vel_ = rv;
+    rot_acc_ = ra;
   }
-  last_pos_ = pos_;
-  last_vel_ = vel_;
-  last_rot_ = rot_;
-  last_rot_vel_ = rot_vel_;
 }
+
+void Executor::remember_cycle() { last_pos_ = pos_; }
 
 void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
   out = ExecResult{};
@@ -338,7 +358,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     if (after_motion_ && ended_at_rest_) ++out.junction_stops;
     ended_at_rest_ = false;
     fresh_ = false;
-    begin_block(blk);
+    begin_block(blk, true);
     if (probing) {
       probe_tripped_ = false;
       probe_latched_ = pos_;
@@ -423,6 +443,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
         rot_ = prep_[0].rot_end;
         joint_rates(v_new, v_old);
       }
+      remember_cycle();
       if (probing) {  // the end reached: the probe never changed (or only just now)
         finish_probe(ring, out, probe_tripped_ ? ProbeOutcome::kContact : ProbeOutcome::kNoContact);
         return;
@@ -441,7 +462,13 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   }
   vel_ = v_new * tangent_;
   acc_ = ((v_new - v_old) / dt_) * tangent_ + (v_new * v_new) * curvature_;
-  if (prep_[0].rotary) joint_rates(v_new, v_old);
+  if (prep_[0].rotary) {
+    joint_rates(v_new, v_old);
+  } else {
+    rot_vel_ = {0.0, 0.0, 0.0};
+    rot_acc_ = {0.0, 0.0, 0.0};
+  }
+  remember_cycle();
 }
 
 double Executor::ruled_exit_speed(const MotionRing& ring, const ExecInput& in) const {
@@ -508,7 +535,7 @@ const Block& Executor::flow_into_next(MotionRing& ring, ExecResult& out) {
   contouring_ = prep_[0].contouring;
   line_ = next.line;
   seq_ = next.seq;
-  begin_block(next);
+  begin_block(next, false);
   return next;
 }
 

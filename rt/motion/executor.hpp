@@ -13,8 +13,11 @@
 //   1. look-ahead over the blocks already in the ring (the current one and up to 3 more):
 //      each junction either flows (M21 on the block, turn < contouring angle) with a speed
 //      cap (per-axis velocity step <= f·a_i·dt, f = junction_velocity_step_fraction) or
-//      stops; the chain's last known block ends at rest. A backward pass gives the speed the
-//      current block may have at its end;
+//      stops; the chain's last known block ends at rest. Next to a block that turns a rotary
+//      joint or runs under TCP the cap is also the joint-space rule (joint_junction_speed: every
+//      joint's velocity step, X Y Z and A B C, within f of its acceleration over a cycle); an
+//      angular block always stops. A backward pass gives the speed the current block may have
+//      at its end;
 //   2. v_allow = min(block speed × feed override (capped by what the axes allow on the curve),
 //      stop_speed(distance to the end of the current block, its exit speed)); when the
 //      block ends in a stop and no junction-restricted cycle is left, stop_speed_exact, the
@@ -143,10 +146,12 @@ class Executor {
   /// tangent and curvature there. Returns true when the block's end was reached, with the
   /// distance left over past it in `leftover`.
   bool advance(const Block& blk, double ds, double& leftover);
-  void begin_block(const Block& blk);  // s_ = 0 (NURBS: parameter at its start)
+  /// s_ = 0 (NURBS: parameter at its start); from rest, last cycle's setpoints are where it stands.
+  void begin_block(const Block& blk, bool from_rest);
   /// The rotary joints (and under TCP the linear axes) at path length s_ of the current block.
   void place_joints(const Block& blk);
-  /// Velocity and acceleration of the joints of a rotary block this cycle (ds = v·dt).
+  /// Velocity and acceleration of the joints of a rotary block this cycle (ds = v·dt): TCP off,
+  /// the path's times each joint's share; under TCP from the analytic kinematics rates.
   void joint_rates(double v_new, double v_old);
   /// Pops the finished block at a flowing junction and begins the next one (returned).
   const Block& flow_into_next(MotionRing& ring, ExecResult& out);
@@ -157,6 +162,9 @@ class Executor {
   double ruled_exit_speed(const MotionRing& ring, const ExecInput& in) const;
   /// The setpoints from the follower's sample: joints, their rates, speed and progress.
   void put_ruled(const RuledSample& s);
+  /// This cycle's linear joints become last cycle's (the seed of the TCP inverse continues across
+  /// a flowing junction from whatever block came before).
+  void remember_cycle();
   /// Ends the probing block in execution where the machine stands (executor_probe.cpp).
   void finish_probe(MotionRing& ring, ExecResult& out, ProbeOutcome outcome);
 
@@ -165,6 +173,7 @@ class Executor {
   double f_;               // junction velocity-step fraction, clamped to [0, 1]
   double k_;               // stop_speed margin
   JunctionRules junction_;  // contouring angle, step fraction, corner tolerance, axis limits
+  JointRate joint_accel_{};  // each joint's acceleration limit, X Y Z mm/s² then A B C rad/s²
 
   std::array<PreparedBlock, kRingSlots> prep_{};  // prep_[i] describes ring.peek(i)
   // corner_[i]: the speed cap of the junction between prep_[i] and prep_[i + 1] from the
@@ -212,14 +221,13 @@ class Executor {
   Vec3 pos_{}, vel_{}, acc_{};
   // rotary joints (rad) and the tail the next block must continue from; TCP: the kinematics,
   // the joints' travel for the inverse's choice, the tool axis's arc of the block in execution,
-  // and last cycle's joints (the inverse's seed and the finite-difference rates)
+  // and last cycle's linear joints (with rot_, the inverse's seed)
   Rot3 rot_{}, rot_vel_{}, rot_acc_{};
   Rot3 rot_tail_{};
   Kinematics kin_{};
   RotaryTravel travel_{};
   AxisSlerp slerp_{};
-  Vec3 last_pos_{}, last_vel_{};
-  Rot3 last_rot_{}, last_rot_vel_{};
+  Vec3 last_pos_{};
   std::uint32_t line_ = 0;
   std::uint64_t seq_ = 0;
   bool contouring_ = false;

@@ -64,6 +64,23 @@ double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, cons
   return std::sqrt(a * radius);
 }
 
+double joint_junction_speed(const JointRate& rate_end, const JointRate& curv_end, const JointRate& rate_start,
+                            const JointRate& curv_start, const JointRate& joint_accel, double dt, double fraction) {
+  double v = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < kMachineJoints; ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    const double step = std::fabs(rate_start[k] - rate_end[k]);
+    const double curv = std::fmax(std::fabs(curv_end[k]), std::fabs(curv_start[k]));
+    const double budget = fraction * joint_accel[k] * dt;  // the velocity step allowed at rest
+    if (!(step > 0.0) && !(curv > 0.0)) continue;
+    if (!(budget > 0.0)) return 0.0;
+    // fraction·curv·dt·v² + step·v − budget = 0, positive root (the stable form)
+    const double c = fraction * curv * dt;
+    v = std::fmin(v, 2.0 * budget / (step + std::sqrt(step * step + 4.0 * c * budget)));
+  }
+  return v;
+}
+
 double corner_speed(bool contouring, const Vec3& dir_end, const Vec3& dir_start, const JunctionRules& r) {
   if (!contouring) return 0.0;
   double cap = 0.0;

@@ -5,7 +5,9 @@
 //    cannot stop within the path already in the ring" rule);
 //  * junction_flows: the seed's contouring test (M21 on and a turn under the contouring angle);
 //  * junction_speed_cap: how fast a flowing corner may be passed so that the velocity step
-//    on every axis stays within `fraction` of that axis's acceleration times one cycle.
+//    on every axis stays within `fraction` of that axis's acceleration times one cycle;
+//  * joint_junction_speed: the same rule in joint space, for junctions next to a block that
+//    turns a rotary joint or runs under tool-centre-point control (docs/kinematics.md).
 // docs/machine-model.md and docs/servo-tuning.md cite these; the rules are explained in
 // the executor's header.
 #pragma once
@@ -13,6 +15,7 @@
 #include <array>
 
 #include "geometry/vec3.hpp"
+#include "ipc/rotary_joints.hpp"
 
 namespace pcnc {
 
@@ -66,5 +69,22 @@ double corner_speed(bool contouring, const Vec3& dir_end, const Vec3& dir_start,
 /// +infinity for a straight junction, 0 for a reversal or a tolerance of 0.
 double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
                                 double tolerance_mm);
+
+/// A path's rate in the machine's joints: dq/ds for X Y Z (mm per unit of path) then A B C (rad
+/// per unit of path), or d²q/ds² in the same order.
+constexpr int kMachineJoints = kAxes + kRotaryJoints;
+using JointRate = std::array<double, kMachineJoints>;
+
+/// The joint-space junction rule. At path speed v a junction steps joint j's velocity by
+/// v·|rate_start_j − rate_end_j| in one cycle, while the path's curvature in joint space takes
+/// |curv_j|·v² of its acceleration (curv_j the larger |d²q_j/ds²| of the two ends). The largest v
+/// with, for every joint,
+///   v·|rate_start_j − rate_end_j| <= fraction·(accel_j − |curv_j|·v²)·dt
+/// (so that the step, the curvature and the (1 − fraction) of the path acceleration the executor
+/// leaves in the cycles around a junction stay within the joint's acceleration). +infinity when
+/// no joint's rate changes and no joint's path is curved; a joint whose rate reverses is allowed
+/// only the speed at which its whole reversal fits in fraction·accel_j·dt, practically a stop.
+double joint_junction_speed(const JointRate& rate_end, const JointRate& curv_end, const JointRate& rate_start,
+                            const JointRate& curv_start, const JointRate& joint_accel, double dt_s, double fraction);
 
 }  // namespace pcnc

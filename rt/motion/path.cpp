@@ -6,7 +6,10 @@
 #include <limits>
 #include <numbers>
 
+#include "config/joint_map.hpp"
 #include "geometry/arc_limits.hpp"
+#include "geometry/axis_slerp.hpp"
+#include "geometry/kinematics_rates.hpp"
 #include "geometry/axis_caps.hpp"
 #include "geometry/plane.hpp"
 #include "motion/nurbs_follower.hpp"
@@ -50,6 +53,15 @@ void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
                                    A[pb.an].max_accel_mm_s2, pb.speed);
   pb.v_machine = c.speed;
   pb.accel = std::min(pb.accel, c.accel);
+}
+
+// A block that turns no joint: its joint rates are its tangents (the curvature of a plain arc is
+// left to the arc's own caps, as the 3-axis junction rule leaves it).
+void plain_joint_rates(PreparedBlock& pb) {
+  for (int i = 0; i < kAxes; ++i) {
+    pb.jrate_start[static_cast<std::size_t>(i)] = pb.dir_start[i];
+    pb.jrate_end[static_cast<std::size_t>(i)] = pb.dir_end[i];
+  }
 }
 
 }  // namespace
@@ -97,7 +109,6 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
   }
   if (!pb.motion) return pb;
   if (pb.rotary) {
-    pb.contouring = false;
     if (pb.angular) {
       pb.v_machine = std::numeric_limits<double>::infinity();
     } else {
@@ -116,6 +127,14 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
         pb.v_machine = std::min(pb.v_machine, cfg.rotary[k]->max_velocity_rad_s / share);
         pb.accel = std::min(pb.accel, cfg.rotary[k]->max_accel_rad_s2 / share);
       }
+      if (!pb.angular) {  // the joints run linearly with s: constant rates, no curvature
+        for (int i = 0; i < kAxes; ++i) pb.jrate_start[static_cast<std::size_t>(i)] = (b.end[i] - b.start[i]) / pb.length;
+        for (int i = 0; i < kRotaryJoints; ++i) {
+          const auto k = static_cast<std::size_t>(i);
+          pb.jrate_start[static_cast<std::size_t>(kAxes + i)] = (pb.rot_end[k] - pb.rot_start[k]) / pb.length;
+        }
+        pb.jrate_end = pb.jrate_start;
+      }
     }
     pb.brake_accel = pb.accel;
     return pb;
@@ -131,6 +150,7 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     pb.brake_accel = std::max(pb.accel, block_brake_capacity(g, 0.0) / pb.length);
     pb.dir_start = normalized(b.dir_start);
     pb.dir_end = normalized(b.dir_end);
+    plain_joint_rates(pb);
     return pb;
   }
   if (b.kind == BlockKind::kArc) {
@@ -169,7 +189,33 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     line_caps(pb, cfg);
   }
   pb.brake_accel = pb.accel;
+  plain_joint_rates(pb);
   return pb;
+}
+
+void tcp_end_rates(PreparedBlock& pb, const Block& b, const MachineConfig& cfg, const Vec3& start_xyz) {
+  if (!pb.tcp || pb.angular || !pb.motion) return;
+  const Kinematics kin = kinematics_with_tool(cfg, b.rotary.tool_length);
+  const AxisSlerp arc = make_axis_slerp(b.rotary.axis_start, b.rotary.axis_end);
+  const double inv = 1.0 / pb.length;  // u = s/length
+  auto at = [&](double u, const Joints& q, JointRate& rate, JointRate& curv) {
+    const PoseRate d1{inv * (b.end - b.start), inv * slerp_axis_d1(arc, u)};
+    const PoseRate d2{{0.0, 0.0, 0.0}, (inv * inv) * slerp_axis_d2(arc, u)};
+    const Joints dq = joint_rates(kin, q, d1);
+    const Joints ddq = joint_accels(kin, q, dq, d2);
+    Vec3 x{};
+    Rot3 r{};
+    from_joints(cfg, dq, x, r);
+    for (int i = 0; i < kAxes; ++i) rate[static_cast<std::size_t>(i)] = x[i];
+    for (int i = 0; i < kRotaryJoints; ++i) rate[static_cast<std::size_t>(kAxes + i)] = r[static_cast<std::size_t>(i)];
+    x = {};
+    r = {};
+    from_joints(cfg, ddq, x, r);
+    for (int i = 0; i < kAxes; ++i) curv[static_cast<std::size_t>(i)] = x[i];
+    for (int i = 0; i < kRotaryJoints; ++i) curv[static_cast<std::size_t>(kAxes + i)] = r[static_cast<std::size_t>(i)];
+  };
+  at(0.0, to_joints(cfg, start_xyz, b.rotary.start), pb.jrate_start, pb.jcurv_start);
+  at(1.0, to_joints(cfg, b.rotary.joint_end, b.rotary.end), pb.jrate_end, pb.jcurv_end);
 }
 
 PathPoint evaluate(const PreparedBlock& b, double s) {

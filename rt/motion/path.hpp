@@ -15,6 +15,7 @@
 
 #include "ipc/block.hpp"
 #include "config/config.hpp"
+#include "motion/junction.hpp"
 
 namespace pcnc {
 
@@ -51,14 +52,25 @@ struct PreparedBlock {
   bool angular = false;  // s is an angle (rad): only the tool turns
   Rot3 rot_start{}, rot_end{};
   Vec3 land{};           // where the linear axes end (end, or the TCP block's joint_end)
+  // The path's rate in the machine's joints at its ends, dq/ds and d²q/ds² (junction.hpp
+  // joint_junction_speed): (tangent, 0) and no curvature for a block that turns no joint,
+  // (Δxyz, Δrot)/length for a TCP-off rotary line, and under TCP the inverse kinematics' rates
+  // (tcp_end_rates, which needs the joints the block starts from). Not set for angular blocks
+  // (their path parameter is an angle: they start and end at rest).
+  JointRate jrate_start{}, jrate_end{}, jcurv_start{}, jcurv_end{};
 };
 
 /// Builds the executor's view of a block that passed check_block(). Pure. A block that moves a
-/// rotary joint or runs under TCP never flows into the next (it ends at rest: the joints'
-/// velocity would jump at the junction); without TCP its speed and acceleration are also capped
-/// by the rotary joints' limits, under TCP the block's own (the host's joint-space plan,
-/// tcp_path_caps) are the cap: the feed override cannot raise them.
+/// rotary joint or runs under TCP flows into the next only at the joint-space junction speed
+/// (executor.cpp, junction.hpp; an angular block never flows); without TCP its speed and
+/// acceleration are also capped by the rotary joints' limits, under TCP the block's own (the
+/// host's joint-space plan, tcp_path_caps) are the cap: the feed override cannot raise them.
 PreparedBlock prepare_block(const Block& block, const MachineConfig& config);
+
+/// Under TCP (not angular): the joints' rates dq/ds and d²q/ds² at the block's two ends, from
+/// the analytic kinematics rates at the joints it starts from (`start_xyz`, the previous block's
+/// linear axes, and its rotary start) and at its end joints. Pure, no allocation.
+void tcp_end_rates(PreparedBlock& pb, const Block& block, const MachineConfig& config, const Vec3& start_xyz);
 
 /// Point, tangent and curvature at path length s (clamped to [0, length]).
 PathPoint evaluate(const PreparedBlock& b, double s);

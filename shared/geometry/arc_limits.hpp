@@ -6,7 +6,9 @@
 // smaller plane axis's limit a keeps every in-plane axis within it. The speed cap keeps the
 // centripetal part within kArcCentripetalShare·a; the tangential part gets what is left at
 // the fastest speed the block can ever run (feed override included):
-//   a_t = sqrt(a² − (v_top²/r)²) >= sqrt(1 − share²)·a   (0.87·a for share 0.5).
+//   a_t = sqrt(a² − (v_top²/r)²) >= sqrt(1 − share²)·a   (0.71·a for share 0.7).
+// The share was 0.5 until 2026-11-26; 0.7 was chosen by tools/bench_surfacing.sh (LHchips4 /
+// blur_torus: 0.5 83.0 / 85.0 s, 0.7 82.1 / 83.0 s, 0.8 82.7 / 82.8 s; docs/smoothing.md).
 // A slow arc on a large radius thus brakes and accelerates almost at the axis limit, where
 // a fixed split would leave half of it unused.
 #pragma once
@@ -18,7 +20,7 @@
 namespace pcnc {
 
 /// Share of the smaller in-plane axis acceleration an arc may use for centripetal acceleration.
-constexpr double kArcCentripetalShare = 0.5;
+constexpr double kArcCentripetalShare = 0.7;
 /// The largest feed override (FeedOverride::kMax): the top speed an arc block can be run at
 /// is min(what the axes allow, this times its programmed speed).
 constexpr double kArcMaxFeedOverride = 2.0;

@@ -11,8 +11,8 @@
 namespace pcnc {
 namespace {
 
-constexpr int kOrderMax = kMaxNurbsDegree + 1;
-using Row = std::array<double, kOrderMax>;
+constexpr int kJetOrder = kMaxNurbsDegree + 1;
+using Row = std::array<double, kJetOrder>;
 
 inline double ratio(double a, double b) { return b != 0.0 ? a / b : 0.0; }
 
@@ -39,7 +39,7 @@ CurveJet nurbs_jet(const NurbsView& c, double u) {
   const double* t = c.knots;
 
   // table[d][j] = N_{span-d+j, d}(u).
-  std::array<Row, kOrderMax> table{};
+  std::array<Row, kJetOrder> table{};
   table[0][0] = 1.0;
   for (int d = 1; d <= p; ++d) {
     for (int j = 0; j <= d; ++j) {

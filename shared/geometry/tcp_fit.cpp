@@ -81,7 +81,8 @@ TcpFitResult fit_tcp_program(const std::vector<FitPose>& poses, const Kinematics
     return out;
   }
   for (const FitPose& f : poses) {
-    if (!f.tcp && kin.kind != KinematicsKind::kTrivial && (f.tilt != 0.0 || f.rotary != 0.0)) {
+    if (!f.tcp && !f.turn_only && kin.kind != KinematicsKind::kTrivial && (f.tilt != 0.0 || f.rotary != 0.0)) {
+      out.error_line = f.line;
       out.error = "line " + std::to_string(f.line) +
                   ": a move with tool-centre-point control off (M429) turns a rotary joint; its joint values do "
                   "not scale: --fit takes a 5-axis program only under tool-centre-point control (M428), or run "
@@ -96,12 +97,30 @@ TcpFitResult fit_tcp_program(const std::vector<FitPose>& poses, const Kinematics
   std::vector<AffineSample> dense;
   std::vector<char> is_coarse;
   Joints q = start;
-  auto axis_of = [&](const FitPose& f) { return f.tcp ? f.pose.axis : Vec3{0.0, 0.0, 1.0}; };
-  {
+  auto axis_of = [&](const FitPose& f) { return f.tcp || f.turn_only ? f.pose.axis : Vec3{0.0, 0.0, 1.0}; };
+  // a turn-only pose: its angles as written, its linear joints the point itself (x = s·p + o)
+  auto turn_only_sample = [&](const FitPose& f) {
+    q[kTilt] = f.tilt;
+    q[kRotary] = f.rotary;
+    AffineSample a;
+    a.p = f.joint_xyz;
+    a.rows = {Vec3{1.0, 0.0, 0.0}, Vec3{0.0, 1.0, 0.0}, Vec3{0.0, 0.0, 1.0}};
+    dense.push_back(a);
+    is_coarse.push_back(1);
+    return angle_outside(q, travel.rotary, f.line);
+  };
+  if (poses.front().turn_only) {
+    if (std::string why = turn_only_sample(poses.front()); !why.empty()) {
+      out.error = why;
+      out.error_line = poses.front().line;
+      return out;
+    }
+  } else {
     const FitPose& f = poses.front();
     q = inverse(kin, ToolPose{f.pose.tip, axis_of(f)}, q, travel.rotary);
     if (std::string why = angle_outside(q, travel.rotary, f.line); !why.empty()) {
       out.error = why;
+      out.error_line = f.line;
       return out;
     }
     dense.push_back(affine_at(kin, f.pose.tip, axis_of(f), q, travel.rotary));
@@ -110,6 +129,14 @@ TcpFitResult fit_tcp_program(const std::vector<FitPose>& poses, const Kinematics
   for (std::size_t i = 1; i < poses.size(); ++i) {
     const FitPose& a = poses[i - 1];
     const FitPose& b = poses[i];
+    if (b.turn_only) {  // the linear joints stand still, the angles run linearly: its end alone
+      if (std::string why = turn_only_sample(b); !why.empty()) {
+        out.error = why;
+        out.error_line = b.line;
+        return out;
+      }
+      continue;
+    }
     const TcpMove move{{a.pose.tip, axis_of(a)}, {b.pose.tip, axis_of(b)}};
     const double length = norm(move.end.tip - move.start.tip);
     const AxisSlerp axes = make_axis_slerp(move.start.axis, move.end.axis);
@@ -120,6 +147,7 @@ TcpFitResult fit_tcp_program(const std::vector<FitPose>& poses, const Kinematics
       const double u = js.s / param;
       if (std::string why = angle_outside(js.q, travel.rotary, b.line); !why.empty()) {
         out.error = why;
+        out.error_line = b.line;
         return out;
       }
       const ToolPose at = tcp_pose(move, axes, u);

@@ -26,6 +26,12 @@ struct FitPose {
   double tilt = 0.0;    // with tcp off: the tilt and rotary words (rad); must be 0 to be fitted
   double rotary = 0.0;
   int line = 0;         // for messages
+  // With tcp off, a move on which only the joints turn (the linear axes stand still: "turn C
+  // first, with TCP off"): its linear joints are `joint_xyz` (program coordinates, scaled and
+  // moved like a point), its angles `tilt` and `rotary` are kept, and `pose` is the tool pose
+  // those joints give (the start of a TCP move that follows it). Not refused.
+  bool turn_only = false;
+  Vec3 joint_xyz{};
 };
 
 /// Where the joints may go: x, y, z in machine mm, and the rotary joints' travel.
@@ -37,6 +43,7 @@ struct JointTravel {
 struct TcpFitResult {
   bool ok = false;
   std::string error;    // when !ok: why no scale fits, naming the line
+  int error_line = 0;   // when !ok: that line (0: the whole program)
   double scale = 1.0;   // s
   Vec3 offset{};        // o: a program point p lands at s·p + o (workpiece coordinates)
   double margin_mm = 0.0;  // the smallest distance of a sampled joint x, y, z from its travel limits at (s, o)
@@ -45,7 +52,7 @@ struct TcpFitResult {
 
 /// `start`: the joints before the first pose (the machine's home), for the choice among the
 /// inverse's solutions. Each move is sampled `samples_per_move` (>= 2) times evenly for the
-/// linear programs, and 8 times as densely (plus the sample nearest the pole, tcp_path.hpp) to
+/// linear programs (a move into a turn-only pose: its end alone, the joints run linearly), and 8 times as densely (plus the sample nearest the pole, tcp_path.hpp) to
 /// check the result: joints that leave the travel between the coarse samples (x, y, z are not
 /// linear along a move that turns the table) add those samples and the fit is found again, so
 /// the result holds at every dense sample. The first pose is sampled alone (the move to it from
