@@ -131,8 +131,8 @@ LinePlan plan_entry_from(const std::string& text) {
   int before = 0, after = 0;
   if (std::sscanf(text.c_str(), "%u,%u,%39[^,],%39[^,],%lf,%d,%d,%lf,%lf", &p.first, &p.last, cruise, accel, &p.speed, &before,
                   &after, &p.angle_before_deg, &p.angle_after_deg) != 9 ||
-      !parse_time_cause(cruise, p.cruise) || !parse_time_cause(accel, p.accel) || before < 0 || before > 4 || after < 0 ||
-      after > 4) {
+      !parse_time_cause(cruise, p.cruise) || !parse_time_cause(accel, p.accel) || before < 0 || before > 5 || after < 0 ||
+      after > 5) {
     throw std::runtime_error("malformed plan entry '" + text + "'");
   }
   p.before = static_cast<JunctionKind>(before);
