@@ -4,7 +4,9 @@
 // tool axis (forward kinematics) that, with the programmed tip, lies on the intended geometry
 // (the blade's flank offsets, the helix, the dome's normals); every move, sampled as the
 // tool-centre-point interpolation runs it (tip on the line, axis on the great circle), keeps
-// every joint inside the config's travel, and ends on the written A and C.
+// every joint inside the config's travel, and ends on the written A and C; the TCP-off moves only
+// turn C on the pole; and each file passes the whole front end (`pcnc check`'s run_check_command
+// on the 5-axis config) with no error or warning.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +18,7 @@
 
 #include "config/config.hpp"
 #include "five_axis_examples.hpp"
+#include "check.hpp"
 #include "five_axis_reader.hpp"
 #include "geometry/kinematics.hpp"
 #include "geometry/tcp_path.hpp"
@@ -71,7 +74,7 @@ TEST(FiveAxisExamples, CommittedFilesAreWhatTheGeneratorWrites) {
 
 // Every move from the home pose on, under TCP: joints inside the travel at every sample, and the
 // move's end joints are the written A and C.
-void check_joints(const std::string& file, int* pole_crossings = nullptr) {
+void check_joints(const std::string& file, int* pole_crossings = nullptr, int* turns_off_tcp = nullptr) {
   const MachineConfig c = machine();
   const test::ReadProgram prog = read_example(file);
   ASSERT_TRUE(prog.errors.empty()) << file << ": " << prog.errors.front();
@@ -85,8 +88,18 @@ void check_joints(const std::string& file, int* pole_crossings = nullptr) {
   Joints q = home(c);
   ToolPose from = forward(c.kinematics, q);
   int samples_checked = 0;
+  int turns = 0;
   for (const test::ReadPose& p : prog.poses) {
-    ASSERT_TRUE(p.tcp) << file << ":" << p.line << ": a move outside M428 ... M429";
+    if (!p.tcp) {
+      // TCP off: only C turns, on the pole (the tool axis stays on the C axis)
+      EXPECT_TRUE(p.rapid) << file << ":" << p.line;
+      EXPECT_NEAR(q[kTilt], 0.0, 1e-12) << file << ":" << p.line << ": a TCP-off turn off the pole";
+      EXPECT_NEAR(p.a_deg, 0.0, 1e-12) << file << ":" << p.line;
+      q[kRotary] = p.c_deg * kDeg;
+      from = forward(c.kinematics, q);
+      ++turns;
+      continue;
+    }
     const ToolPose to{p.tip + g54, axis_of(c, p)};
     const double length = norm(to.tip - from.tip);
     const double turn = angle_between(from.axis, to.axis);
@@ -114,14 +127,41 @@ void check_joints(const std::string& file, int* pole_crossings = nullptr) {
     from = to;
   }
   EXPECT_GT(samples_checked, 1000) << file;
+  if (turns_off_tcp) *turns_off_tcp = turns;
 }
 
-TEST(FiveAxisExamples, BladeJointsStayInsideTheTravel) { check_joints("impeller-blade.ngc"); }
-TEST(FiveAxisExamples, HelixJointsStayInsideTheTravel) { check_joints("tilted-helix.ngc"); }
+TEST(FiveAxisExamples, BladeJointsStayInsideTheTravel) {
+  int turns = 0;
+  check_joints("impeller-blade.ngc", nullptr, &turns);
+  EXPECT_EQ(turns, 1);  // C turned at the start, before the first move leaves the pole
+}
+TEST(FiveAxisExamples, HelixJointsStayInsideTheTravel) {
+  int turns = 0;
+  check_joints("tilted-helix.ngc", nullptr, &turns);
+  EXPECT_EQ(turns, 1);
+}
 TEST(FiveAxisExamples, SingularityJointsStayInsideTheTravel) {
-  int crossings = 0;
-  check_joints("singularity.ngc", &crossings);
+  int crossings = 0, turns = 0;
+  check_joints("singularity.ngc", &crossings, &turns);
   EXPECT_GE(crossings, 1);  // A changes sign: the path goes through the pole
+  EXPECT_EQ(turns, 4);      // at the start and before each of pass 3's moves leaving the pole
+}
+
+// Every committed example through the whole front end, as `pcnc check` runs it on the 5-axis
+// config (interpreter, preflight with the joints' soft limits, TCP planning with its pole check,
+// the rt's block check): accepted, with no error and no warning.
+TEST(FiveAxisExamples, CommittedFilesPassTheFrontEnd) {
+  for (const FiveAxisExample& e : five_axis_examples()) {
+    CheckCommandOptions o;
+    o.file = test::source_dir() + "/examples/5axis/" + e.file;
+    o.config_path = test::source_dir() + "/configs/desktop-5axis.toml";
+    o.quiet = true;
+    std::ostringstream out, err;
+    const int status = run_check_command(o, out, err);
+    EXPECT_EQ(status, 0) << e.file << ":\n" << err.str() << out.str();
+    EXPECT_EQ(err.str().find("error"), std::string::npos) << e.file << ":\n" << err.str();
+    EXPECT_EQ(err.str().find("warning"), std::string::npos) << e.file << ":\n" << err.str();
+  }
 }
 
 TEST(FiveAxisExamples, BladeFlankPassesLieOnTheOffsetRuledSurface) {

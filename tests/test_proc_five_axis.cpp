@@ -328,7 +328,7 @@ double fit_scale(const std::string& check_out) {
   return at == std::string::npos ? -1.0 : std::stod(check_out.substr(at + key.size()));
 }
 
-// --fit of a tool-centre-point program: the impeller blade (C turned first) three times its size leaves the joints'
+// --fit of a tool-centre-point program: the impeller blade (as committed) three times its size leaves the joints'
 // travel as written; --fit finds a scale under 1 (the angles kept) with which the whole program
 // passes the preflight, every joint at every sample of every TCP move inside its travel. The blade
 // as written fits (scale 1). A 5-axis program with TCP off is refused at the first line that moves
@@ -336,12 +336,9 @@ double fit_scale(const std::string& check_out) {
 TEST(FiveAxisRun, FitScalesATcpProgramUntilEveryJointIsInsideItsTravel) {
   const std::string dir = make_temp_dir("five-fit");
   const std::string config = write_five_axis_config(dir, "five-fit");
-  // the example as committed leaves the pole towards C -12.5 while C stands at 0 (refused, see
-  // docs/kinematics.md): C is turned there first, with TCP off
-  std::string blade = read_file(source_dir() + "/examples/5axis/impeller-blade.ngc");
-  const auto m428 = blade.find("M428");
-  ASSERT_NE(m428, std::string::npos);
-  blade.insert(m428, "G0 C-12.5\n");
+  // the example as committed turns C first, with TCP off, to where its first move leaves the pole
+  const std::string blade = read_file(source_dir() + "/examples/5axis/impeller-blade.ngc");
+  ASSERT_NE(blade.find("G0 C-12.5000"), std::string::npos);
   const std::string big = dir + "/big.ngc";
   std::ofstream(big) << scale_xyz(blade, 3.0);
   const ProcessResult as_written = run_process({pcnc_exe(), "check", big, "--config", config}, 120);

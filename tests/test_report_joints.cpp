@@ -20,9 +20,12 @@
 #include <unistd.h>
 
 #include "config/config.hpp"
+#include "config/joint_map.hpp"
 #include "geometry/axis_slerp.hpp"
 #include "geometry/tcp_path.hpp"
 #include "report/report_html.hpp"
+#include "report/run_outputs.hpp"
+#include "report/run_summary.hpp"
 #include "report/trace_joints.hpp"
 #include "report/trace_reader.hpp"
 #include "test_paths.hpp"
@@ -205,6 +208,48 @@ TEST(ReportJoints, AThreeAxisTraceGivesTheSameDigestAndThePageWithoutTheJoints) 
   ASSERT_NE(to, std::string::npos);
   html5.erase(from, to - from);
   EXPECT_EQ(html5, html3);
+}
+
+// Under TCP the machine runs the tool tip with the tool table's length (G43.4 H), not the
+// config's (0): the run's summary records the TCP blocks' tool length, and the report page built
+// from the summary and the trace (load_report_page, as `pcnc run --report` builds it) draws the
+// tip from the commanded joints with it. A trace whose joints carry a 20 mm tool along a line
+// gives marks on that line with the recorded length, and 5 mm and more off it with 0.
+TEST(ReportJoints, TheToolAxisViewUsesTheToolLengthTheProgramRanWith) {
+  const std::string config_path = test::source_dir() + "/configs/desktop-5axis.toml";
+  Synthetic s = synthetic();
+  s.kin = kinematics_with_tool(load_config(config_path), 20.0);
+  const Files f;
+  write_trace(s, f.five, true);
+  RunSummary summary;
+  summary.program = "tcp.ngc";
+  summary.config_path = config_path;
+  summary.min_point = {10, 11, 5};
+  summary.max_point = {14, 13, 9};
+  const std::string summary_path = (f.dir / "summary.json").string();
+  // the largest distance of a mark's tip from the programmed line
+  auto off_line = [&](double tool_length) {
+    summary.tcp_tool_length_mm = tool_length;
+    write_run_summary(summary, summary_path);
+    const ReportPage page = load_report_page(summary_path, f.five);
+    EXPECT_TRUE(page.trace.joints.tool_axis);
+    EXPECT_GT(page.trace.joints.marks.size(), 10u);
+    double worst = 0.0;
+    const Vec3 d = normalized(s.move.end.tip - s.move.start.tip);
+    for (const ToolAxisMark& m : page.trace.joints.marks) {
+      const Vec3 r = m.tip - s.move.start.tip;
+      worst = std::max(worst, norm(r - dot(r, d) * d));
+    }
+    return worst;
+  };
+  EXPECT_LT(off_line(20.0), 1e-6);
+  EXPECT_GT(off_line(0.0), 5.0);  // what the view drew before: the gauge point, not the tip
+  // the summary keeps the length (and an older summary without it reads as 0)
+  summary.tcp_tool_length_mm = 20.0;
+  EXPECT_EQ(run_summary_from_json(to_json(summary)).tcp_tool_length_mm, 20.0);
+  nlohmann::json j = to_json(summary);
+  j.at("check").erase("tcp_tool_length_mm");
+  EXPECT_EQ(run_summary_from_json(j).tcp_tool_length_mm, 0.0);
 }
 
 TEST(ReportJoints, MalformedJointColumnsAreRefused) {

@@ -11,6 +11,7 @@
 #include "report/run_summary.hpp"
 #include "report/time_causes.hpp"
 #include "report/trace_reader.hpp"
+#include "test_paths.hpp"
 
 namespace pcnc::test {
 namespace {
@@ -119,6 +120,41 @@ TraceSample row(std::uint32_t line, double speed, MachineState s = MachineState:
   r.speed = speed;
   r.state = s;
   return r;
+}
+
+// A block that only turns the tool (TCP off: the linear axes stand still while C turns) is
+// started and ended at rest by the rt (rt/motion/executor.cpp: an angular block never flows):
+// both its junctions are stops (kTurnStop, a junction_stop), while a rotary move that also moves
+// X flows like any other straight continuation.
+TEST(TimeCausePlan, ABlockThatOnlyTurnsTheToolStopsAtBothEnds) {
+  const MachineConfig c = load_config(source_dir() + "/configs/desktop-5axis.toml");
+  const auto plan = plan_of(
+      "G21 G90 G94 M21\n"  // 1
+      "G1 X1 F600\n"       // 2
+      "G1 C30 F600\n"      // 3 only C turns: angular
+      "G1 X2 F600\n"       // 4
+      "G1 X3 C40 F600\n"   // 5 X moves while C turns: not angular
+      "G1 X4 F600\n"       // 6
+      "M30\n",
+      c);
+  ASSERT_NE(entry(plan, 3), nullptr);
+  EXPECT_EQ(entry(plan, 2)->after, JunctionKind::kTurnStop);
+  EXPECT_EQ(entry(plan, 3)->before, JunctionKind::kTurnStop);
+  EXPECT_EQ(entry(plan, 3)->after, JunctionKind::kTurnStop);
+  EXPECT_EQ(entry(plan, 4)->before, JunctionKind::kTurnStop);
+  EXPECT_EQ(entry(plan, 3)->angle_before_deg, 0.0);
+  // lines 4 to 6 run on along X, line 5 turning C as well: straight junctions, one merged entry
+  EXPECT_EQ(entry(plan, 4)->last, 6u);
+  EXPECT_EQ(entry(plan, 6)->after, JunctionKind::kStartEnd);
+  // the summary keeps the new kind (its compact plan entry)
+  RunSummary s;
+  s.plan = plan;
+  const RunSummary back = run_summary_from_json(to_json(s));
+  ASSERT_EQ(back.plan.size(), plan.size());
+  for (std::size_t i = 0; i < plan.size(); ++i) {
+    EXPECT_EQ(back.plan[i].before, plan[i].before) << i;
+    EXPECT_EQ(back.plan[i].after, plan[i].after) << i;
+  }
 }
 
 TEST(TimeCauseClassifier, EachRowOneCause) {

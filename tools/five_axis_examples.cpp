@@ -2,6 +2,8 @@
 // five_axis_examples.hpp; examples/5axis/README.md describes the programs.
 #include "five_axis_examples.hpp"
 
+#include "geometry/tcp_path.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -182,31 +184,91 @@ std::vector<FiveAxisExample> five_axis_examples() {
   return {impeller_blade_example(), tilted_helix_example(), singularity_example()};
 }
 
+namespace {
+
+// On the pole (the tool axis on the C axis, A = 0) C is undetermined: a TCP move that leaves the
+// pole takes the C the tool leaves it with, and the planner refuses it unless C already stands
+// there (host/gcode/tcp_move.cpp). The joints of every pose, nearest the ones before; where the
+// tool leaves the pole towards another C, the poses of the run on the pole get that C, and
+// turn_at[s] is set for the first pose of the run (s = 0: the start, before any move; pose i is
+// index i + 1), where the writer turns C with TCP off.
+struct PoseJoints {
+  std::vector<Joints> q;         // q[0] the start, q[i + 1] pose i
+  std::vector<double> arrive_c;  // C the run's first pose is reached with (turn_at only)
+  std::vector<bool> turn_at;
+};
+
+bool on_pole(const Joints& q) { return std::abs(q[kTilt]) < 1e-9; }
+
+PoseJoints pose_joints(const FiveAxisExample& e, const Kinematics& kin, const RotaryTravel& travel,
+                       const Vec3& work_offset, const Joints& start) {
+  PoseJoints r;
+  r.q.push_back(start);
+  r.arrive_c.assign(e.poses.size() + 1, 0.0);
+  r.turn_at.assign(e.poses.size() + 1, false);
+  std::size_t run = 0;  // first index of the current run on the pole
+  ToolPose from = forward(kin, start);
+  for (std::size_t i = 0; i < e.poses.size(); ++i) {
+    const ProgramPose& p = e.poses[i];
+    const ToolPose to{p.tip + work_offset, p.axis};
+    Joints prev = r.q.back();
+    if (on_pole(prev)) {
+      const Joints leave = tcp_start_joints(kin, TcpMove{from, to}, prev, travel);
+      if (std::abs(leave[kRotary] - prev[kRotary]) > 1e-9) {
+        r.turn_at[run] = true;
+        r.arrive_c[run] = r.q[run][kRotary];
+        for (std::size_t k = run; k <= i; ++k) r.q[k][kRotary] = leave[kRotary];
+        prev = r.q.back();
+      }
+    }
+    r.q.push_back(inverse(kin, to, prev, travel));
+    if (!on_pole(r.q.back()) || !on_pole(prev)) run = i + 1;
+    from = to;
+  }
+  return r;
+}
+
+}  // namespace
+
 std::vector<std::string> five_axis_program_lines(const FiveAxisExample& e, const Kinematics& kin,
                                                  const RotaryTravel& travel, const Vec3& work_offset,
                                                  const Joints& start) {
+  const PoseJoints joints = pose_joints(e, kin, travel, work_offset, start);
   std::vector<std::string> out;
   for (const std::string& h : e.header) out.push_back("(" + h + ")");
   out.push_back(std::string("G21 G90 G17 G54 ") + (e.inverse_time ? "G93" : "G94"));
+  const std::string turn_comment = " ;on the pole: C turned with TCP off to where the tool leaves it";
+  if (joints.turn_at[0]) out.push_back("G0 C" + num4(joints.q[0][kRotary] / kDeg) + turn_comment);
   out.push_back("M428 ;tool-centre-point control on");
-  Joints q = start;
   Vec3 last_tip{};
   bool have_last = false;
-  for (const ProgramPose& p : e.poses) {
-    q = inverse(kin, ToolPose{p.tip + work_offset, p.axis}, q, travel);
-    std::string line = p.rapid ? "G0" : "G1";
-    line += " X" + num4(p.tip[0]) + " Y" + num4(p.tip[1]) + " Z" + num4(p.tip[2]);
-    line += " A" + num4(q[kTilt] / kDeg) + " C" + num4(q[kRotary] / kDeg);
-    if (!p.rapid) {
-      if (e.inverse_time) {
-        const double length = have_last ? norm(p.tip - last_tip) : 0.0;
-        // F = 1 / minutes; a move of no length (a pure turn) gets the time of 0.01 mm
-        line += " F" + num4(e.feed_mm_min / std::max(length, 0.01));
-      } else {
-        line += " F" + num4(e.feed_mm_min);
+  for (std::size_t i = 0; i < e.poses.size(); ++i) {
+    const ProgramPose& p = e.poses[i];
+    const Joints& q = joints.q[i + 1];
+    auto line_with_c = [&](double c_rad) {
+      std::string line = p.rapid ? "G0" : "G1";
+      line += " X" + num4(p.tip[0]) + " Y" + num4(p.tip[1]) + " Z" + num4(p.tip[2]);
+      line += " A" + num4(q[kTilt] / kDeg) + " C" + num4(c_rad / kDeg);
+      if (!p.rapid) {
+        if (e.inverse_time) {
+          const double length = have_last ? norm(p.tip - last_tip) : 0.0;
+          // F = 1 / minutes; a move of no length (a pure turn) gets the time of 0.01 mm
+          line += " F" + num4(e.feed_mm_min / std::max(length, 0.01));
+        } else {
+          line += " F" + num4(e.feed_mm_min);
+        }
       }
+      return line;
+    };
+    if (joints.turn_at[i + 1]) {
+      // arrive on the pole with the C of before, turn C there with TCP off (the tip turns with
+      // the table about the C axis), and come back to the programmed tip under TCP
+      out.push_back(line_with_c(joints.arrive_c[i + 1]));
+      out.push_back("M429");
+      out.push_back("G0 C" + num4(q[kRotary] / kDeg) + turn_comment);
+      out.push_back("M428");
     }
-    out.push_back(line);
+    out.push_back(line_with_c(q[kRotary]));
     last_tip = p.tip;
     have_last = true;
   }

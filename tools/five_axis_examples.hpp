@@ -91,7 +91,11 @@ std::vector<FiveAxisExample> five_axis_examples();
 /// M429, M2. A and C are the inverse kinematics of each pose (tip = pose tip + `work_offset`,
 /// the G54 point) nearest the joints before it (within `travel`), starting from `start`:
 /// the joints the machine takes, so that a C through the singularity keeps its value and a
-/// continuous C is written unwrapped.
+/// continuous C is written unwrapped. Where a move leaves the pole (A = 0, C undetermined)
+/// towards another C than the joints stand at, C is turned first with TCP off: before M428
+/// (`G0 C`) at the start, or on the pole where the tool arrived (the pose written with the C it
+/// arrived with, M429, `G0 C`, M428, the pose again with the new C); the poses on the pole carry
+/// the C the tool leaves it with, as the planner requires (host/gcode/tcp_move.cpp).
 std::vector<std::string> five_axis_program_lines(const FiveAxisExample& e, const Kinematics& kin,
                                                  const RotaryTravel& travel, const Vec3& work_offset,
                                                  const Joints& start);

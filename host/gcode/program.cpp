@@ -177,6 +177,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
       ++result.blocks;
       result.planned_time_s += planned_time_s(b);
       if (b.kind == BlockKind::kRapid) note_rapid(result.rapid_lines, b.line);
+      if (b.rotary.tcp) result.tcp_tool_length_mm = b.rotary.tool_length;
       plan.add(b);
       if (on_block) (*on_block)(b);
     }

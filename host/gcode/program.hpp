@@ -79,6 +79,11 @@ struct CheckResult {
   double feed_length_time_s = 0.0;  // sum of length/F over feed moves
   std::uint64_t blocks = 0;         // blocks made and accepted by the rt's check (what a run sends)
   double planned_time_s = 0.0;      // sum of the blocks' planned times (gcode/planned_time.hpp): the ETA's base
+  // The tool length (mm, from the spindle's gauge point along the tool axis) of the blocks run
+  // under tool-centre-point control: the tool table's for the tool in the spindle or G43.4 H;
+  // the last TCP block's when they differ; 0 without TCP blocks. The report's tool-axis view
+  // draws the tip with it.
+  double tcp_tool_length_mm = 0.0;
   // Smoothing (gcode/smoothing.hpp): G1 moves made into curves, the curves and the ring blocks
   // they became, and the largest measured distance of a curve from its programmed moves.
   std::uint64_t smoothed_moves = 0;

@@ -180,7 +180,10 @@ void PlanRecorder::add(const Block& b) {
     angle = std::acos(c) * 180.0 / kPi;
     const bool under_angle = angle < config_.motion.contouring_angle_deg;
     const bool tolerance = prev_.path_tolerance_mm > 0.0f && angle < 179.0;  // the block's (G64 P, --tolerance)
-    if (!prev_.contouring) {
+    if (prev_.rotary.angular || b.rotary.angular) {
+      j = JunctionKind::kTurnStop;  // the rt starts and ends an angular block at rest (executor.cpp)
+      angle = 0.0;                  // its dirs are not a tip's: no turn to name
+    } else if (!prev_.contouring) {
       j = JunctionKind::kContouringOff;
     } else if (under_angle || tolerance) {
       j = angle < kStraightDeg ? JunctionKind::kStraight : JunctionKind::kCorner;
@@ -211,6 +214,7 @@ void PlanRecorder::add(const Block& b) {
   prev_.line = b.line;
   prev_.dir_end = b.dir_end;
   prev_.contouring = b.contouring;
+  prev_.rotary.angular = b.rotary.angular;
   prev_.path_tolerance_mm = b.path_tolerance_mm;  // the junction after it is judged with it (rt's rule)
   has_prev_ = true;
 }

@@ -8,7 +8,8 @@
 // feed schedule, a rapid). Its acceleration cause: the axis whose acceleration limit sets the
 // path acceleration (an arc or curve: its tangential share). Each junction between two
 // blocks: passed straight, passed at a reduced corner speed, or a stop (turn over the
-// contouring angle, contouring off, or a start, end, dwell or pause).
+// contouring angle, contouring off, a block that only turns the tool, or a start, end, dwell
+// or pause).
 #pragma once
 
 #include <cstdint>
@@ -33,7 +34,7 @@ enum class TimeCause : std::uint8_t {
   kAccelY,
   kAccelZ,
   kAccelArcCurve,    // the same on an arc or curve (tangential acceleration share)
-  kJunctionStop,     // slowing to, or starting from, a junction stop (turn over the angle, or M22)
+  kJunctionStop,     // slowing to, or starting from, a junction stop (turn over the angle, M22, a turn-only block)
   kJunctionCorner,   // slowing for a corner passed without stopping (corner speed)
   kStartEndStop,     // slowing to, or starting from, rest at a program start or end, dwell or pause
   kOverride,         // steady below the block's limit (feed override under 100 %) or above it
@@ -58,6 +59,8 @@ enum class JunctionKind : std::uint8_t {
                      // (with one, the rt passes it at the junction-deviation speed: kCorner)
   kContouringOff = 3,// stops: M22
   kStartEnd = 4,     // stops: program start or end, dwell, pause
+  kTurnStop = 5,     // stops: one of its blocks only turns the tool (an angular block, rotary.angular:
+                     // its path parameter is an angle; the rt starts and ends it at rest)
 };
 
 /// One run of source lines whose blocks share their plan (one block's lines, or several
@@ -89,7 +92,7 @@ class PlanRecorder {
   const MachineConfig& config_;
   std::vector<LinePlan> plan_;
   bool has_prev_ = false;
-  Block prev_{};  // only the fields used: kind, line, dirs, contouring, path tolerance
+  Block prev_{};  // only the fields used: kind, line, dirs, contouring, path tolerance, rotary.angular
   LinePlan pending_{};
   bool pending_set_ = false;
 };

@@ -577,7 +577,8 @@ std::string render_report_html(const ReportPage& page) {
     // a 5-axis trace: the tool seen from the workpiece, and the rotary joints' following error
     const JointDigest& j = d.joints;
     o << "<section class=\"card dark\" id=\"tool-axis\"><h2>Tool tip and tool axis (workpiece coordinates)</h2>\n<p>"
-      << "From the forward kinematics of the commanded joints with the machine's config: the tool tip's path ("
+      << "From the forward kinematics of the commanded joints with the machine's config and a tool length of "
+      << fixed(page.summary.tcp_tool_length_mm, 3) << " mm (the program's under tool-centre-point control): the tool tip's path ("
       << fixed(j.tip_path_mm, 1) << " mm) and the tool axis every " << fixed(j.axis_every_mm, 2) << " mm of it ("
       << j.marks.size() << " marks), drawn from the tip towards the spindle.</p>\n"
       << render_tool_axis_svg(j) << "</section>\n";

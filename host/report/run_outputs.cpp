@@ -1,6 +1,7 @@
 // run_outputs.cpp — summary + trace -> time by cause and the HTML report (see run_outputs.hpp).
 #include "report/run_outputs.hpp"
 
+#include "config/joint_map.hpp"
 #include "report/trace_compact_reader.hpp"
 
 #include <algorithm>
@@ -36,11 +37,11 @@ ReportPage load_report_page(const std::string& summary_path, const std::string& 
     d.cause_of = [&classifier](const TraceSample& row, double prev) { return classifier.classify(row, prev); };
   }
   // a 5-axis trace's tool axis: the forward kinematics of the machine the run used (its config
-  // file as the summary names it; the tool length is the config's, the tool table's is not known here)
+  // file as the summary names it) with the tool length its TCP blocks ran with (the summary's)
   try {
     if (!page.summary.config_path.empty()) {
       const MachineConfig config = load_config(page.summary.config_path);
-      d.joints.kinematics = config.kinematics;
+      d.joints.kinematics = kinematics_with_tool(config, page.summary.tcp_tool_length_mm);
       d.joints.has_kinematics = config.kinematics.kind != KinematicsKind::kTrivial;
     }
   } catch (const std::exception&) {

@@ -131,8 +131,8 @@ LinePlan plan_entry_from(const std::string& text) {
   int before = 0, after = 0;
   if (std::sscanf(text.c_str(), "%u,%u,%39[^,],%39[^,],%lf,%d,%d,%lf,%lf", &p.first, &p.last, cruise, accel, &p.speed, &before,
                   &after, &p.angle_before_deg, &p.angle_after_deg) != 9 ||
-      !parse_time_cause(cruise, p.cruise) || !parse_time_cause(accel, p.accel) || before < 0 || before > 4 || after < 0 ||
-      after > 4) {
+      !parse_time_cause(cruise, p.cruise) || !parse_time_cause(accel, p.accel) || before < 0 || before > 5 || after < 0 ||
+      after > 5) {
     throw std::runtime_error("malformed plan entry '" + text + "'");
   }
   p.before = static_cast<JunctionKind>(before);
@@ -171,6 +171,7 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.max_path_deviation_mm = r.check.max_path_deviation_mm;
   s.rapid_lines = r.check.rapid_lines;
   s.plan = r.check.plan;
+  s.tcp_tool_length_mm = r.check.tcp_tool_length_mm;
   s.comp_entries = r.check.comp.sessions;
   s.comp_moves_in = r.check.comp.moves_in;
   s.comp_moves_out = r.check.comp.moves_out;
@@ -220,6 +221,7 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"smoothed_blocks", s.smoothed_blocks},
                 {"max_path_deviation_mm", s.max_path_deviation_mm},
                 {"rapid_lines", rapid_lines_json(s.rapid_lines)},
+                {"tcp_tool_length_mm", s.tcp_tool_length_mm},
                 {"plan", std::move(plan)}}},
               {"job",
                {{"end", s.end},
@@ -275,6 +277,7 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.smoothed_blocks = c.value("smoothed_blocks", std::uint64_t{0});
   s.max_path_deviation_mm = c.value("max_path_deviation_mm", 0.0);
   if (c.contains("rapid_lines")) s.rapid_lines = rapid_lines_from(c.at("rapid_lines"));  // absent in older summaries
+  s.tcp_tool_length_mm = c.value("tcp_tool_length_mm", 0.0);  // absent before the report used it
   if (c.contains("cutter_comp")) {  // absent without G41/G42
     const json& k = c.at("cutter_comp");
     s.comp_entries = k.at("entries").get<std::uint64_t>();

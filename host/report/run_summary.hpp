@@ -47,6 +47,9 @@ struct RunSummary {
   // what caps each block's speed and how its junctions pass (gcode/time_cause.hpp): the
   // launcher attributes the trace's time to these causes
   std::vector<LinePlan> plan;
+  // the tool length of the program's TCP blocks (CheckResult::tcp_tool_length_mm): the report's
+  // tool-axis view uses it with the config's kinematics; 0 without TCP (and in older summaries)
+  double tcp_tool_length_mm = 0.0;
   // cutter radius compensation (G41/G42): what it did, the largest tool diameter, and the
   // programmed contour it offset (machine mm, at most 20000 points: the report's top view)
   std::uint64_t comp_entries = 0, comp_moves_in = 0, comp_moves_out = 0;

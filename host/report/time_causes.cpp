@@ -10,12 +10,15 @@ namespace {
 
 constexpr double kCruiseBand = 0.02;  // within 2 % of the block's limit counts as cruising at it
 
-bool is_stop(JunctionKind j) { return j == JunctionKind::kAngleStop || j == JunctionKind::kContouringOff; }
+bool is_stop(JunctionKind j) {
+  return j == JunctionKind::kAngleStop || j == JunctionKind::kContouringOff || j == JunctionKind::kTurnStop;
+}
 
 TimeCause junction_cause(JunctionKind j, TimeCause accel) {
   switch (j) {
     case JunctionKind::kAngleStop:
-    case JunctionKind::kContouringOff: return TimeCause::kJunctionStop;
+    case JunctionKind::kContouringOff:
+    case JunctionKind::kTurnStop: return TimeCause::kJunctionStop;
     case JunctionKind::kCorner: return TimeCause::kJunctionCorner;
     case JunctionKind::kStartEnd: return TimeCause::kStartEndStop;
     case JunctionKind::kStraight: return accel;

@@ -1,9 +1,9 @@
 // five_axis_reader.hpp — reads a 5-axis program of the LinuxCNC XYZAC demos' dialect
 // (M428 ... M429, G0/G1 X Y Z A C F, G93/G94) with the project's lexer (host/gcode/lexer.hpp),
-// for tests that check examples/5axis/ against the kinematics: the interpreter does not take
-// M428 or A/C words on its own yet (issue 16, built on another branch), so the tests read the
-// words and follow the modal state themselves. Every line but M428/M429 must also pass the
-// parser (host/gcode/parser.hpp: its G and M words known, none twice). Header only.
+// for tests that check examples/5axis/ against the kinematics word by word (the front end's own
+// run is checked separately, through run_check_command): the tests read the words and follow
+// the modal state themselves. Every line but M428/M429 must also pass the parser
+// (host/gcode/parser.hpp: its G and M words known, none twice). Header only.
 #pragma once
 
 
