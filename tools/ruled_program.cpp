@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace pcnc {
@@ -25,8 +26,13 @@ std::string ruled_point_line(const Vec3& p, const Vec3& a) {
 
 std::vector<std::string> ruled_program_lines(const std::vector<RuledPiece>& pieces, const RuledProgramOptions& o) {
   std::vector<std::string> out;
-  for (const std::string& h : o.header) out.push_back("(" + h + ")");
+  for (std::string h : o.header) {
+    std::replace(h.begin(), h.end(), '(', '[');  // no nested comments (LinuxCNC refuses them)
+    std::replace(h.begin(), h.end(), ')', ']');
+    out.push_back("(" + h + ")");
+  }
   out.push_back("G21 G90 G17 G94");
+  if (!o.turn_joints.empty()) out.push_back("G0 " + o.turn_joints + " (the tool axis of the first set point, TCP off)");
   out.push_back("M428 (tool-centre-point control on)");
   out.push_back("G0 Z" + num("%.5f", o.clearance_z));
   if (!pieces.empty() && !pieces.front().points.empty())
@@ -40,6 +46,7 @@ std::vector<std::string> ruled_program_lines(const std::vector<RuledPiece>& piec
   }
   out.push_back("G0 Z" + num("%.5f", o.clearance_z));
   out.push_back("M429 (tool-centre-point control off)");
+  if (!o.turn_back.empty()) out.push_back("G0 " + o.turn_back);
   out.push_back("M2");
   return out;
 }

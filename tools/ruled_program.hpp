@@ -23,12 +23,18 @@ struct RuledProgramOptions {
   double feed_mm_min = 600.0;         // F on every G5.4 line
   double clearance_z = 1.0;           // the first rapid goes to this Z, the last back to it
   std::vector<std::string> header;    // comment lines at the top (without parentheses)
+  // On a 5-axis machine: the rotary joints' words at the first set point's axis (e.g.
+  // "A4.5 C-90"), written as a G0 with TCP off before M428, so no TCP move leaves the pole of C;
+  // and the words that turn them back after M429 (e.g. "A0 C0"). Empty: neither line.
+  std::string turn_joints;
+  std::string turn_back;
 };
 
 /// The program, one string per line (no newlines): the header comments, G21 G90 G17 G94,
-/// M428, G0 Z<clearance>, G0 X Y to the first piece's first point, every piece as
-/// G5.4 F<feed> / X Y Z I J K lines / G5.5, G0 Z<clearance>, M429, M2. The first piece must
-/// start at (x, y, clearance) with the tool vertical (I0 J0 K1), where the rapids leave it.
+/// [G0 <turn_joints>], M428, G0 Z<clearance>, G0 X Y to the first piece's first point, every
+/// piece as G5.4 F<feed> / X Y Z I J K lines / G5.5, G0 Z<clearance>, M429, [G0 <turn_back>],
+/// M2. The first piece must start at (x, y, clearance) with the tool axis where the rapids
+/// leave it: vertical (I0 J0 K1) without turn_joints, the axis those joints give with them.
 std::vector<std::string> ruled_program_lines(const std::vector<RuledPiece>& pieces, const RuledProgramOptions& options);
 
 /// One set point as written: X Y Z with 5 decimals, I J K with 7.
