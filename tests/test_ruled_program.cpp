@@ -65,6 +65,24 @@ TEST(RuledProgram, LinesInOrderAndReadBack) {
   EXPECT_EQ(l[12], "X1.12346 Y3.00000 Z-3.50000 I0.0000000 J0.0500000 K0.9987492");  // -1e-9 is not "-0"
 }
 
+
+TEST(RuledProgram, TurnsTheJointsWithTcpOffBeforeM428AndBackAfterM429) {
+  RuledProgramOptions o;
+  o.clearance_z = 5.0;
+  o.header = {"a (nested) comment"};
+  o.turn_joints = "A4.5 C90";
+  o.turn_back = "A0 C0";
+  const std::vector<std::string> l = ruled_program_lines(sample_pieces(), o);
+  ASSERT_EQ(l.size(), 1u + 5u + (2 + 2) + (2 + 3) + 4u);
+  EXPECT_EQ(l[0], "(a [nested] comment)");
+  EXPECT_EQ(l[1], "G21 G90 G17 G94");
+  EXPECT_EQ(l[2], "G0 A4.5 C90 (the tool axis of the first set point, TCP off)");
+  EXPECT_EQ(l[3].rfind("M428", 0), 0u);
+  EXPECT_EQ(l[4], "G0 Z5.00000");
+  EXPECT_EQ(l[15].rfind("M429", 0), 0u);
+  EXPECT_EQ(l[16], "G0 A0 C0");
+  EXPECT_EQ(l[17], "M2");
+}
 TEST(RuledProgram, JsonReadsBackExactly) {
   const std::vector<RuledPiece> pieces = sample_pieces();
   const nlohmann::json j = nlohmann::json::parse(ruled_program_json(pieces, 450.0));
