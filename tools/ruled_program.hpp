@@ -2,7 +2,7 @@
 // pieces of directrix points (the tool tip X Y Z, workpiece coordinates, mm) and unit tool
 // vectors (I J K, tip to spindle, workpiece frame) written as G5.4 ... G5.5 groups, the 5-axis
 // analogue of G5.2 ... G5.3, inside a tool-centre-point program (M428 ... M429); and the same
-// pieces as a JSON file. Pure functions: pieces in, text out. `pcnc ruled` writes with them.
+// pieces as a JSON file, and that file read back. Pure functions. `pcnc ruled` writes with them.
 #pragma once
 
 #include <string>
@@ -43,5 +43,20 @@ std::string ruled_point_line(const Vec3& point, const Vec3& axis);
 /// The file form: {"format": "pcnc-ruled-program", "version": 1, "units": "mm", "feed_mm_min": F,
 /// "pieces": [{"points": [[x, y, z], ...], "axes": [[i, j, k], ...]}, ...]} (17 significant digits).
 std::string ruled_program_json(const std::vector<RuledPiece>& pieces, double feed_mm_min);
+
+/// The file form read back: its pieces (axes normalised) and feed, or `error` (empty when read).
+struct RuledJsonProgram {
+  double feed_mm_min = 0.0;
+  std::vector<RuledPiece> pieces;
+  std::string error;
+};
+
+/// Reads the file form, held to the G-code form's rules that need no machine state (2-5 of
+/// docs/ruled-surface.md): the format, version 1 and units "mm"; feed_mm_min > 0; at least one
+/// piece, each with "points" and "axes" of equal length >= 2, every entry three finite numbers,
+/// every axis within 0.001 of unit length (normalised), consecutive points at least 1e-6 mm
+/// apart; each piece starting where the one before ended (point and axis, 1e-9); unknown keys
+/// refused, as the surface file does. `origin` names the file in messages.
+RuledJsonProgram read_ruled_program_json(const std::string& text, const std::string& origin);
 
 }  // namespace pcnc
