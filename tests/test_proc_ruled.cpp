@@ -5,7 +5,7 @@
 // points and tool vectors, docs/ruled-surface.md rule 5), the tip's speed is the programmed feed
 // within 0.1 % where it is constant, no joint leaves its travel or exceeds its velocity, a piece
 // longer than a block flows across its split, and the program reaches its end.
-// The program: the tool tilted away from the pole with TCP off, then under TCP a 41-point pass
+// The first test's program: the tool tilted away from the pole with TCP off, then under TCP a 41-point pass
 // (split into two blocks), a short link with a turned tangent, and a second pass back.
 #include <gtest/gtest.h>
 
@@ -197,6 +197,103 @@ TEST(RuledRun, PiecesFollowTheRuledSurfaceAtTheFeedWithinTheJointLimits) {
               "the tool) off the surface: commanded %.3g um, measured %.3g um\n",
               static_cast<int>(rows_per_piece[pieces[0].line] + rows_per_piece[pieces[1].line] + rows_per_piece[pieces[2].line]),
               constant_rows, worst_feed * 100.0, worst_cmd * 1e3, worst_act * 1e3);
+}
+
+// The program `pcnc ruled` writes by default (the seed's example fitted to desktop-5axis's
+// joints) runs on the machine as written: pcnc check shows a ruled block for every G5.4 group,
+// pcnc run completes it with every commanded joint inside its travel and velocity (and every
+// measured linear joint inside its travel) on every cycle, every group runs, and the swept tool
+// axis (forward kinematics of the commanded joints, and of the measured ones, every 10th cycle)
+// stays on the ruled surface through the program's set points.
+TEST(RuledRun, TheProgramPcncRuledWritesRunsOnTheFiveAxisMachine) {
+  const std::string dir = make_temp_dir("ruledex");
+  const std::string config = write_five_axis_config(dir, "ruledex");
+  const MachineConfig cfg = load_config(config);
+  const Kinematics kin = kinematics_with_tool(cfg, 0.0);
+  const std::string path = dir + "/ex.ngc";
+  const ProcessResult gen = run_process({pcnc_exe(), "ruled", "--config", config, "--samples", "0", "-o", path}, 120);
+  ASSERT_EQ(gen.exit_code, 0) << gen.out << gen.err;
+
+  // the program's pieces as written (workpiece = program + G54; the first point of each is where
+  // the one before ended, as written)
+  std::vector<Piece> pieces;
+  {
+    std::istringstream in(read_file(path));
+    std::string l;
+    int n = 0;
+    Piece* open = nullptr;
+    while (std::getline(in, l)) {
+      ++n;
+      if (l.rfind("G5.4", 0) == 0) {
+        pieces.emplace_back();
+        open = &pieces.back();
+        open->line = n;
+      } else if (l.rfind("G5.5", 0) == 0) {
+        RuledModelResult m = ruled_model_through(open->points, open->axes, RulingForm::kVector);
+        ASSERT_TRUE(m.error.empty()) << m.error;
+        open->model = m.model;
+        open = nullptr;
+      } else if (open != nullptr) {
+        double v[6];
+        ASSERT_EQ(std::sscanf(l.c_str(), "X%lf Y%lf Z%lf I%lf J%lf K%lf", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]), 6) << l;
+        open->points.push_back(kG54 + Vec3{v[0], v[1], v[2]});
+        open->axes.push_back(normalized(Vec3{v[3], v[4], v[5]}));
+      }
+    }
+  }
+  ASSERT_GT(pieces.size(), 100u);
+
+  const ProcessResult chk = run_process({pcnc_exe(), "check", path, "--config", config, "--print-blocks"}, 120);
+  ASSERT_EQ(chk.exit_code, 0) << chk.out << chk.err;
+  std::size_t ruled_blocks = 0;
+  for (std::size_t at = chk.out.find(" ruled ("); at != std::string::npos; at = chk.out.find(" ruled (", at + 1)) ++ruled_blocks;
+  EXPECT_GE(ruled_blocks, pieces.size());
+
+  const std::string trace = dir + "/ex.csv";
+  const ProcessResult r = run_process({pcnc_exe(), "run", path, "--config", config, "--clock", "virtual", "--trace", trace}, 600);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("result            completed"), std::string::npos) << r.out;
+
+  const std::vector<Row> rows = read_five_axis_trace(trace, cfg.rotary_mask());
+  ASSERT_GT(rows.size(), 100000u);
+  std::map<int, const Piece*> by_line;
+  for (const Piece& p : pieces) by_line[p.line] = &p;
+  std::map<int, double> hint;
+  std::map<int, int> rows_per_piece;
+  double worst_cmd = 0.0, worst_act = 0.0;
+  Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& row = rows[i];
+    ASSERT_EQ(commanded_joint_violation(cfg, rows, i), "");
+    for (int ax = 0; ax < kAxes; ++ax) {
+      const auto k = static_cast<std::size_t>(ax);
+      lo[k] = std::min(lo[k], row.s.actual[k]);
+      hi[k] = std::max(hi[k], row.s.actual[k]);
+    }
+    const auto pc = by_line.find(static_cast<int>(row.s.line));
+    if (pc == by_line.end() || row.s.state != MachineState::kRunning) continue;
+    if (rows_per_piece[pc->first]++ % 10 != 0) continue;
+    const ToolPose tc = forward(kin, to_joints(cfg, row.s.commanded, row.j.commanded));
+    const ToolPose ta = forward(kin, to_joints(cfg, row.s.actual, row.j.actual));
+    double& h = hint[pc->first];
+    worst_cmd = std::max(worst_cmd, axis_deviation(*pc->second, tc.tip, tc.axis, 10.0, h));
+    double ha = h;
+    worst_act = std::max(worst_act, axis_deviation(*pc->second, ta.tip, ta.axis, 10.0, ha));
+  }
+  for (int ax = 0; ax < kAxes; ++ax) {
+    const AxisConfig& a = cfg.axes[static_cast<std::size_t>(ax)];
+    EXPECT_GE(lo[static_cast<std::size_t>(ax)], a.travel_min_mm) << "measured joint " << ax;
+    EXPECT_LE(hi[static_cast<std::size_t>(ax)], a.travel_max_mm) << "measured joint " << ax;
+  }
+  EXPECT_EQ(rows_per_piece.size(), pieces.size()) << "every G5.4 group ran";
+  EXPECT_LT(worst_cmd, 2e-3) << "commanded swept axis off the ruled surface, mm";
+  EXPECT_LT(worst_act, 0.02) << "measured swept axis off the ruled surface, mm";
+  EXPECT_EQ(rows.back().s.state, MachineState::kIdle);
+  const std::size_t at = r.out.find("program time");
+  std::printf("[ figures ] %zu G5.4 groups, %zu ruled blocks; %s; swept axis (tip and 10 mm up the tool, every "
+              "10th cycle) off the surface: commanded %.3g um, measured %.3g um; measured joints X %.4f..%.4f Y %.4f..%.4f Z %.4f..%.4f mm\n",
+              pieces.size(), ruled_blocks, at == std::string::npos ? "?" : r.out.substr(at, r.out.find('\n', at) - at).c_str(),
+              worst_cmd * 1e3, worst_act * 1e3, lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]);
 }
 
 // A machine without rotary joints refuses G5.4 at its line and column, before anything moves.

@@ -242,6 +242,26 @@ TEST(RotaryTcp, MovesTheRtCannotRunAsProgrammedAreRefused) {
   EXPECT_NE(r.first_error()->message.find("only G0 and G1 moves run"), std::string::npos);
 }
 
+TEST(RotaryTcp, ANullMoveIsAcceptedAndRunsNothingUnderTcpAndOff) {
+  // G0 Z-5 where the tip stands (vertical tool, right after M428), and G91 moves of 0 with the
+  // tool tilted under TCP: accepted, no block (LinuxCNC accepts a move to where it stands)
+  const auto r = run_program(
+      "G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG0 Z-5\nG1 X0 Y0 Z-5\nM429\nG1 A20 C30 F3600\nM428\nG91 G0 Z0\nG1 X0 "
+      "F300\nG90\nG1 X1 F300\nM429\nG91 G0 X0\nG90\nM2\n",
+      five(), at_home());
+  ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
+  const auto m = r.motion();
+  ASSERT_EQ(m.size(), 3u);  // to the start, the tilt, the one TCP move that moves
+  EXPECT_EQ(m[2].rotary.tcp, 1);
+  EXPECT_GT(m[2].length, 0.5);
+  // C turning on the pole with the tip still is still refused under TCP
+  const auto c = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG1 C30 F300\nM2\n", five(), at_home());
+  ASSERT_NE(c.first_error(), nullptr);
+  EXPECT_EQ(c.first_error()->line, 4);
+  EXPECT_NE(c.first_error()->message.find("neither moves the tool tip nor turns the tool axis"), std::string::npos)
+      << c.first_error()->message;
+}
+
 TEST(RotaryTcp, PassingThroughThePoleKeepsC) {
   const MachineConfig cfg = five();
   const auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG1 A20 C30 F3600\nM428\nG1 X2 A-20 C30 F300\nM2\n", cfg, at_home());

@@ -13,7 +13,10 @@
 #include "config/config.hpp"
 #include "config/exit_status.hpp"
 #include "config/output_path.hpp"
+#include "config/joint_map.hpp"
 #include "config/surface_file.hpp"
+#include "gcode/tcp_fit_travel.hpp"
+#include "geometry/tcp_fit.hpp"
 #include "geometry/ruled_motion.hpp"
 #include "geometry/ruled_passes.hpp"
 #include "geometry/ruled_surface.hpp"
@@ -47,6 +50,36 @@ void print_sample(std::ostream& out, const RuledModel& model, double u, double f
       << " rad/s^2, |dA/dt| " << fmt("%.5f", norm(m.axis_velocity)) << " 1/s\n";
 }
 
+// The part's top, sampled on a 129 x 129 grid of parameters (the control net's top can be higher).
+double surface_top(const BSplineSurface& surface) {
+  double top = -1e300;
+  for (int i = 0; i <= 128; ++i)
+    for (int k = 0; k <= 128; ++k)
+      top = std::max(top, surface_point(surface, surface.u_min() + (surface.u_max() - surface.u_min()) * i / 128.0,
+                                        surface.v_min() + (surface.v_max() - surface.v_min()) * k / 128.0)[2]);
+  return top;
+}
+
+// The tool poses the example's program reaches, in order (program coordinates): over the first
+// set point at the clearance, every set point of every pass (the links between them), over the
+// last at the clearance; the axis of the nearest set point.
+std::vector<FitPose> program_poses(const PassPlan& plan, double clearance) {
+  std::vector<FitPose> poses;
+  auto add = [&poses](const Vec3& tip, const Vec3& axis) {
+    FitPose f;
+    f.pose.tip = tip;
+    f.pose.axis = axis;
+    poses.push_back(f);
+  };
+  const PassPoint& first = plan.passes.front().points.front();
+  const PassPoint& last = plan.passes.back().points.back();
+  add({first.tip[0], first.tip[1], clearance}, first.axis);
+  for (const Pass& p : plan.passes)
+    for (const PassPoint& q : p.points) add(q.tip, q.axis);
+  add({last.tip[0], last.tip[1], clearance}, last.axis);
+  return poses;
+}
+
 }  // namespace
 
 int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& err) {
@@ -72,6 +105,8 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
   // The surface in program coordinates.
   BSplineSurface surface;
   std::string what;
+  double surface_size = 0.0;  // the example's size and origin (program coordinates)
+  Vec3 surface_origin{};
   if (o.surface.empty()) {
     // The seed's 200 x 200 x 20 mm example scaled to the X/Y travel, centred on it in program
     // coordinates (program = machine - G54), its top 2 mm below the top of the Z travel.
@@ -81,6 +116,8 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
     const Vec3 origin{0.5 * (lo[0] + hi[0]) - g54[0] - 0.5 * size, 0.5 * (lo[1] + hi[1]) - g54[1] - 0.5 * size,
                       hi[2] - g54[2] - 2.0 - height};
     surface = example_surface(size, origin);
+    surface_size = size;
+    surface_origin = origin;
     what = "the seed's example surface, " + fmt("%.3f", size) + " x " + fmt("%.3f", size) + " mm, height " +
            fmt("%.3f", height) + " mm (200 x 200 x 20 mm scaled by " + fmt("%g", size / 200.0) + " to the X/Y travel of " +
            config_path + ")";
@@ -94,32 +131,67 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
     what = "the surface " + o.surface + " (degree " + std::to_string(surface.degree) + ", " +
            std::to_string(surface.count_u) + " x " + std::to_string(surface.count_v) + " control points)";
   }
-  // The part's top, sampled on a 129 x 129 grid of parameters (the control net's top can be higher).
-  double top = -1e300;
-  for (int i = 0; i <= 128; ++i)
-    for (int k = 0; k <= 128; ++k)
-      top = std::max(top, surface_point(surface, surface.u_min() + (surface.u_max() - surface.u_min()) * i / 128.0,
-                                        surface.v_min() + (surface.v_max() - surface.v_min()) * k / 128.0)[2]);
+  double top = surface_top(surface);
+  double clearance = top + 2.0;
 
   PassOptions po;
   po.tool_radius = o.tool_radius;
   po.cusp_height = o.cusp;
   po.point_spacing = o.point_spacing;
   po.lead_angle = o.lead_deg * M_PI / 180.0;
-  const PartSurface part = part_surface(surface);
-  const PassPlan plan = plan_passes(part, po);
+  PassPlan plan = plan_passes(part_surface(surface), po);
   if (!plan.error.empty()) {
     err << "pcnc ruled: " << plan.error << "\n";
     return kExitBadInput;
   }
 
-  // The pieces: approach (down from the clearance with the tool turning from vertical), the
-  // passes, the links between them (along the edge), the retract.
-  const double clearance = top + 2.0;
+  // On a 5-axis machine the tool tilt moves the linear joints (a table-tilting machine turns
+  // the part), so the example scaled to the X/Y travel can leave it: scale and move it (the
+  // surface, about program zero, then the offset) until every joint at every set point and at
+  // the clearance above the first and last, and along the straight moves between them, is
+  // inside its travel less kFitMarginMm (the tool-centre-point --fit, tcp_fit.hpp, tool length
+  // 0); then plan the passes again on it. The clearance scales with it.
+  const bool five_axis = cfg.kinematics.kind != KinematicsKind::kTrivial;
+  constexpr double kFitMarginMm = 0.5;
+  std::string fit_line;
+  if (five_axis && o.surface.empty()) {
+    JointTravel travel = joint_travel(cfg);
+    travel.min = travel.min + Vec3{kFitMarginMm, kFitMarginMm, kFitMarginMm};
+    travel.max = travel.max - Vec3{kFitMarginMm, kFitMarginMm, kFitMarginMm};
+    const TcpFitResult fit = fit_tcp_program(program_poses(plan, clearance), kinematics_with_tool(cfg, 0.0), travel,
+                                             home_joints(cfg), 2, 1e-6);
+    if (!fit.ok) {
+      err << "pcnc ruled: the example does not fit the joints' travel of " << config_path << ": " << fit.error << "\n";
+      return kExitBadInput;
+    }
+    const Vec3 g54 = cfg.gcode.work_offsets[0];
+    const double size = surface_size * fit.scale;
+    surface_origin = surface_origin * fit.scale + fit.offset - g54;
+    surface = example_surface(size, surface_origin);
+    top = surface_top(surface);
+    clearance = clearance * fit.scale + fit.offset[2] - g54[2];
+    what = "the seed's example surface, " + fmt("%.3f", size) + " x " + fmt("%.3f", size) + " mm, height " +
+           fmt("%.3f", size / 10.0) + " mm (200 x 200 x 20 mm scaled by " + fmt("%.6g", size / 200.0) +
+           " so that every joint stays " + fmt("%g", kFitMarginMm) + " mm inside the travel of " + config_path + ")";
+    fit_line = "scale " + fmt("%.6f", fit.scale) + " of the X/Y travel's " + fmt("%.3f", surface_size) + " mm, origin (" +
+               vec(surface_origin, "%.4f") + ") mm in program coordinates";
+    plan = plan_passes(part_surface(surface), po);
+    if (!plan.error.empty()) {
+      err << "pcnc ruled: " << plan.error << "\n";
+      return kExitBadInput;
+    }
+  }
+  const PartSurface part = part_surface(surface);
+
+  // The pieces: approach (down from the clearance), the passes, the links between them (along
+  // the edge), the retract. On a 5-axis machine the joints turn to the first set point's axis
+  // first, with TCP off, and the approach and retract keep the axis of the pass they lead to or
+  // from (never leaving the pole of C under TCP); on a 3-axis machine they turn it from and back
+  // to vertical.
   const Vec3 up{0, 0, 1};
   std::vector<RuledPiece> pieces;
   const PassPoint& first = plan.passes.front().points.front();
-  pieces.push_back({{{first.tip[0], first.tip[1], clearance}, first.tip}, {up, first.axis}, "approach"});
+  pieces.push_back({{{first.tip[0], first.tip[1], clearance}, first.tip}, {five_axis ? first.axis : up, first.axis}, "approach"});
   ModelError model_err;
   for (const Pass& p : plan.passes) {
     const ModelError e = pass_model_error(part, p, po, 8);
@@ -149,12 +221,20 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
     }
   }
   const PassPoint& last = plan.passes.back().points.back();
-  pieces.push_back({{last.tip, {last.tip[0], last.tip[1], clearance}}, {last.axis, up}, "retract"});
+  pieces.push_back({{last.tip, {last.tip[0], last.tip[1], clearance}}, {last.axis, five_axis ? last.axis : up}, "retract"});
   const double approach = (clearance - first.tip[2]) + (clearance - last.tip[2]);
 
   RuledProgramOptions ro;
   ro.feed_mm_min = o.feed;
   ro.clearance_z = clearance;
+  if (five_axis) {
+    // the joints at the first set point's axis, nearest home (the rt starts there)
+    const Joints q = inverse(kinematics_with_tool(cfg, 0.0), ToolPose{first.tip + cfg.gcode.work_offsets[0], first.axis},
+                             home_joints(cfg), cfg.rotary_travel());
+    const char tilt = tilt_index(cfg) == 1 ? 'B' : 'A';
+    ro.turn_joints = std::string(1, tilt) + fmt("%.6f", q[kTilt] * 180.0 / M_PI) + " C" + fmt("%.6f", q[kRotary] * 180.0 / M_PI);
+    ro.turn_back = std::string(1, tilt) + "0 C0";
+  }
   ro.header = {"pcnc ruled: ruled-surface passes (G5.4 ... G5.5, docs/ruled-surface.md)",
                "surface: " + what,
                "ball-end R " + fmt("%g", o.tool_radius) + " mm, cusp " + fmt("%g", o.cusp) + " mm, pass interval " +
@@ -176,6 +256,7 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
 
   const double total = pass_length + link_length + approach;
   out << "pcnc ruled: " << what << "\n";
+  if (!fit_line.empty()) out << "  fitted            " << fit_line << "\n";
   out << "  tool              ball-end R " << fmt("%g", o.tool_radius) << " mm, cusp height " << fmt("%g", o.cusp)
       << " mm, lead " << fmt("%g", o.lead_deg) << " deg\n";
   out << "  pass interval     P " << fmt("%.6f", plan.interval) << " mm (2 sqrt(h (2R - h)))\n";
@@ -211,9 +292,9 @@ void add_ruled_subcommand(CLI::App& app, int& exit_code) {
       "5-axis method) and write them as G5.4 ... G5.5 groups (docs/ruled-surface.md); without SURFACE the seed's "
       "example (200 x 200 mm, 20 mm high) scaled to the config's X/Y travel. Prints the pass interval, the passes, "
       "the path length and the seed's Tables 1-2 (tool frame, ds/du, first- and second-order motion) for --samples "
-      "points of the first pass. pcnc check/run read the G5.4 form on a 5-axis machine (docs/ruled-surface.md); the "
-      "example's program does not run on desktop-5axis yet (its tilted passes leave the travel, its approach leaves "
-      "the pole of C).");
+      "points of the first pass. On a 5-axis config the example is scaled so that every joint (after the inverse "
+      "kinematics) stays inside its travel, and the program turns the joints to the first tool axis with TCP off "
+      "before M428; pcnc check/run run it (docs/ruled-surface.md).");
   sub->add_option("SURFACE", opts->surface, "a B-spline surface file (docs/surface.md), in program coordinates")
       ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", opts->output, "the program to write (.ngc)")->required();

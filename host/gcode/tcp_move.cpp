@@ -53,6 +53,18 @@ TcpMovePlan plan_tcp_move(const Move& m, const MachineConfig& cfg, double feed) 
   } else if (turn > 1e-12) {
     p.angular = true;
     p.length = turn;
+  } else if (std::abs(m.rot_end[0] - m.rot_start[0]) <= kSameRad && std::abs(m.rot_end[1] - m.rot_start[1]) <= kSameRad &&
+             std::abs(m.rot_end[2] - m.rot_start[2]) <= kSameRad) {
+    // a null move (to where the tool stands, as `G0 Z0` right after M428 at Z0): accepted and
+    // nothing runs, as LinuxCNC does; the pipeline drops it (is_null_move). The joints stand where
+    // they are: the preflight checks them there.
+    const Joints q = inverse(kin, move.start, to_joints(cfg, Vec3{}, m.rot_start), travel);
+    p.q_min = p.q_max = q;
+    Rot3 rot = m.rot_start;
+    from_joints(cfg, q, p.joint_end, rot);
+    p.rot_end = rot;
+    p.speed = feed;
+    return p;
   } else {
     p.error = "under TCP this move neither moves the tool tip nor turns the tool axis but turns a joint (C on the "
               "pole of its axis); expected the joint turned with TCP off (M429) first";

@@ -46,8 +46,9 @@ constexpr double kTcpLimitShare = 0.95;
 JointLimits joint_limits(const MachineConfig& cfg);
 
 /// `feed`: the programmed path speed (mm/s, rad/s for an angular move; a rapid: what the
-/// linear axes allow along the tip's line). Errors: a move that only turns C on the pole (no tip
-/// travel, no turn of the tool axis), a move that leaves the pole towards another C than the one
+/// linear axes allow along the tip's line). A null move (no tip travel, the joints where they
+/// stand) is no error: length 0, the joints where they stand, nothing to run. Errors: a move that
+/// only turns C on the pole (no tip travel, no turn of the tool axis, C turns), a move that leaves the pole towards another C than the one
 /// C stands at, an orientation the great circle reaches at other joint values than the
 /// programmed ones (the other solution, or C a turn away).
 TcpMovePlan plan_tcp_move(const Move& m, const MachineConfig& cfg, double feed);
