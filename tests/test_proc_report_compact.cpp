@@ -3,10 +3,16 @@
 // trace, and the report made from each carries the same figures (time by cause, slowest
 // stretches, every plot bucket, the figures table); `pcnc run --report` without --trace
 // writes its report from the compact trace also when the run faults or is stopped mid-way.
+// On a 5-axis machine the compact trace keeps the joints: the same run's compact trace and
+// CSV give the same joint following-error plot (exact) and tool-axis marks within the rt's
+// decimation, and `pcnc run --report` alone draws the tool-axis view and the joint plot.
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
 #include <fstream>
 #include <regex>
 #include <thread>
@@ -15,6 +21,7 @@
 
 #include "report/run_outputs.hpp"
 #include "report/trace_compact_reader.hpp"
+#include "five_axis_trace.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 
@@ -151,6 +158,92 @@ TEST(ReportCompact, StoppedRunGetsItsReport) {
   const double t = s.at("status").at("program_time_s").get<double>();
   EXPECT_GT(t, 0.2);
   EXPECT_LT(t, 10.0);
+}
+
+// The impeller blade (examples/5axis) on desktop-5axis.toml, the rt writing the CSV with the
+// joints' columns and the compact trace from the same rows.
+TEST(ReportCompact, FiveAxisJointsAsTheFullTraceGivesThem) {
+  const std::string dir = make_temp_dir("rc5axis");
+  const std::string config = write_five_axis_config(dir, "rc5axis");
+  const std::string csv = dir + "/t.csv", compact = dir + "/t.pcct", summary = dir + "/s.json";
+  BackgroundProcess rt = start_process({bin_dir() + "/rt/pcnc-rt", "--config", config, "--clock", "virtual", "--trace", csv,
+                                        "--trace-digest", compact, "--log-level", "warn"},
+                                       dir + "/rt");
+  Reaped rt_guard{rt};
+  const ProcessResult host =
+      run_process({bin_dir() + "/host/pcnc-host", "--config", config, "--run", source_dir() + "/examples/5axis/impeller-blade.ngc",
+                   "--summary", summary, "--log-level", "warn", "--quiet"},
+                  300);
+  ASSERT_EQ(host.exit_code, 0) << host.out << host.err;
+  kill(rt.pid, SIGTERM);
+  ASSERT_EQ(wait_for(rt, 30), 0) << rt.err();
+
+  const ReportPage full = load_report_page(summary, csv);
+  const ReportPage small = load_report_page(summary, compact);
+  const JointDigest &a = small.trace.joints, &b = full.trace.joints;
+  ASSERT_EQ(b.letters, (std::vector<char>{'A', 'C'}));
+  EXPECT_EQ(a.letters, b.letters);
+  // the joints' following error: exact, every bucket and the maxima
+  EXPECT_GT(b.ferr_abs_max[0], 0.0);
+  EXPECT_GT(b.ferr_abs_max[1], 0.0);
+  EXPECT_EQ(a.ferr_abs_max, b.ferr_abs_max);
+  ASSERT_GT(b.buckets.size(), 100u);
+  ASSERT_EQ(a.buckets.size(), b.buckets.size());
+  for (std::size_t i = 0; i < b.buckets.size(); ++i) {
+    EXPECT_EQ(a.buckets[i].t0, b.buckets[i].t0) << i;
+    EXPECT_EQ(a.buckets[i].t1, b.buckets[i].t1) << i;
+    EXPECT_EQ(a.buckets[i].rows, b.buckets[i].rows) << i;
+    EXPECT_EQ(a.buckets[i].ferr_min, b.buckets[i].ferr_min) << i;
+    EXPECT_EQ(a.buckets[i].ferr_max, b.buckets[i].ferr_max) << i;
+  }
+  // the tool axis: from the rt's kept points (1 µm or 0.001° apart, more past its budget), so
+  // the tip path may be shorter by the chords it skipped and a mark may land a kept point later
+  ASSERT_TRUE(a.tool_axis && b.tool_axis);
+  EXPECT_EQ(a.axis_every_mm, b.axis_every_mm);
+  EXPECT_NEAR(a.tip_path_mm, b.tip_path_mm, 1e-3 * b.tip_path_mm);
+  ASSERT_GT(b.marks.size(), 20u);
+  EXPECT_LE(std::abs(static_cast<long>(a.marks.size()) - static_cast<long>(b.marks.size())), 1L);
+  double worst_tip = 0.0, worst_axis = 0.0;  // mm, and 1 - cos of the angle
+  for (const ToolAxisMark& m : a.marks) {
+    double best = 1e9, axis = 0.0;
+    for (const ToolAxisMark& n : b.marks) {
+      if (norm(m.tip - n.tip) < best) {
+        best = norm(m.tip - n.tip);
+        axis = 1.0 - dot(m.axis, n.axis);
+      }
+    }
+    worst_tip = std::max(worst_tip, best);
+    worst_axis = std::max(worst_axis, axis);
+  }
+  std::printf("tool-axis marks: compact %zu, CSV %zu; worst tip %.6f mm, worst axis 1-cos %.3g; tip path %.6f vs %.6f mm\n",
+              a.marks.size(), b.marks.size(), worst_tip, worst_axis, a.tip_path_mm, b.tip_path_mm);
+  // a mark lands at most a kept point (one cycle's travel on a rapid: 24 µm on this program) off
+  EXPECT_LT(worst_tip, 0.1 * b.axis_every_mm);
+  EXPECT_LT(worst_axis, 1.0 - std::cos(0.1 * std::numbers::pi / 180.0));  // within 0.1°
+
+  // the page: both 5-axis sections, the joint plot the same text
+  const std::string x = render_report_html(small), y = render_report_html(full);
+  EXPECT_NE(x.find("id=\"tool-axis-view\""), std::string::npos);
+  const std::string px = section(x, "id=\"joint-ferr\"", "</section>"), py = section(y, "id=\"joint-ferr\"", "</section>");
+  EXPECT_NE(px.find("joint-ferr-plot"), std::string::npos);
+  EXPECT_TRUE(px == py) << "the joint plot differs";
+}
+
+// `pcnc run --report` alone on a 5-axis machine: the page has the tool-axis view and the joint plot.
+TEST(ReportCompact, FiveAxisRunWithReportOnlyDrawsTheToolAxisAndTheJoints) {
+  const std::string dir = make_temp_dir("rc5only");
+  const std::string config = write_five_axis_config(dir, "rc5only");
+  const std::string report = dir + "/r.html";
+  const ProcessResult r = run_process({pcnc_exe(), "run", source_dir() + "/examples/5axis/singularity.ngc", "--config", config,
+                                       "--clock", "virtual", "--report", report, "-q"},
+                                      300);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string html = read_file(report);
+  EXPECT_NE(html.find("id=\"tool-axis-view\""), std::string::npos);
+  const std::string view = section(html, "<svg class=\"tool-axis-view\"", "</svg>");
+  EXPECT_NE(view.find("<polyline class=\"tip-path\""), std::string::npos);
+  EXPECT_NE(view.find("<line class=\"tool-axis\""), std::string::npos);
+  EXPECT_NE(section(html, "id=\"joint-ferr\"", "</section>").find("joint-ferr-plot"), std::string::npos);
 }
 
 }  // namespace

@@ -305,5 +305,72 @@ TEST(CompactTrace, RealTraceFromTheEnvironment) {
   expect_same_digest(digest_rows(rows, o), digest_compact_trace(f.path, o));
 }
 
+// A rotary machine's joint section: every busy window row's joint error in the slices (its
+// min and max per joint as the rows give them, rounded as the CSV), the points thinned past
+// their budget and ending on the last busy row; a 3-axis builder keeps no joint section.
+TEST(CompactTrace, JointSectionKeepsTheJointErrorsAndThinsItsPoints) {
+  const std::vector<TraceSample> rows = synthetic_rows(150000, 11);
+  constexpr RotaryMask kAC = 0b101;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  CompactTraceBuilder five(nullptr, kAC), three(nullptr, 0);
+  double lo[3] = {1e9, 1e9, 1e9}, hi[3] = {-1e9, -1e9, -1e9};
+  std::uint64_t busy_rows = 0;
+  double t_start = -1.0, t_last_busy = 0.0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const TraceSample& r = rows[i];
+    TraceJoints j;
+    j.mask = kAC;
+    for (std::size_t k : {0u, 2u}) {
+      j.commanded[k] = 1e-5 * static_cast<double>(i) * (k == 0 ? 1.0 : -2.0);  // rad: 0.0006° and 0.0011° a row
+      j.actual[k] = j.commanded[k] - 1e-6 * u(rng);
+    }
+    five.add(r, j);
+    three.add(r, j);
+    if (t_start < 0.0 && r.state == MachineState::kRunning) t_start = round_like_csv(r.t, 1e4);
+    const bool busy = t_start >= 0.0 && r.state != MachineState::kIdle && r.state != MachineState::kStarting;
+    if (!busy) continue;
+    ++busy_rows;
+    t_last_busy = round_like_csv(r.t, 1e4) - t_start;
+    for (std::size_t k : {0u, 2u}) {
+      const double e = round_like_csv((j.commanded[k] - j.actual[k]) * 180.0 / 3.14159265358979323846, 1e7);
+      lo[k] = std::min(lo[k], e);
+      hi[k] = std::max(hi[k], e);
+    }
+  }
+  const CompactTotals t5 = five.finish(), t3 = three.finish();
+  EXPECT_EQ(t3.rotary_mask, 0u);
+  EXPECT_TRUE(three.joint_slices().empty() && three.joint_points().empty());
+  EXPECT_EQ(t5.rotary_mask, kAC);
+  ASSERT_EQ(five.joint_slices().size(), five.slices().size());
+  std::uint64_t n = 0;
+  double jlo[3] = {1e9, 1e9, 1e9}, jhi[3] = {-1e9, -1e9, -1e9};
+  for (std::size_t i = 0; i < five.slices().size(); ++i) {
+    const CompactJointSlice& s = five.joint_slices()[i];
+    EXPECT_LE(s.rows, five.slices()[i].rows) << i;
+    if (s.rows == 0) continue;
+    n += s.rows;
+    EXPECT_GE(s.t0, five.slices()[i].t0) << i;
+    EXPECT_LE(s.t1, five.slices()[i].t1) << i;
+    for (std::size_t k : {0u, 2u}) {
+      jlo[k] = std::min(jlo[k], s.ferr_min[k]);
+      jhi[k] = std::max(jhi[k], s.ferr_max[k]);
+    }
+  }
+  EXPECT_EQ(n, busy_rows);
+  for (std::size_t k : {0u, 2u}) {
+    EXPECT_EQ(jlo[k], lo[k]) << k;
+    EXPECT_EQ(jhi[k], hi[k]) << k;
+    EXPECT_EQ(five.joint_totals().ferr_abs_max[k], std::max(-lo[k], hi[k])) << k;
+  }
+  ASSERT_GT(busy_rows, CompactTraceBuilder::kMaxPoints);
+  EXPECT_LE(five.joint_points().size(), CompactTraceBuilder::kMaxPoints + 1);
+  EXPECT_GT(five.joint_totals().angle_tolerance_deg, CompactTraceBuilder::kAngleToleranceDeg);  // thinned
+  EXPECT_EQ(five.joint_totals().points, five.joint_points().size());
+  ASSERT_FALSE(five.joint_points().empty());
+  EXPECT_EQ(five.joint_points().front().t, 0.0);
+  EXPECT_EQ(five.joint_points().back().t, t_last_busy);
+}
+
 }  // namespace
 }  // namespace pcnc

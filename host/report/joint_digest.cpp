@@ -21,6 +21,15 @@ int column_of(const std::vector<char>& letters, char l) {
 
 }  // namespace
 
+void merge_joint_bucket(JointBucket& m, const JointBucket& x) {
+  m.t1 = x.t1;
+  for (std::size_t i = 0; i < kMaxTraceJoints; ++i) {
+    m.ferr_min[i] = std::min(m.ferr_min[i], x.ferr_min[i]);
+    m.ferr_max[i] = std::max(m.ferr_max[i], x.ferr_max[i]);
+  }
+  m.rows += x.rows;
+}
+
 JointDigester::JointDigester(JointDigestOptions options, std::vector<char> letters) : o_(std::move(options)) {
   d_.letters = std::move(letters);
   o_.max_buckets = std::max<std::size_t>(o_.max_buckets, 2);
@@ -48,6 +57,15 @@ void JointDigester::add(const TraceSample& row, const TraceJointRow& j) {
   if (d_.tool_axis) add_to_axis(row, j, t);
 }
 
+void JointDigester::add_axis_only(const TraceSample& row, const TraceJointRow& j) {
+  if (!started_) {
+    if (row.state != MachineState::kRunning) return;
+    started_ = true;
+    t_start_ = row.t;
+  }
+  if (busy(row.state) && d_.tool_axis) add_to_axis(row, j, row.t - t_start_);
+}
+
 void JointDigester::add_to_buckets(const TraceJointRow& j, double t) {
   const std::size_t n = std::min(j.count, d_.letters.size());
   for (std::size_t i = 0; i < n; ++i) d_.ferr_abs_max[i] = std::max(d_.ferr_abs_max[i], std::fabs(j.ferr[i]));
@@ -72,13 +90,7 @@ void JointDigester::add_to_buckets(const TraceJointRow& j, double t) {
     for (const JointBucket& x : b) {
       const auto ix = static_cast<std::size_t>(std::max(0.0, x.t0) / bucket_width_);
       if (!merged.empty() && static_cast<std::size_t>(std::max(0.0, merged.back().t0) / bucket_width_) == ix) {
-        JointBucket& m = merged.back();
-        m.t1 = x.t1;
-        for (std::size_t i = 0; i < kMaxTraceJoints; ++i) {
-          m.ferr_min[i] = std::min(m.ferr_min[i], x.ferr_min[i]);
-          m.ferr_max[i] = std::max(m.ferr_max[i], x.ferr_max[i]);
-        }
-        m.rows += x.rows;
+        merge_joint_bucket(merged.back(), x);
       } else {
         merged.push_back(x);
       }

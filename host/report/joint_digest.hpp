@@ -33,6 +33,9 @@ struct JointBucket {
   std::uint32_t rows = 0;
 };
 
+/// `x` (the later bucket) merged into `m`.
+void merge_joint_bucket(JointBucket& m, const JointBucket& x);
+
 /// One tool-axis mark: where the tip was and which way the tool pointed (workpiece coordinates).
 struct ToolAxisMark {
   Vec3 tip{};
@@ -59,6 +62,8 @@ class JointDigester {
   JointDigester(JointDigestOptions options, std::vector<char> letters);
   void add(const TraceSample& row, const TraceJointRow& joints);
   JointDigest finish();
+  /// For rows that carry no following error (the compact trace's kept points): only the tip path and marks.
+  void add_axis_only(const TraceSample& row, const TraceJointRow& joints);
 
  private:
   void add_to_buckets(const TraceJointRow& j, double t);

@@ -33,6 +33,9 @@ struct Contents {
   CompactTotals totals;
   std::vector<CompactSlice> slices;
   std::vector<CompactPoint> points;
+  CompactJointTotals joint_totals;  // a rotary machine's joint section (totals.rotary_mask != 0)
+  std::vector<CompactJointSlice> joint_slices;
+  std::vector<CompactJointPoint> joint_points;
 };
 
 // Header, footer, totals, slices and points; leaves the file at the first run.
@@ -65,6 +68,17 @@ Contents read_contents(std::FILE* f, const std::string& path) {
   read_exact(f, c.slices.data(), c.slices.size(), path, "slices");
   c.points.resize(c.totals.points);
   read_exact(f, c.points.data(), c.points.size(), path, "path");
+  if (c.totals.rotary_mask != 0) {
+    read_exact(f, &c.joint_totals, 1, path, "joint totals");
+    const CompactJointTotals want_joints;
+    if (c.joint_totals.slice_size != want_joints.slice_size || c.joint_totals.point_size != want_joints.point_size) {
+      throw std::runtime_error("compact trace '" + path + "' has another layout (its joint records)");
+    }
+    c.joint_slices.resize(c.totals.slices);
+    read_exact(f, c.joint_slices.data(), c.joint_slices.size(), path, "joint slices");
+    c.joint_points.resize(c.joint_totals.points);
+    read_exact(f, c.joint_points.data(), c.joint_points.size(), path, "joint points");
+  }
   if (std::fseek(f, static_cast<long>(sizeof h), SEEK_SET) != 0) throw std::runtime_error("cannot read '" + path + "'");
   return c;
 }
@@ -138,23 +152,26 @@ void add_runs(std::FILE* f, const std::string& path, const Contents& c, const Di
 }
 
 // The digest's buckets from the slices, by its own rule: a bucket per index at the current
-// width; past max_buckets, neighbours merge and the width doubles (once per row).
-std::vector<TraceBucket> rebuild_buckets(const std::vector<TraceBucket>& slices, double slice_width, std::size_t max_buckets) {
-  std::vector<TraceBucket> b;
+// width; past max_buckets, neighbours merge and the width doubles (once per row). For the
+// 3-axis buckets (TraceBucket) and the joints' (JointBucket), each with its merge.
+template <typename Bucket, typename Merge>
+std::vector<Bucket> rebuild_buckets(const std::vector<Bucket>& slices, double slice_width, std::size_t max_buckets,
+                                    Merge merge) {
+  std::vector<Bucket> b;
   double width = slice_width;
-  for (const TraceBucket& x : slices) {
+  for (const Bucket& x : slices) {
     if (b.empty() || bucket_index(b.back().t0, width) != bucket_index(x.t0, width)) {
       b.push_back(x);
     } else {
-      merge_bucket(b.back(), x);
+      merge(b.back(), x);
     }
     for (std::uint32_t r = 0; r < x.rows && b.size() > max_buckets; ++r) {
       width *= 2.0;
-      std::vector<TraceBucket> merged;
+      std::vector<Bucket> merged;
       merged.reserve(b.size() / 2 + 1);
-      for (const TraceBucket& y : b) {
+      for (const Bucket& y : b) {
         if (!merged.empty() && bucket_index(merged.back().t0, width) == bucket_index(y.t0, width)) {
-          merge_bucket(merged.back(), y);
+          merge(merged.back(), y);
         } else {
           merged.push_back(y);
         }
@@ -189,6 +206,48 @@ std::vector<ToolPathPoint> decimate_path(const std::vector<CompactPoint>& points
   return path;
 }
 
+// A rotary machine's joints as the CSV's joint digest gives them: the buckets rebuilt from the
+// joint slices (exact), the tip path and tool-axis marks from the kept points (the rt's
+// decimation: within its tolerances of the CSV's).
+JointDigest joint_digest(const Contents& c, const JointDigestOptions& options) {
+  std::vector<char> letters;
+  std::vector<std::size_t> index;  // column -> joint index (A, B, C)
+  for (int i = 0; i < kRotaryJoints; ++i) {
+    if (!has_joint(static_cast<RotaryMask>(c.totals.rotary_mask), i)) continue;
+    letters.push_back(joint_letter(i));
+    index.push_back(static_cast<std::size_t>(i));
+  }
+  JointDigester digester(options, letters);
+  for (const CompactJointPoint& p : c.joint_points) {
+    TraceSample row;
+    row.t = p.t;
+    row.state = MachineState::kRunning;
+    row.commanded = {p.commanded[0], p.commanded[1], p.commanded[2]};
+    TraceJointRow j;
+    j.count = letters.size();
+    for (std::size_t k = 0; k < index.size(); ++k) j.cmd[k] = p.joints[index[k]];
+    digester.add_axis_only(row, j);
+  }
+  JointDigest d = digester.finish();
+  std::vector<JointBucket> slices;
+  for (const CompactJointSlice& s : c.joint_slices) {
+    if (s.rows == 0) continue;  // idle rows only
+    JointBucket b;
+    b.t0 = s.t0;
+    b.t1 = s.t1;
+    b.rows = s.rows;
+    for (std::size_t k = 0; k < index.size(); ++k) {
+      b.ferr_min[k] = s.ferr_min[index[k]];
+      b.ferr_max[k] = s.ferr_max[index[k]];
+    }
+    slices.push_back(b);
+  }
+  d.buckets = rebuild_buckets(slices, c.totals.slice_width_s, std::max<std::size_t>(options.max_buckets, 2),
+                              [](JointBucket& m, const JointBucket& x) { merge_joint_bucket(m, x); });
+  for (std::size_t k = 0; k < index.size(); ++k) d.ferr_abs_max[k] = c.joint_totals.ferr_abs_max[index[k]];
+  return d;
+}
+
 }  // namespace
 
 bool is_compact_trace_file(const std::string& path) {
@@ -211,7 +270,8 @@ TraceDigest digest_compact_trace(const std::string& path, const DigestOptions& o
   slices.reserve(c.slices.size());
   for (const CompactSlice& s : c.slices) slices.push_back(bucket_of(s));
   add_runs(f.get(), path, c, o, slices, d);
-  d.buckets = rebuild_buckets(slices, c.totals.slice_width_s, o.max_buckets);
+  d.buckets = rebuild_buckets(slices, c.totals.slice_width_s, o.max_buckets,
+                              [](TraceBucket& m, const TraceBucket& x) { merge_bucket(m, x); });
 
   const CompactTotals& t = c.totals;
   d.rows = t.rows;
@@ -230,6 +290,7 @@ TraceDigest digest_compact_trace(const std::string& path, const DigestOptions& o
                                    d.duration_s, d.last.line, d.last.following_error});
   }
   d.path_tolerance_mm = tol;
+  if (c.totals.rotary_mask != 0) d.joints = joint_digest(c, o.joints);
   return d;
 }
 

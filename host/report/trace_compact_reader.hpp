@@ -8,7 +8,10 @@
 // min and max of speed and following error, feed/rapid rows and speeds, planned speed, rows
 // per cause), the rows per cause and per line, the last row. The tool path is decimated
 // twice (by the rt at 1 µm or more, then here by the report's rule), so its points may differ
-// from the CSV's digest within the rt's tolerance; its end point is the same.
+// from the CSV's digest within the rt's tolerance; its end point is the same. A rotary
+// machine's joints (TraceDigest::joints): the joints' following-error buckets and their
+// maxima are exact; the tip path and tool-axis marks come from the rt's kept points (1 µm or
+// 0.001° apart, or more past its point budget), so they may differ from the CSV's within that.
 #pragma once
 
 #include <string>

@@ -35,7 +35,7 @@ TraceWriter::TraceWriter(const TraceFiles& files, std::function<void(const std::
     const CompactHeader header;
     errno = 0;
     if (std::fwrite(&header, sizeof header, 1, compact_) != 1) fail(files_.compact, "write", errno);
-    builder_ = std::make_unique<CompactTraceBuilder>([this](const CompactRun& r) { write_compact_run(r); });
+    builder_ = std::make_unique<CompactTraceBuilder>([this](const CompactRun& r) { write_compact_run(r); }, files_.rotary);
   }
   thread_ = std::thread([this] { run(); });
 }
@@ -90,7 +90,7 @@ void TraceWriter::drain() {
         }
       }
     }
-    if (builder_) builder_->add(s);  // may write a completed run
+    if (builder_) builder_->add(s, e.joints);  // may write a completed run
     ++unflushed_;
     written_.fetch_add(1, std::memory_order_relaxed);
   }
@@ -115,7 +115,7 @@ void TraceWriter::flush() {
   unflushed_ = 0;
 }
 
-// After the last row: the last run, the totals, slices, path and the footer that marks the
+// After the last row: the last run, the totals, slices, path, the joints (rotary machines) and the footer that marks the
 // file complete (a reader refuses a compact trace without it).
 void TraceWriter::finish_compact() {
   const CompactTotals totals = builder_->finish();
@@ -129,9 +129,20 @@ void TraceWriter::finish_compact() {
   if (offset < 0 || std::fwrite(&totals, sizeof totals, 1, compact_) != 1 ||
       std::fwrite(slices.data(), sizeof(CompactSlice), slices.size(), compact_) != slices.size() ||
       std::fwrite(points.data(), sizeof(CompactPoint), points.size(), compact_) != points.size() ||
-      std::fwrite(&footer, sizeof footer, 1, compact_) != 1) {
+      !write_joint_section(totals) || std::fwrite(&footer, sizeof footer, 1, compact_) != 1) {
     fail(files_.compact, "write", errno);
   }
+}
+
+// A rotary machine's joint section (ipc/trace_compact.hpp); nothing for a 3-axis machine.
+bool TraceWriter::write_joint_section(const CompactTotals& totals) {
+  if (totals.rotary_mask == 0) return true;
+  const CompactJointTotals& jt = builder_->joint_totals();
+  const auto& slices = builder_->joint_slices();
+  const auto& points = builder_->joint_points();
+  return std::fwrite(&jt, sizeof jt, 1, compact_) == 1 &&
+         std::fwrite(slices.data(), sizeof(CompactJointSlice), slices.size(), compact_) == slices.size() &&
+         std::fwrite(points.data(), sizeof(CompactJointPoint), points.size(), compact_) == points.size();
 }
 
 void TraceWriter::run() {

@@ -8,7 +8,7 @@
 // with the report's reader). close() (or the destructor) drains what is left and joins.
 //
 // It writes the full CSV (--trace), the compact trace the run report reads (--trace-digest:
-// ipc/trace_compact.hpp, built here from every row, off the rt thread; its summary records
+// ipc/trace_compact.hpp, built here from every row with its joints, off the rt thread; its summary records
 // are written at close()), or both.
 //
 // Every write, flush and close is checked (the buffer is flushed at least every 50 ms, so a
@@ -86,6 +86,7 @@ class TraceWriter {
   void fail(const std::string& path, const char* what, int err);
   void write_compact_run(const CompactRun& run);
   void finish_compact();
+  bool write_joint_section(const CompactTotals& totals);
 
   TraceFiles files_;
   std::FILE* file_ = nullptr;     // the CSV (null: none)

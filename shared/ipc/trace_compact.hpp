@@ -16,7 +16,13 @@
 //   - the tool path: a row is kept when it lies at least the path tolerance (1 µm, doubling
 //     past kMaxPoints) from the last kept one, in single precision; the host decimates this
 //     path again (its last point is the window's last row, exact);
-//   - the counts, maxima and the last row of the window.
+//   - the counts, maxima and the last row of the window;
+//   - on a machine with rotary joints (TraceFiles::rotary, CompactTotals::rotary_mask != 0)
+//     a joint section after the points: per slice the min and max of each joint's following
+//     error over the slice's busy rows (degrees, rounded as the CSV), and the commanded
+//     position and joints decimated (a row is kept when it lies 1 µm from the last kept one or
+//     a joint turned 0.001° from it, both doubling past kMaxPoints; the window's last busy row
+//     is kept) for the report's tool-axis view. A 3-axis machine's file is unchanged.
 // Pure: the caller hands rows in and takes records out (runs as they complete, through a
 // callback, so memory stays bounded by the slices and the path, not the program's length).
 #pragma once
@@ -64,6 +70,35 @@ struct CompactPoint {
 };
 static_assert(std::is_trivially_copyable_v<CompactPoint> && sizeof(CompactPoint) == 40);
 
+/// A slice's rotary joints (rotary machines only, one per CompactSlice, same order): min and
+/// max following error over the slice's busy rows (IDLE and STARTING rows are left out, as the
+/// report's joint digest leaves them out), degrees, by joint index A, B, C.
+struct CompactJointSlice {
+  double t0 = 0.0, t1 = 0.0;  // first and last busy row (rows == 0: none)
+  double ferr_min[3] = {0, 0, 0}, ferr_max[3] = {0, 0, 0};
+  std::uint32_t rows = 0, reserved = 0;
+};
+static_assert(std::is_trivially_copyable_v<CompactJointSlice> && sizeof(CompactJointSlice) == 72);
+
+/// A kept busy row for the tool-axis view: the commanded position and joints (degrees, by
+/// joint index A, B, C), single precision (a float resolves 3e-5° at 360°).
+struct CompactJointPoint {
+  double t = 0.0;  // program time, s
+  float commanded[3] = {0, 0, 0};  // mm
+  float joints[3] = {0, 0, 0};     // deg
+  std::uint32_t reserved[2] = {0, 0};
+};
+static_assert(std::is_trivially_copyable_v<CompactJointPoint> && sizeof(CompactJointPoint) == 40);
+
+/// The joint section's own totals, written first in it.
+struct CompactJointTotals {
+  std::uint64_t points = 0;          // CompactJointPoint records (the slices: CompactTotals::slices)
+  double ferr_abs_max[3] = {0, 0, 0};  // deg, over the busy rows of the window
+  double path_tolerance_mm = 0.0, angle_tolerance_deg = 0.0;  // the points' final tolerances
+  std::uint32_t slice_size = sizeof(CompactJointSlice), point_size = sizeof(CompactJointPoint);
+};
+static_assert(std::is_trivially_copyable_v<CompactJointTotals>);
+
 /// What holds for the whole trace; written after the runs.
 struct CompactTotals {
   std::uint64_t rows = 0;          // every row the writer saw
@@ -75,11 +110,12 @@ struct CompactTotals {
   double path_tolerance_mm = 0.0;  // the path's final tolerance
   TraceSample last{};              // the window's last row (CSV-rounded)
   std::uint32_t saw_fault = 0;     // FAULT, ESTOP or HOST_LOST in the window
-  std::uint32_t reserved = 0;
+  std::uint32_t rotary_mask = 0;   // the machine's rotary joints (RotaryMask); 0: no joint section
 };
 static_assert(std::is_trivially_copyable_v<CompactTotals>);
 
-/// The file: header, runs (streamed), totals, slices, points, footer. Native byte order;
+/// The file: header, runs (streamed), totals, slices, points, [joint section: CompactJointTotals,
+/// CompactJointSlice x slices, CompactJointPoint x points], footer. Native byte order;
 /// the header names the record sizes so a reader of another build refuses it.
 struct CompactHeader {
   char magic[8] = {'P', 'C', 'N', 'C', 'C', 'T', 'R', '1'};
@@ -106,18 +142,26 @@ class CompactTraceBuilder {
   static constexpr std::size_t kMaxSlices = 4096;   // the report uses at most 920 buckets: slices nest in them
   static constexpr std::size_t kMaxPoints = 65536;  // 2.6 MB at most; the report keeps at most 40,000 points
   static constexpr double kPathToleranceMm = 0.001;
+  static constexpr double kAngleToleranceDeg = 0.001;
 
-  /// `on_run` receives each run once it is complete, in time order.
-  explicit CompactTraceBuilder(std::function<void(const CompactRun&)> on_run);
-  /// One row, in time order (as the rt's queue delivers them).
-  void add(const TraceSample& raw);
+  /// `on_run` receives each run once it is complete, in time order. `rotary`: the machine's
+  /// rotary joints (0: no joint section, the 3-axis file).
+  explicit CompactTraceBuilder(std::function<void(const CompactRun&)> on_run, RotaryMask rotary = 0);
+  /// One row, in time order (as the rt's queue delivers them), with its joints (rotary only).
+  void add(const TraceSample& raw, const TraceJoints& joints = {});
   /// Ends the last run (handed to on_run) and returns the totals; slices() and points() are final.
   CompactTotals finish();
   const std::vector<CompactSlice>& slices() const { return slices_; }
   const std::vector<CompactPoint>& points() const { return points_; }
+  /// The joint section (rotary machines; after finish()).
+  const CompactJointTotals& joint_totals() const { return joint_totals_; }
+  const std::vector<CompactJointSlice>& joint_slices() const { return joint_slices_; }
+  const std::vector<CompactJointPoint>& joint_points() const { return joint_points_; }
 
  private:
-  void add_window_row(const TraceSample& raw);
+  void add_window_row(const TraceSample& raw, const TraceJoints* joints);
+  void add_joints(const TraceSample& raw, const TraceJoints& j, double t);
+  bool keep_joint_point(const CompactJointPoint& p, const CompactJointPoint& last) const;
   void add_to_slices(const TraceSample& r, double t);
   void add_to_run(const TraceSample& r, double t);
   void add_to_path(const TraceSample& raw, const TraceSample& r, double t);
@@ -135,6 +179,13 @@ class CompactTraceBuilder {
   Vec3 last_kept_{};  // raw position of the last kept path point
   CompactRun run_{};
   bool run_open_ = false;
+  RotaryMask rotary_ = 0;
+  CompactJointTotals joint_totals_;
+  std::vector<CompactJointSlice> joint_slices_;  // parallel to slices_
+  std::vector<CompactJointPoint> joint_points_;
+  CompactJointPoint last_joint_row_{};  // the last busy row (kept at finish when thinned away)
+  bool have_joint_row_ = false;
+  double joint_tol_mm_ = kPathToleranceMm, joint_tol_deg_ = kAngleToleranceDeg;
 };
 
 }  // namespace pcnc
