@@ -60,8 +60,10 @@ if [ "${PCNC_SKIP_SANITIZERS:-0}" != "1" ]; then
   step "AddressSanitizer + UndefinedBehaviorSanitizer build and ctest"
   # Debug (assertions on) at -O1: ASan's usual level; at -O0 the corpus-wide tests took minutes.
   # -g1 (line tables) is enough for a report's stack trace and compiles much faster than -g.
+  # A unity build (each library's files compiled in batches): the sanitized libraries in
+  # about half the CPU time. File-local names must therefore be unique within a library.
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1" \
-    -DPCNC_SANITIZE=address,undefined -DPCNC_BENCH=OFF >/dev/null
+    -DPCNC_SANITIZE=address,undefined -DPCNC_BENCH=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
   cmake --build build-asan -j "$JOBS"
   PCNC_RING_TEST_BLOCKS=200000 ctest --test-dir build-asan --output-on-failure -j "$JOBS" "${RETRY[@]}"
   check_leftovers ASan

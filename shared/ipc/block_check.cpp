@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "ipc/block_check_util.hpp"
 #include "ipc/block_nurbs.hpp"
 #include "geometry/plane.hpp"
 #include "geometry/probe_contact.hpp"
@@ -12,12 +13,6 @@
 
 namespace pcnc {
 namespace {
-
-bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-
-BlockVerdict bad(const char* reason, int axis = 0, double value = 0.0) {
-  return {FaultCode::kBadBlock, reason, static_cast<std::uint8_t>(axis), value};
-}
 
 bool unit(const Vec3& v) { return std::abs(norm(v) - 1.0) < 1e-3; }
 
@@ -54,22 +49,22 @@ BlockVerdict check_line_plan(const Block& b, double tol) {
     if (std::abs(d[i]) > std::abs(d[k])) k = i;
   }
   if (b.motion_class != static_cast<MotionClass>(moving)) {
-    return bad("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
+    return refuse_block("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
   }
-  if (b.driving_axis != k) return bad("driving axis plan disagrees with the path: driving_axis", k, b.driving_axis);
+  if (b.driving_axis != k) return refuse_block("driving axis plan disagrees with the path: driving_axis", k, b.driving_axis);
   if (b.driving_dir != (d[k] < 0.0 ? -1 : 1)) {
-    return bad("driving axis plan disagrees with the path: driving_dir", k, b.driving_dir);
+    return refuse_block("driving axis plan disagrees with the path: driving_dir", k, b.driving_dir);
   }
   const double u = length > 0.0 ? d[k] / length : 0.0;  // signed direction cosine of the driving axis
   if (!agrees(b.driving_speed, b.speed * std::abs(u), b.speed)) {
-    return bad("driving axis plan disagrees with the path: driving_speed", k, b.driving_speed);
+    return refuse_block("driving axis plan disagrees with the path: driving_speed", k, b.driving_speed);
   }
   if (!agrees(b.driving_accel, b.accel * std::abs(u), b.accel)) {
-    return bad("driving axis plan disagrees with the path: driving_accel", k, b.driving_accel);
+    return refuse_block("driving axis plan disagrees with the path: driving_accel", k, b.driving_accel);
   }
   const double decel = b.start[k] + u * stop_begins_at(length, b.speed, b.accel);
   if (!(std::abs(b.decel_start - decel) <= tol)) {
-    return bad("driving axis plan disagrees with the path: decel_start", k, b.decel_start);
+    return refuse_block("driving axis plan disagrees with the path: decel_start", k, b.decel_start);
   }
   return {};
 }
@@ -87,36 +82,36 @@ BlockVerdict check_arc_plan(const Block& b, double tol) {
   const double rho = std::sqrt(g.radius * g.radius + pitch * pitch);
   const double length = rho * turn;
   const MotionClass mc = std::abs(g.helix) > kMovingMm ? MotionClass::kSpace : MotionClass::kPlane;
-  if (b.motion_class != mc) return bad("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
+  if (b.motion_class != mc) return refuse_block("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
 
   const double w = b.speed / rho, alpha = b.accel / rho;
-  if (!agrees(g.angular_speed, w, w)) return bad("arc plan disagrees with the path: angular_speed", n, g.angular_speed);
+  if (!agrees(g.angular_speed, w, w)) return refuse_block("arc plan disagrees with the path: angular_speed", n, g.angular_speed);
   if (!agrees(g.angular_accel, alpha, alpha)) {
-    return bad("arc plan disagrees with the path: angular_accel", n, g.angular_accel);
+    return refuse_block("arc plan disagrees with the path: angular_accel", n, g.angular_accel);
   }
   const double decel_angle = stop_begins_at(turn, w, alpha);
   if (!(std::abs(g.decel_start_angle - decel_angle) * rho <= tol)) {
-    return bad("arc plan disagrees with the path: decel_start_angle", n, g.decel_start_angle);
+    return refuse_block("arc plan disagrees with the path: decel_start_angle", n, g.decel_start_angle);
   }
 
-  if (b.driving_axis != n) return bad("driving axis plan disagrees with the path: driving_axis", n, b.driving_axis);
+  if (b.driving_axis != n) return refuse_block("driving axis plan disagrees with the path: driving_axis", n, b.driving_axis);
   if (b.driving_dir != (g.helix < 0.0 ? -1 : 1)) {
-    return bad("driving axis plan disagrees with the path: driving_dir", n, b.driving_dir);
+    return refuse_block("driving axis plan disagrees with the path: driving_dir", n, b.driving_dir);
   }
   const double share = std::abs(g.helix) / length;
   if (!agrees(b.driving_speed, b.speed * share, b.speed)) {
-    return bad("driving axis plan disagrees with the path: driving_speed", n, b.driving_speed);
+    return refuse_block("driving axis plan disagrees with the path: driving_speed", n, b.driving_speed);
   }
   if (!agrees(b.driving_accel, b.accel * share, b.accel)) {
-    return bad("driving axis plan disagrees with the path: driving_accel", n, b.driving_accel);
+    return refuse_block("driving axis plan disagrees with the path: driving_accel", n, b.driving_accel);
   }
   const double decel = b.start[n] + g.helix * decel_angle / turn;
   if (!(std::abs(b.decel_start - decel) <= tol)) {
-    return bad("driving axis plan disagrees with the path: decel_start", n, b.decel_start);
+    return refuse_block("driving axis plan disagrees with the path: decel_start", n, b.decel_start);
   }
 
   // Direction cosines: the unit tangents in the direction of travel, sign(sweep)·dp/dθ.
-  if (!unit(b.dir_start) || !unit(b.dir_end)) return bad("arc: direction cosines are not unit vectors");
+  if (!unit(b.dir_start) || !unit(b.dir_end)) return refuse_block("arc: direction cosines are not unit vectors");
   const auto pa = plane_axes(g.normal_axis);
   const double sign = g.sweep < 0.0 ? -1.0 : 1.0;
   auto tangent = [&](double theta) {
@@ -128,7 +123,7 @@ BlockVerdict check_arc_plan(const Block& b, double tol) {
   };
   if (b.length > 10.0 * tol &&
       (dot(tangent(g.start_angle), b.dir_start) < 0.9999 || dot(tangent(g.start_angle + g.sweep), b.dir_end) < 0.9999)) {
-    return bad("arc: direction cosines disagree with the tangents");
+    return refuse_block("arc: direction cosines disagree with the tangents");
   }
   return {};
 }
@@ -152,52 +147,52 @@ BlockVerdict check_nurbs_plan(const Block& b) {
     if (hi[i] - lo[i] > hi[k] - lo[k]) k = i;
   }
   const MotionClass mc = moving <= 1 ? MotionClass::kSingleAxis : static_cast<MotionClass>(moving);
-  if (b.motion_class != mc) return bad("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
-  if (b.driving_axis != k) return bad("driving axis plan disagrees with the path: driving_axis", k, b.driving_axis);
+  if (b.motion_class != mc) return refuse_block("motion class disagrees with the axes that move", 0, static_cast<double>(b.motion_class));
+  if (b.driving_axis != k) return refuse_block("driving axis plan disagrees with the path: driving_axis", k, b.driving_axis);
   if (b.driving_dir != (b.end[k] >= b.start[k] ? 1 : -1)) {
-    return bad("driving axis plan disagrees with the path: driving_dir", k, b.driving_dir);
+    return refuse_block("driving axis plan disagrees with the path: driving_dir", k, b.driving_dir);
   }
-  if (b.driving_speed != 0.0) return bad("driving axis plan disagrees with the path: driving_speed", k, b.driving_speed);
-  if (b.driving_accel != 0.0) return bad("driving axis plan disagrees with the path: driving_accel", k, b.driving_accel);
-  if (b.decel_start != 0.0) return bad("driving axis plan disagrees with the path: decel_start", k, b.decel_start);
+  if (b.driving_speed != 0.0) return refuse_block("driving axis plan disagrees with the path: driving_speed", k, b.driving_speed);
+  if (b.driving_accel != 0.0) return refuse_block("driving axis plan disagrees with the path: driving_accel", k, b.driving_accel);
+  if (b.decel_start != 0.0) return refuse_block("driving axis plan disagrees with the path: decel_start", k, b.decel_start);
   return {};
 }
 
 // Arc-only checks; the shared part (start, end, travel, speed...) is done by the caller.
 BlockVerdict check_arc(const Block& b, const MachineConfig& cfg, double tol) {
   const ArcGeometry& g = b.arc;
-  if (!finite(g.center) || !std::isfinite(g.radius) || !std::isfinite(g.start_angle) || !std::isfinite(g.sweep) ||
+  if (!all_finite(g.center) || !std::isfinite(g.radius) || !std::isfinite(g.start_angle) || !std::isfinite(g.sweep) ||
       !std::isfinite(g.helix) || !std::isfinite(g.angular_speed) || !std::isfinite(g.angular_accel) ||
       !std::isfinite(g.decel_start_angle)) {
-    return bad("arc: non-finite number");
+    return refuse_block("arc: non-finite number");
   }
-  if (g.normal_axis > 2) return bad("arc: normal axis is not 0, 1 or 2", 0, g.normal_axis);
-  if (!(g.radius > 0.0)) return bad("arc: radius <= 0", 0, g.radius);
+  if (g.normal_axis > 2) return refuse_block("arc: normal axis is not 0, 1 or 2", 0, g.normal_axis);
+  if (!(g.radius > 0.0)) return refuse_block("arc: radius <= 0", 0, g.radius);
   if (!(std::abs(g.sweep) > 0.0) || std::abs(g.sweep) > 2.0 * std::numbers::pi * 1000.0) {
-    return bad("arc: sweep is zero or absurd", 0, g.sweep);
+    return refuse_block("arc: sweep is zero or absurd", 0, g.sweep);
   }
   const int a1 = plane_axes(g.normal_axis)[0], a2 = plane_axes(g.normal_axis)[1];
   const int an = g.normal_axis;
   const double rtol = cfg.gcode.arc_radius_tolerance_mm + cfg.gcode.arc_radius_tolerance_rel * g.radius + tol;
   const double r0 = std::hypot(b.start[a1] - g.center[a1], b.start[a2] - g.center[a2]);
   const double r1 = std::hypot(b.end[a1] - g.center[a1], b.end[a2] - g.center[a2]);
-  if (std::abs(r0 - g.radius) > rtol) return bad("arc: start point is not on the radius", a1, r0 - g.radius);
-  if (std::abs(r1 - g.radius) > rtol) return bad("arc: end point is not on the radius", a1, r1 - g.radius);
-  if (std::abs(g.center[an] - b.start[an]) > tol) return bad("arc: centre is not at the start level", an);
+  if (std::abs(r0 - g.radius) > rtol) return refuse_block("arc: start point is not on the radius", a1, r0 - g.radius);
+  if (std::abs(r1 - g.radius) > rtol) return refuse_block("arc: end point is not on the radius", a1, r1 - g.radius);
+  if (std::abs(g.center[an] - b.start[an]) > tol) return refuse_block("arc: centre is not at the start level", an);
   if (std::abs(b.end[an] - b.start[an] - g.helix) > tol) {
-    return bad("arc: helix does not match end minus start on the normal axis", an, g.helix);
+    return refuse_block("arc: helix does not match end minus start on the normal axis", an, g.helix);
   }
   // Angles: the stated start angle and start + sweep must match the points (as arc length).
   const double th0 = std::atan2(b.start[a2] - g.center[a2], b.start[a1] - g.center[a1]);
   const double th1 = std::atan2(b.end[a2] - g.center[a2], b.end[a1] - g.center[a1]);
   auto wrap = [](double a) { return std::remainder(a, 2.0 * std::numbers::pi); };
-  if (std::abs(wrap(th0 - g.start_angle)) * g.radius > rtol) return bad("arc: start angle does not match start point");
+  if (std::abs(wrap(th0 - g.start_angle)) * g.radius > rtol) return refuse_block("arc: start angle does not match start point");
   if (std::abs(wrap(th1 - (g.start_angle + g.sweep))) * g.radius > rtol) {
-    return bad("arc: start angle + sweep does not match end point");
+    return refuse_block("arc: start angle + sweep does not match end point");
   }
   const double len = std::hypot(g.radius * g.sweep, g.helix);
   if (std::abs(len - b.length) > tol + 1e-6 * len + rtol * std::abs(g.sweep)) {
-    return bad("arc: length inconsistent with radius, sweep and helix", 0, b.length - len);
+    return refuse_block("arc: length inconsistent with radius, sweep and helix", 0, b.length - len);
   }
   // The arc's bulge must stay inside the travel: check each in-plane extreme the sweep reaches.
   const double rmax = std::max(r0, r1);
@@ -209,7 +204,7 @@ BlockVerdict check_arc(const Block& b, const MachineConfig& cfg, double tol) {
     p[a1] = g.center[a1] + rmax * std::cos(k * half_pi);
     p[a2] = g.center[a2] + rmax * std::sin(k * half_pi);
     const int ax = outside_travel(p, cfg, tol);
-    if (ax >= 0) return bad("arc: bulges outside the travel", ax, p[ax]);
+    if (ax >= 0) return refuse_block("arc: bulges outside the travel", ax, p[ax]);
   }
   return check_arc_plan(b, tol);
 }
@@ -220,43 +215,43 @@ BlockVerdict check_arc(const Block& b, const MachineConfig& cfg, double tol) {
 BlockVerdict check_nurbs(const Block& b, const MachineConfig& cfg, double tol) {
   const NurbsGeometry& g = b.nurbs;
   const int p = g.degree, n = g.point_count;
-  if (p < 1 || p > kMaxNurbsDegree) return bad("nurbs: degree out of range", 0, p);
-  if (n < p + 1 || n > kMaxNurbsPoints) return bad("nurbs: control point count out of range", 0, n);
-  if (g.knot_count != n + p + 1) return bad("nurbs: knot count is not points + degree + 1", 0, g.knot_count);
+  if (p < 1 || p > kMaxNurbsDegree) return refuse_block("nurbs: degree out of range", 0, p);
+  if (n < p + 1 || n > kMaxNurbsPoints) return refuse_block("nurbs: control point count out of range", 0, n);
+  if (g.knot_count != n + p + 1) return refuse_block("nurbs: knot count is not points + degree + 1", 0, g.knot_count);
   for (int i = 0; i < g.knot_count; ++i) {
-    if (!std::isfinite(g.knots[i])) return bad("nurbs: non-finite knot");
-    if (i > 0 && g.knots[i] < g.knots[i - 1]) return bad("nurbs: knots decrease", 0, g.knots[i]);
+    if (!std::isfinite(g.knots[i])) return refuse_block("nurbs: non-finite knot");
+    if (i > 0 && g.knots[i] < g.knots[i - 1]) return refuse_block("nurbs: knots decrease", 0, g.knots[i]);
   }
-  if (!(g.knots[p] < g.knots[n])) return bad("nurbs: empty parameter domain");
+  if (!(g.knots[p] < g.knots[n])) return refuse_block("nurbs: empty parameter domain");
   for (int i = 0; i < n; ++i) {
-    if (!finite(g.points[i])) return bad("nurbs: non-finite control point");
-    if (!(std::isfinite(g.weights[i]) && g.weights[i] > 0.0)) return bad("nurbs: weight not positive", 0, g.weights[i]);
+    if (!all_finite(g.points[i])) return refuse_block("nurbs: non-finite control point");
+    if (!(std::isfinite(g.weights[i]) && g.weights[i] > 0.0)) return refuse_block("nurbs: weight not positive", 0, g.weights[i]);
     if (int ax = outside_travel(g.points[i], cfg, tol); ax >= 0) {
-      return bad("nurbs: control polygon leaves the travel", ax, g.points[i][ax]);
+      return refuse_block("nurbs: control polygon leaves the travel", ax, g.points[i][ax]);
     }
   }
   const int m = g.schedule_count;
-  if (m < 1 || m > kMaxFeedSchedule) return bad("nurbs: feed schedule size out of range", 0, m);
+  if (m < 1 || m > kMaxFeedSchedule) return refuse_block("nurbs: feed schedule size out of range", 0, m);
   for (int i = 0; i < m; ++i) {
     if (!std::isfinite(g.schedule_u[i]) || !std::isfinite(g.schedule_speed[i]) || g.schedule_speed[i] < 0.0) {
-      return bad("nurbs: bad feed schedule entry", 0, g.schedule_speed[i]);
+      return refuse_block("nurbs: bad feed schedule entry", 0, g.schedule_speed[i]);
     }
-    if (i > 0 && !(g.schedule_u[i] > g.schedule_u[i - 1])) return bad("nurbs: feed schedule not increasing in u");
+    if (i > 0 && !(g.schedule_u[i] > g.schedule_u[i - 1])) return refuse_block("nurbs: feed schedule not increasing in u");
     if (!std::isfinite(g.schedule_accel[i]) || !(g.schedule_accel[i] > 0.0)) {
-      return bad("nurbs: feed schedule acceleration not positive", 0, g.schedule_accel[i]);
+      return refuse_block("nurbs: feed schedule acceleration not positive", 0, g.schedule_accel[i]);
     }
-    if (b.accel > g.schedule_accel[i] * (1.0 + kRel)) return bad("nurbs: block acceleration above its schedule's", 0, b.accel);
+    if (b.accel > g.schedule_accel[i] * (1.0 + kRel)) return refuse_block("nurbs: block acceleration above its schedule's", 0, b.accel);
   }
   const NurbsView view = view_of(g);
   const double slack = 1e-12 * (view.u_max() - view.u_min());
   if (g.schedule_u[0] < view.u_min() - slack || g.schedule_u[m - 1] > view.u_max() + slack) {
-    return bad("nurbs: feed schedule outside the curve's parameter range");
+    return refuse_block("nurbs: feed schedule outside the curve's parameter range");
   }
   // The points' arc lengths: from 0 to the block's length, and between two points at least
   // the chord (since they end at the length, each is then at most the chord plus what the
   // whole block's length exceeds the sum of the chords by).
   if (std::abs(g.schedule_s[0]) > tol || std::abs(g.schedule_s[m - 1] - b.length) > tol) {
-    return bad("nurbs: feed schedule arc lengths do not run from 0 to the block length", 0, g.schedule_s[m - 1]);
+    return refuse_block("nurbs: feed schedule arc lengths do not run from 0 to the block length", 0, g.schedule_s[m - 1]);
   }
   // Every schedule point within the axes' limits: speed along the tangent, and tangential
   // plus normal acceleration (|t_i|·a + |k_i|·v² <= A_i, geometry/tangential_budget.hpp).
@@ -265,30 +260,30 @@ BlockVerdict check_nurbs(const Block& b, const MachineConfig& cfg, double tol) {
     const CurveFrame f = nurbs_frame(view, g.schedule_u[j]);
     if (!std::isfinite(g.schedule_s[j]) ||
         (j > 0 && !(g.schedule_s[j] - g.schedule_s[j - 1] >= norm(f.p - last) * (1.0 - 1e-9) - 1e-12))) {
-      return bad("nurbs: feed schedule arc length shorter than the chord", 0, g.schedule_s[j]);
+      return refuse_block("nurbs: feed schedule arc length shorter than the chord", 0, g.schedule_s[j]);
     }
     last = f.p;
     if (!f.ok) continue;
     const double v = g.schedule_speed[j], a = g.schedule_accel[j];
     for (int i = 0; i < kAxes; ++i) {
       if (std::abs(f.t[i]) * v > cfg.axes[i].max_velocity_mm_s * (1.0 + 1e-9) + 1e-9) {
-        return bad("nurbs: feed schedule above an axis's velocity limit", i, v);
+        return refuse_block("nurbs: feed schedule above an axis's velocity limit", i, v);
       }
     }
     for (int i = 0; i < kAxes; ++i) {
       const AxisConfig& ax = cfg.axes[i];
       if (std::abs(f.t[i]) * a + std::abs(f.k[i]) * v * v > ax.max_accel_mm_s2 * (1.0 + 1e-9) + 1e-9) {
-        return bad("nurbs: feed schedule above an axis's acceleration limit", i, a);
+        return refuse_block("nurbs: feed schedule above an axis's acceleration limit", i, a);
       }
     }
   }
   const Vec3 c0 = nurbs_point(view, view.u_min()), c1 = nurbs_point(view, view.u_max());
   for (int i = 0; i < kAxes; ++i) {
-    if (std::abs(c0[i] - b.start[i]) > tol) return bad("nurbs: curve does not begin at the block start", i, c0[i]);
-    if (std::abs(c1[i] - b.end[i]) > tol) return bad("nurbs: curve does not end at the block end", i, c1[i]);
+    if (std::abs(c0[i] - b.start[i]) > tol) return refuse_block("nurbs: curve does not begin at the block start", i, c0[i]);
+    if (std::abs(c1[i] - b.end[i]) > tol) return refuse_block("nurbs: curve does not end at the block end", i, c1[i]);
   }
-  if (b.length + tol < norm(b.end - b.start)) return bad("nurbs: length shorter than the chord", 0, b.length);
-  if (!unit(b.dir_start) || !unit(b.dir_end)) return bad("nurbs: direction cosines are not unit vectors");
+  if (b.length + tol < norm(b.end - b.start)) return refuse_block("nurbs: length shorter than the chord", 0, b.length);
+  if (!unit(b.dir_start) || !unit(b.dir_end)) return refuse_block("nurbs: direction cosines are not unit vectors");
   return check_nurbs_plan(b);
 }
 
@@ -309,12 +304,12 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
             0, static_cast<double>(b.seq)};
   }
   if (b.optional_stop > 1 || (b.optional_stop != 0 && b.kind != BlockKind::kPause)) {
-    return bad("optional_stop is set on a block that is not a pause, or is not 0 or 1", 0, b.optional_stop);
+    return refuse_block("optional_stop is set on a block that is not a pause, or is not 0 or 1", 0, b.optional_stop);
   }
   const double tol = cfg.motion.block_tolerance_mm;
   switch (b.kind) {
     case BlockKind::kDwell:
-      if (!std::isfinite(b.dwell_s) || b.dwell_s < 0.0 || b.dwell_s > 1e6) return bad("dwell: time not in [0, 1e6] s", 0, b.dwell_s);
+      if (!std::isfinite(b.dwell_s) || b.dwell_s < 0.0 || b.dwell_s > 1e6) return refuse_block("dwell: time not in [0, 1e6] s", 0, b.dwell_s);
       return {};
     case BlockKind::kPause:
     case BlockKind::kEnd:
@@ -326,45 +321,45 @@ BlockVerdict check_block(const Block& b, const Vec3& expected_start, std::uint64
     case BlockKind::kArc:
       break;
     default:
-      return bad("unknown block kind", 0, static_cast<double>(static_cast<int>(b.kind)));
+      return refuse_block("unknown block kind", 0, static_cast<double>(static_cast<int>(b.kind)));
   }
-  if (!finite(b.start) || !finite(b.end) || !std::isfinite(b.length) || !std::isfinite(b.speed) ||
-      !std::isfinite(b.accel) || !finite(b.dir_start) || !finite(b.dir_end)) {
-    return bad("non-finite number in a motion block");
+  if (!all_finite(b.start) || !all_finite(b.end) || !std::isfinite(b.length) || !std::isfinite(b.speed) ||
+      !std::isfinite(b.accel) || !all_finite(b.dir_start) || !all_finite(b.dir_end)) {
+    return refuse_block("non-finite number in a motion block");
   }
   if (!(b.path_tolerance_mm >= 0.0f && b.path_tolerance_mm <= 1.0f)) {
-    return bad("path tolerance outside 0 .. 1 mm", 0, static_cast<double>(b.path_tolerance_mm));
+    return refuse_block("path tolerance outside 0 .. 1 mm", 0, static_cast<double>(b.path_tolerance_mm));
   }
   for (int i = 0; i < kAxes; ++i) {
     if (std::abs(b.start[i] - expected_start[i]) > tol) {
-      return bad("start does not continue from the previous end", i, b.start[i] - expected_start[i]);
+      return refuse_block("start does not continue from the previous end", i, b.start[i] - expected_start[i]);
     }
   }
   // under TCP start and end are the tool tip in workpiece coordinates: check_rotary checks the joints
   const bool tcp = b.rotary.tcp != 0 && (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kRuled);
   const bool angular = b.rotary.angular != 0 && (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid);
-  if (int ax = tcp ? -1 : outside_travel(b.start, cfg, tol); ax >= 0) return bad("start point outside the travel", ax, b.start[ax]);
-  if (int ax = tcp ? -1 : outside_travel(b.end, cfg, tol); ax >= 0) return bad("end point outside the travel", ax, b.end[ax]);
-  if (!(b.length >= 0.0)) return bad("negative length", 0, b.length);
-  if (!(b.speed > 0.0)) return bad("speed <= 0 on a motion block", 0, b.speed);
-  if (!(b.accel > 0.0)) return bad("acceleration <= 0 on a motion block", 0, b.accel);
+  if (int ax = tcp ? -1 : outside_travel(b.start, cfg, tol); ax >= 0) return refuse_block("start point outside the travel", ax, b.start[ax]);
+  if (int ax = tcp ? -1 : outside_travel(b.end, cfg, tol); ax >= 0) return refuse_block("end point outside the travel", ax, b.end[ax]);
+  if (!(b.length >= 0.0)) return refuse_block("negative length", 0, b.length);
+  if (!(b.speed > 0.0)) return refuse_block("speed <= 0 on a motion block", 0, b.speed);
+  if (!(b.accel > 0.0)) return refuse_block("acceleration <= 0 on a motion block", 0, b.accel);
   if (b.probe_rule != kProbeNone) {
-    if (b.kind != BlockKind::kLine || b.probe_rule > kProbeAway) return bad("probe rule on a block that is not a line, or unknown", 0, b.probe_rule);
-    if (!cfg.probe.present) return bad("probing move on a machine without a probe ([probe] in the config)");
+    if (b.kind != BlockKind::kLine || b.probe_rule > kProbeAway) return refuse_block("probe rule on a block that is not a line, or unknown", 0, b.probe_rule);
+    if (!cfg.probe.present) return refuse_block("probing move on a machine without a probe ([probe] in the config)");
     const double v_max = probe_speed_limit(b.accel, cfg.cycle_period_s(), cfg.probe.model.overtravel_mm);
-    if (b.speed > v_max * (1.0 + 1e-9)) return bad("probing speed would not stop within the probe's overtravel", 0, b.speed);
+    if (b.speed > v_max * (1.0 + 1e-9)) return refuse_block("probing speed would not stop within the probe's overtravel", 0, b.speed);
   }
   if (b.kind == BlockKind::kArc) return check_arc(b, cfg, tol);
   if (b.kind == BlockKind::kNurbs) return check_nurbs(b, cfg, tol);
   if (b.kind == BlockKind::kRuled) return check_ruled(b, cfg, tol);
   const double chord = norm(b.end - b.start);
   if (angular) return check_line_plan(b, tol);  // its length is an angle (check_rotary)
-  if (std::abs(chord - b.length) > tol) return bad("length inconsistent with start and end", 0, b.length - chord);
+  if (std::abs(chord - b.length) > tol) return refuse_block("length inconsistent with start and end", 0, b.length - chord);
   if (b.length > 0.0) {
-    if (!unit(b.dir_start) || !unit(b.dir_end)) return bad("direction cosines are not unit vectors");
+    if (!unit(b.dir_start) || !unit(b.dir_end)) return refuse_block("direction cosines are not unit vectors");
     const Vec3 u = normalized(b.end - b.start);
     if (chord > 10.0 * tol && (dot(u, b.dir_start) < 0.9999 || dot(u, b.dir_end) < 0.9999)) {
-      return bad("direction cosines disagree with start and end");
+      return refuse_block("direction cosines disagree with start and end");
     }
   }
   return check_line_plan(b, tol);

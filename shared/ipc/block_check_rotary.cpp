@@ -6,17 +6,12 @@
 #include "config/joint_map.hpp"
 #include "geometry/axis_slerp.hpp"
 #include "ipc/block_check.hpp"
+#include "ipc/block_check_util.hpp"
 
 namespace pcnc {
 namespace {
 
 constexpr double kRadTol = 1e-6;  // rad: joints agree
-
-BlockVerdict bad_rotary(const char* reason, int axis = 0, double value = 0.0) {
-  return {FaultCode::kBadBlock, reason, static_cast<std::uint8_t>(axis), value};
-}
-
-bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 }  // namespace
 
@@ -60,12 +55,12 @@ BlockVerdict check_rotary(const Block& b, const Rot3& tail_rot, const MachineCon
   const RotaryMask mask = cfg.rotary_mask();
   for (int i = 0; i < kRotaryJoints; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    if (!std::isfinite(r.start[k]) || !std::isfinite(r.end[k])) return bad_rotary("rotary: non-finite joint value", 3 + i);
+    if (!std::isfinite(r.start[k]) || !std::isfinite(r.end[k])) return refuse_block("rotary: non-finite joint value", 3 + i);
     if (!has_joint(mask, i) && (r.start[k] != 0.0 || r.end[k] != 0.0)) {
-      return bad_rotary("rotary: a joint the machine does not have moves", 3 + i, r.end[k]);
+      return refuse_block("rotary: a joint the machine does not have moves", 3 + i, r.end[k]);
     }
   }
-  if (r.tcp > 1 || r.angular > 1) return bad_rotary("rotary: tcp or angular flag is not 0 or 1");
+  if (r.tcp > 1 || r.angular > 1) return refuse_block("rotary: tcp or angular flag is not 0 or 1");
   auto near = [](const Rot3& a, const Rot3& b) {
     for (int i = 0; i < kRotaryJoints; ++i) {
       if (std::abs(a[static_cast<std::size_t>(i)] - b[static_cast<std::size_t>(i)]) > kRadTol) return false;
@@ -75,39 +70,39 @@ BlockVerdict check_rotary(const Block& b, const Rot3& tail_rot, const MachineCon
   if (!straight) {  // arcs, NURBS, dwells ... keep the joints where they are (or carry none: all 0)
     if (r.tcp || r.angular || (mask != 0 && !(near(r.start, tail_rot) && near(r.end, tail_rot)) &&
                                !(r.start == Rot3{} && r.end == Rot3{}))) {
-      return bad_rotary("rotary: only straight moves may turn a joint or run under TCP");
+      return refuse_block("rotary: only straight moves may turn a joint or run under TCP");
     }
     return {};
   }
   for (int i = 0; i < kRotaryJoints; ++i) {
     const auto k = static_cast<std::size_t>(i);
     if (std::abs(r.start[k] - tail_rot[k]) > kRadTol) {
-      return bad_rotary("rotary: start does not continue from the previous end", 3 + i, r.start[k] - tail_rot[k]);
+      return refuse_block("rotary: start does not continue from the previous end", 3 + i, r.start[k] - tail_rot[k]);
     }
   }
   if (int j = outside_rotary_travel(r.end, cfg, kRadTol); j >= 0) {
-    return bad_rotary("rotary: end outside the joint's travel", 3 + j, r.end[static_cast<std::size_t>(j)]);
+    return refuse_block("rotary: end outside the joint's travel", 3 + j, r.end[static_cast<std::size_t>(j)]);
   }
   const double tol = cfg.motion.block_tolerance_mm;
   if (r.tcp) {
-    if (cfg.kinematics.kind == KinematicsKind::kTrivial) return bad_rotary("rotary: TCP on a machine without kinematics");
-    if (!finite3(r.axis_start) || !finite3(r.axis_end) || !finite3(r.joint_end) || !std::isfinite(r.tool_length) ||
+    if (cfg.kinematics.kind == KinematicsKind::kTrivial) return refuse_block("rotary: TCP on a machine without kinematics");
+    if (!all_finite(r.axis_start) || !all_finite(r.axis_end) || !all_finite(r.joint_end) || !std::isfinite(r.tool_length) ||
         r.tool_length < 0.0) {
-      return bad_rotary("rotary: TCP block with a non-finite or negative value");
+      return refuse_block("rotary: TCP block with a non-finite or negative value");
     }
     if (std::abs(norm(r.axis_start) - 1.0) > 1e-6 || std::abs(norm(r.axis_end) - 1.0) > 1e-6) {
-      return bad_rotary("rotary: TCP tool axes are not unit vectors");
+      return refuse_block("rotary: TCP tool axes are not unit vectors");
     }
     if (int ax = outside_travel(r.joint_end, cfg, tol); ax >= 0) {
-      return bad_rotary("rotary: TCP block ends outside the travel", ax, r.joint_end[static_cast<std::size_t>(ax)]);
+      return refuse_block("rotary: TCP block ends outside the travel", ax, r.joint_end[static_cast<std::size_t>(ax)]);
     }
     const Kinematics kin = kinematics_with_tool(cfg, r.tool_length);
     // the axis depends on the rotary joints alone (the start tip is check_block's, via expected_block_start)
     const ToolPose p0 = forward(kin, to_joints(cfg, r.joint_end, r.start));
-    if (norm(p0.axis - r.axis_start) > 1e-6) return bad_rotary("rotary: TCP start joints do not give the start tool axis");
+    if (norm(p0.axis - r.axis_start) > 1e-6) return refuse_block("rotary: TCP start joints do not give the start tool axis");
     const ToolPose pe = forward(kin, to_joints(cfg, r.joint_end, r.end));
-    if (norm(pe.tip - b.end) > tol) return bad_rotary("rotary: TCP end joints do not put the tool tip at the end", 0, norm(pe.tip - b.end));
-    if (norm(pe.axis - r.axis_end) > 1e-6) return bad_rotary("rotary: TCP end joints do not give the end tool axis");
+    if (norm(pe.tip - b.end) > tol) return refuse_block("rotary: TCP end joints do not put the tool tip at the end", 0, norm(pe.tip - b.end));
+    if (norm(pe.axis - r.axis_end) > 1e-6) return refuse_block("rotary: TCP end joints do not give the end tool axis");
   }
   if (r.angular) {
     double want = 0.0;
@@ -121,9 +116,9 @@ BlockVerdict check_rotary(const Block& b, const Rot3& tail_rot, const MachineCon
       }
       want = std::sqrt(sq);
     }
-    if (norm(b.end - b.start) > tol) return bad_rotary("rotary: an angular block moves the tool tip or the linear axes");
+    if (norm(b.end - b.start) > tol) return refuse_block("rotary: an angular block moves the tool tip or the linear axes");
     if (!(want > 0.0) || std::abs(b.length - want) > 1e-9 * (1.0 + want)) {
-      return bad_rotary("rotary: angular block's length is not its turn", 0, b.length - want);
+      return refuse_block("rotary: angular block's length is not its turn", 0, b.length - want);
     }
   }
   return {};
