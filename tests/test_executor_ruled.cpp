@@ -224,6 +224,68 @@ TEST(ExecutorRuled, ScheduleFromTheJointLimitsKeepsEveryJointWithinItsVelocity) 
               hi, rb.speed_joint, worst * 100.0);
 }
 
+// A piece whose tool axis tilts steadily along a straight line (A turns 0.1 rad per mm, and the
+// table's tilt moves the linear joints more than the tip moves): a joint's acceleration is
+// q' s̈ + q'' ṡ², and here the tangential term q' s̈ alone, at the linear axes' acceleration,
+// would be 95 rad/s² on A (limit 62.8) and beyond Y's and Z's limits. The host's tangential
+// acceleration leaves every joint its budget, so run by the executor from rest, held in the
+// middle, resumed and stopped at the end, no joint exceeds its acceleration limit on any cycle:
+// neither the analytic acceleration feed-forward nor the setpoints' second differences.
+TEST(ExecutorRuled, TangentialAccelerationKeepsEveryJointWithinItsAcceleration) {
+  Piece s;
+  s.feed = 20.0;
+  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
+  const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
+  std::vector<Vec3> pts, axes;
+  for (int k = 0; k <= 20; ++k) {
+    const double t = k / 20.0;
+    pts.push_back(p0.tip + Vec3{4.0 * t, 0.0, 0.0});
+    axes.push_back(forward(kin, to_joints(s.cfg, s.xyz, Rot3{s.rot[0] + 0.4 * t, 0.0, s.rot[2]})).axis);
+  }
+  const RuledMoveBlocks rb = plan_piece(s, pts, axes);
+  ASSERT_EQ(rb.blocks.size(), 1u);
+  const double a_tan = rb.blocks[0].ruled.accel;
+  double a_lin = 1e9;
+  for (const AxisConfig& ax : s.cfg.axes) a_lin = std::min(a_lin, ax.max_accel_mm_s2);
+  EXPECT_GT(0.1 * 0.95 * a_lin, s.cfg.rotary[0]->max_accel_rad_s2) << "the tangential term alone would exceed A's limit";
+  EXPECT_LT(a_tan, 0.95 * a_lin) << "the tangential acceleration is lowered for the joints";
+
+  Runner run(s);
+  const double dt = s.cfg.cycle_period_s();
+  Joints amax{};
+  for (int a = 0; a < 3; ++a) amax[static_cast<std::size_t>(a)] = s.cfg.axes[static_cast<std::size_t>(a)].max_accel_mm_s2;
+  amax[kTilt] = s.cfg.rotary[0]->max_accel_rad_s2;
+  amax[kRotary] = s.cfg.rotary[2]->max_accel_rad_s2;
+  auto joints = [&] { return to_joints(s.cfg, run.ex.position(), run.ex.rotary()); };
+  std::vector<Joints> q{joints(), joints()};  // at rest before the first cycle
+  double worst_ff = 0.0, worst_diff = 0.0;  // the largest share of a joint's acceleration limit
+  int worst_joint = -1, held = 0;
+  bool ended = false;
+  ExecInput in;
+  for (int i = 0; i < 200000 && !ended; ++i) {
+    // a feed hold once the tip is at full speed in the middle, released once at rest
+    if (!in.hold && held == 0 && run.ex.progress() > 1.5) in.hold = true, held = 1;
+    if (in.hold && held == 1 && run.ex.speed() == 0.0 && ++held) in.hold = false;
+    ended = run.step(s, in).program_end;
+    q.push_back(joints());
+    const Joints ff = to_joints(s.cfg, run.ex.acceleration(), run.ex.rotary_acceleration());
+    const std::size_t n = q.size();
+    for (std::size_t j = 0; j < 5; ++j) {
+      const double diff = std::abs(q[n - 1][j] - 2.0 * q[n - 2][j] + q[n - 3][j]) / (dt * dt);
+      worst_ff = std::max(worst_ff, std::abs(ff[j]) / amax[j]);
+      if (diff / amax[j] > worst_diff) worst_diff = diff / amax[j], worst_joint = static_cast<int>(j);
+    }
+  }
+  EXPECT_TRUE(ended);
+  EXPECT_EQ(held, 2) << "held and resumed";
+  EXPECT_LE(worst_ff, 1.0) << "an analytic joint acceleration above its limit";
+  EXPECT_LE(worst_diff, 1.0) << "a joint's setpoints accelerate above its limit (joint " << worst_joint << ")";
+  EXPECT_GT(worst_diff, 0.3) << "the joints' acceleration is used";
+  std::printf("[ figures ] tangential acceleration %.1f mm/s^2 (linear axes' %.0f), schedule top %.2f mm/s; the joints "
+              "reach %.1f %% (feed-forward) and %.1f %% (setpoints, joint %d) of an acceleration limit\n",
+              a_tan, 0.95 * a_lin, rb.feed, worst_ff * 100.0, worst_diff * 100.0, worst_joint);
+}
+
 TEST(ExecutorRuled, BlockCheckRefusesCorruptRuledBlocks) {
   const Piece s = make_setup();
   const Block good = s.blocks[0];
