@@ -143,6 +143,26 @@ std::vector<double> ruled_feed_schedule(const RuledModel& part, const std::vecto
   return v;
 }
 
+void set_ruled_block_fields(Block& b) {
+  const RuledCurves c = curves_of(b.ruled);
+  const RuledJet j0 = ruled_jet(c, 0.0), j1 = ruled_jet(c, b.ruled.segment_count);
+  b.kind = BlockKind::kRuled;
+  b.start = j0.c.p;
+  b.end = j1.c.p;
+  b.length = b.ruled.length;
+  b.speed = 0.0;
+  for (int i = 0; i < b.ruled.schedule_count; ++i) b.speed = std::max(b.speed, b.ruled.schedule_speed[i]);
+  b.dir_start = normalized(j0.c.d1);
+  b.dir_end = normalized(j1.c.d1);
+  const RuledExtent e = ruled_extent(b.ruled);
+  b.motion_class = e.moving <= 1 ? MotionClass::kSingleAxis : static_cast<MotionClass>(e.moving);
+  b.driving_axis = static_cast<std::uint8_t>(e.widest);
+  b.driving_dir = b.end[e.widest] >= b.start[e.widest] ? 1 : -1;
+  b.rotary.tcp = 1;
+  b.rotary.axis_start = j0.e.p;
+  b.rotary.axis_end = j1.e.p;
+}
+
 RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
   RuledMoveBlocks out;
   if (!m.ruled || m.ruled->directrix.empty()) {
@@ -188,24 +208,10 @@ RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
     if (k > 0) b.ruled.start_speed = std::min(out.blocks.back().ruled.schedule_speed[out.blocks.back().ruled.schedule_count - 1], sched.front());
     if (k > 0) out.blocks.back().ruled.end_speed = b.ruled.start_speed;
     out.feed = std::max(out.feed, top);
-    const RuledCurves c = curves_of(b.ruled);
-    const RuledJet j0 = ruled_jet(c, 0.0), j1 = ruled_jet(c, b.ruled.segment_count);
-    b.start = j0.c.p;
-    b.end = j1.c.p;
-    b.length = b.ruled.length;
-    b.speed = top;
+    set_ruled_block_fields(b);
     b.accel = accel;
-    b.dir_start = normalized(j0.c.d1);
-    b.dir_end = normalized(j1.c.d1);
-    const RuledExtent e = ruled_extent(b.ruled);
-    b.motion_class = e.moving <= 1 ? MotionClass::kSingleAxis : static_cast<MotionClass>(e.moving);
-    b.driving_axis = static_cast<std::uint8_t>(e.widest);
-    b.driving_dir = b.end[e.widest] >= b.start[e.widest] ? 1 : -1;
     RotaryMotion& r = b.rotary;
-    r.tcp = 1;
     r.tool_length = m.tool_length;
-    r.axis_start = j0.e.p;
-    r.axis_end = j1.e.p;
     Vec3 xyz{};
     r.start = r.end = m.rot_start;
     from_joints(cfg, q, xyz, r.start);

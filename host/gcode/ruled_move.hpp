@@ -66,6 +66,12 @@ Joints ruled_start_joints(const Move& m, const MachineConfig& cfg);
 std::vector<double> ruled_feed_schedule(const RuledModel& part, const std::vector<double>& sample_caps, double feed,
                                         double accel);
 
+/// A ruled block's fields that follow from its piece (`b.ruled`, its schedule set): start and
+/// end (the tip), length, speed (the schedule's largest), the end tangents, the motion class
+/// and driving axis (ruled_extent), TCP on with the end axes. The caller sets the line, accel,
+/// the tool length and the joints (rotary start and end, joint_end).
+void set_ruled_block_fields(Block& b);
+
 /// The blocks of a ruled move (seq 0: the pipeline numbers them), or an error sentence.
 struct RuledMoveBlocks {
   std::string error;
