@@ -154,12 +154,13 @@ struct Figures {
 };
 
 Figures measure(const Passes& ps, const Program& prog, const MachineConfig& cfg, const std::string& config_path,
-                const std::string& dir, const std::string& tag, double lever) {
+                const std::string& dir, const std::string& tag, double lever, const std::string& contouring) {
   Figures f;
   const std::string path = dir + "/" + tag + ".ngc", trace = dir + "/" + tag + ".csv";
   std::ofstream(path) << prog.text;
   const test::ProcessResult r =
-      test::run_process({test::bin_dir() + "/tools/pcnc", "run", path, "--config", config_path, "--clock", "virtual", "--trace", trace}, 600);
+      test::run_process({test::bin_dir() + "/tools/pcnc", "run", path, "--config", config_path, "--clock", "virtual", "--trace", trace,
+                         "--contouring", contouring}, 600);
   if (r.exit_code != 0) {
     f.error = "pcnc run exited " + std::to_string(r.exit_code) + ": " + r.out + r.err;
     return f;
@@ -219,10 +220,16 @@ int main(int argc, char** argv) {
                "the same passes through pcnc run (virtual clock) on configs/desktop-5axis.toml"};
   double spacing = 1.0, feed = 600.0, lever = 10.0;
   int passes = 3;
+  std::string contouring = "on";
   app.add_option("--spacing", spacing, "set points every this many mm along a pass")->capture_default_str();
   app.add_option("--feed", feed, "F, mm/min")->capture_default_str();
   app.add_option("--passes", passes, "zigzag passes, 1 mm apart")->capture_default_str();
   app.add_option("--lever", lever, "the point this many mm up the tool measures the axis's deviation")->capture_default_str();
+  app.add_option("--contouring", contouring,
+                 "pcnc run --contouring for both runs: on (M21, the G1 moves flow through their junctions under the "
+                 "look-ahead across rotary blocks) or off (every G1 junction stops; the ruled pieces flow either way)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   const std::string dir = test::make_temp_dir("bench-ruled");
@@ -238,14 +245,15 @@ int main(int argc, char** argv) {
 
   const Program ruled = make_program(ps, cfg, xyz0, rot0, spacing, feed, true);
   const Program linear = make_program(ps, cfg, xyz0, rot0, spacing, feed, false);
-  const Figures fr = measure(ps, ruled, cfg, config, dir, "ruled", lever);
-  const Figures fl = measure(ps, linear, cfg, config, dir, "linear", lever);
+  const Figures fr = measure(ps, ruled, cfg, config, dir, "ruled", lever, contouring);
+  const Figures fl = measure(ps, linear, cfg, config, dir, "linear", lever, contouring);
   if (!fr.error.empty() || !fl.error.empty()) {
     std::fprintf(stderr, "bench_ruled_machine: %s %s\n", fr.error.c_str(), fl.error.c_str());
     return 1;
   }
-  std::printf("bench_ruled_machine: %d passes of %.0f mm, set points every %.2f mm, F%.0f, desktop-5axis, virtual clock\n",
-              passes, ps.length, spacing, feed);
+  std::printf("bench_ruled_machine: %d passes of %.0f mm, set points every %.2f mm, F%.0f, desktop-5axis, virtual clock, "
+              "--contouring %s\n",
+              passes, ps.length, spacing, feed, contouring.c_str());
   std::printf("%-44s %16s %16s\n", "", "ruled (G5.4)", "linear (G1 A C)");
   std::printf("%-44s %16.3f %16.3f\n", "machine time over passes and links, s", fr.time_s, fl.time_s);
   std::printf("%-44s %16.4f %16.4f\n", "swept axis off the surface, commanded, um", fr.dev_cmd * 1e3, fl.dev_cmd * 1e3);

@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
   double tolerance = -1.0;
   double wait_rt_s = 5.0;
   app.add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
-  app.add_option("--run", run_file, "check and run this G-code program, then exit")->check(CLI::ExistingFile);
+  app.add_option("--run", run_file, "check and run this G-code program (or a .json ruled-surface program, docs/ruled-surface.md), then exit")->check(CLI::ExistingFile);
   app.add_flag("--serve", serve,
                "serve the control socket (process.socket_path) until SIGINT/SIGTERM: run programs, jog, pause... "
                "for `pcnc ctl` and scripts (docs/protocol.md); attaches to pcnc-rt when it appears");

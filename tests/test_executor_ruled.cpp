@@ -14,7 +14,9 @@
 #include "gcode/ruled_move.hpp"
 #include "geometry/ruled_model.hpp"
 #include "ipc/block_check.hpp"
+#include "ipc/block_ruled.hpp"
 #include "motion/executor.hpp"
+#include "service/resume.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc {
@@ -75,6 +77,19 @@ Piece make_setup() {
   EXPECT_EQ(rb.blocks.size(), 2u);
   EXPECT_EQ(rb.feed, s.feed) << "the joints allow the feed";
   return s;
+}
+
+// n + 1 set points along `length` mm of X from the tip the joints of `s` give, with the tool
+// vector axis(t, that pose, kinematics) at each (t from 0 to 1).
+template <class Axis>
+void straight_piece(const Piece& s, int n, double length, std::vector<Vec3>& pts, std::vector<Vec3>& axes, Axis axis) {
+  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
+  const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
+  for (int k = 0; k <= n; ++k) {
+    const double t = static_cast<double>(k) / n;
+    pts.push_back(p0.tip + Vec3{length * t, 0.0, 0.0});
+    axes.push_back(axis(t, p0, kin));
+  }
 }
 
 struct Runner {
@@ -182,15 +197,11 @@ TEST(ExecutorRuled, FeedOverrideAndHoldOnThePiece) {
 TEST(ExecutorRuled, ScheduleFromTheJointLimitsKeepsEveryJointWithinItsVelocity) {
   Piece s;
   s.feed = 50.0;
-  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
-  const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
   std::vector<Vec3> pts, axes;
-  for (int k = 0; k <= 30; ++k) {
-    const double t = k / 30.0;
-    pts.push_back(p0.tip + Vec3{6.0 * t, 0.0, 0.0});
+  straight_piece(s, 30, 6.0, pts, axes, [](double t, const ToolPose& p0, const Kinematics&) {
     const double bump = std::exp(-std::pow((t - 0.5) / 0.06, 2.0));  // 0.3 rad within about a millimetre
-    axes.push_back(normalized(p0.axis + (0.3 * bump) * Vec3{1.0, 0.0, 0.0}));
-  }
+    return normalized(p0.axis + (0.3 * bump) * Vec3{1.0, 0.0, 0.0});
+  });
   const RuledMoveBlocks rb = plan_piece(s, pts, axes);
   ASSERT_EQ(rb.blocks.size(), 1u);
   const RuledGeometry& g = rb.blocks[0].ruled;
@@ -222,6 +233,145 @@ TEST(ExecutorRuled, ScheduleFromTheJointLimitsKeepsEveryJointWithinItsVelocity) 
   EXPECT_GT(worst, 0.5) << "the schedule uses the joints' speed where it caps";
   std::printf("[ figures ] schedule %.2f .. %.2f mm/s, joint %d caps it; the joints reach %.1f %% of a velocity limit\n", lo,
               hi, rb.speed_joint, worst * 100.0);
+}
+
+// A piece whose tool axis tilts steadily along a straight line (A turns 0.1 rad per mm, and the
+// table's tilt moves the linear joints more than the tip moves): a joint's acceleration is
+// q' s̈ + q'' ṡ², and here the tangential term q' s̈ alone, at the linear axes' acceleration,
+// would be 95 rad/s² on A (limit 62.8) and beyond Y's and Z's limits. The host's tangential
+// acceleration leaves every joint its budget, so run by the executor from rest, held in the
+// middle, resumed and stopped at the end, no joint exceeds its acceleration limit on any cycle:
+// neither the analytic acceleration feed-forward nor the setpoints' second differences.
+TEST(ExecutorRuled, TangentialAccelerationKeepsEveryJointWithinItsAcceleration) {
+  Piece s;
+  s.feed = 20.0;
+  std::vector<Vec3> pts, axes;
+  straight_piece(s, 20, 4.0, pts, axes, [&s](double t, const ToolPose&, const Kinematics& kin) {
+    return forward(kin, to_joints(s.cfg, s.xyz, Rot3{s.rot[0] + 0.4 * t, 0.0, s.rot[2]})).axis;
+  });
+  const RuledMoveBlocks rb = plan_piece(s, pts, axes);
+  ASSERT_EQ(rb.blocks.size(), 1u);
+  const double a_tan = rb.blocks[0].ruled.accel;
+  double a_lin = 1e9;
+  for (const AxisConfig& ax : s.cfg.axes) a_lin = std::min(a_lin, ax.max_accel_mm_s2);
+  EXPECT_GT(0.1 * 0.95 * a_lin, s.cfg.rotary[0]->max_accel_rad_s2) << "the tangential term alone would exceed A's limit";
+  EXPECT_LT(a_tan, 0.95 * a_lin) << "the tangential acceleration is lowered for the joints";
+
+  Runner run(s);
+  const double dt = s.cfg.cycle_period_s();
+  Joints amax{};
+  for (int a = 0; a < 3; ++a) amax[static_cast<std::size_t>(a)] = s.cfg.axes[static_cast<std::size_t>(a)].max_accel_mm_s2;
+  amax[kTilt] = s.cfg.rotary[0]->max_accel_rad_s2;
+  amax[kRotary] = s.cfg.rotary[2]->max_accel_rad_s2;
+  auto joints = [&] { return to_joints(s.cfg, run.ex.position(), run.ex.rotary()); };
+  std::vector<Joints> q{joints(), joints()};  // at rest before the first cycle
+  double worst_ff = 0.0, worst_diff = 0.0;  // the largest share of a joint's acceleration limit
+  int worst_joint = -1, held = 0;
+  bool ended = false;
+  ExecInput in;
+  for (int i = 0; i < 200000 && !ended; ++i) {
+    // a feed hold once the tip is at full speed in the middle, released once at rest
+    if (!in.hold && held == 0 && run.ex.progress() > 1.5) in.hold = true, held = 1;
+    if (in.hold && held == 1 && run.ex.speed() == 0.0 && ++held) in.hold = false;
+    ended = run.step(s, in).program_end;
+    q.push_back(joints());
+    const Joints ff = to_joints(s.cfg, run.ex.acceleration(), run.ex.rotary_acceleration());
+    const std::size_t n = q.size();
+    for (std::size_t j = 0; j < 5; ++j) {
+      const double diff = std::abs(q[n - 1][j] - 2.0 * q[n - 2][j] + q[n - 3][j]) / (dt * dt);
+      worst_ff = std::max(worst_ff, std::abs(ff[j]) / amax[j]);
+      if (diff / amax[j] > worst_diff) worst_diff = diff / amax[j], worst_joint = static_cast<int>(j);
+    }
+  }
+  EXPECT_TRUE(ended);
+  EXPECT_EQ(held, 2) << "held and resumed";
+  EXPECT_LE(worst_ff, 1.0) << "an analytic joint acceleration above its limit";
+  EXPECT_LE(worst_diff, 1.0) << "a joint's setpoints accelerate above its limit (joint " << worst_joint << ")";
+  EXPECT_GT(worst_diff, 0.3) << "the joints' acceleration is used";
+  std::printf("[ figures ] tangential acceleration %.1f mm/s^2 (linear axes' %.0f), schedule top %.2f mm/s; the joints "
+              "reach %.1f %% (feed-forward) and %.1f %% (setpoints, joint %d) of an acceleration limit\n",
+              a_tan, 0.95 * a_lin, rb.feed, worst_ff * 100.0, worst_diff * 100.0, worst_joint);
+}
+
+// Resuming inside a ruled block (host/service/resume.hpp, as after HOST_LOST): the machine is
+// held in the middle of the first part of a split piece; continue_block cuts that part at the
+// parameter its joints' tip lies at. A fresh executor standing there accepts the continuation
+// (the rt's block check: start joints, lengths, schedule, end joints), runs it and the second
+// part unchanged to the end without a jump, every tip on the original piece, and lands on the
+// host's end joints. Refused without the rotary joints and off the piece.
+TEST(ExecutorRuled, ResumedInsideTheBlockFromWhereTheMachineStands) {
+  const Piece s = make_setup();
+  Runner run(s);
+  ExecInput in;
+  while (run.ex.progress() < 3.0 || run.ex.seq() != 1) run.step(s, in);
+  in.hold = true;
+  for (int i = 0; i < 200 || run.ex.speed() > 0.0; ++i) run.step(s, in);
+  ASSERT_EQ(run.ex.seq(), 1u);
+  const Vec3 at = run.ex.position();
+  const Rot3 rot = run.ex.rotary();
+  const Block& b = s.blocks[0];
+  std::string why;
+  const auto cont = continue_block(b, at, s.cfg, 0.005, &why, rot);
+  ASSERT_TRUE(cont) << why;
+  ASSERT_FALSE(cont->skip);
+  const Block& r = cont->block;
+  EXPECT_EQ(r.kind, BlockKind::kRuled);
+  EXPECT_EQ(r.line, b.line);
+  EXPECT_LT(r.ruled.segment_count, b.ruled.segment_count);
+  EXPECT_NEAR(r.length, b.length - run.ex.progress(), 1e-6) << "the rest of the part";
+  EXPECT_EQ(r.ruled.start_speed, 0.0);
+  EXPECT_EQ(r.ruled.end_speed, b.ruled.end_speed) << "flows into the next part as before";
+  EXPECT_EQ(r.rotary.start, rot);
+  EXPECT_EQ(r.rotary.joint_end, b.rotary.joint_end);
+
+  Piece rest = s;
+  rest.xyz = at;
+  rest.rot = rot;
+  rest.blocks.assign(s.blocks.begin() + 1, s.blocks.end());
+  rest.blocks.insert(rest.blocks.begin(), r);
+  for (std::size_t i = 0; i < rest.blocks.size(); ++i) rest.blocks[i].seq = i + 1;
+  Runner again(rest);
+  const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
+  const double dt = s.cfg.cycle_period_s();
+  RuledCurves parts[2] = {curves_of(s.blocks[0].ruled), curves_of(s.blocks[1].ruled)};
+  double worst_step = 0.0, worst_off = 0.0;
+  Vec3 last = at;
+  bool ended = false;
+  for (int i = 0; i < 100000 && !ended; ++i) {
+    ended = again.step(rest, ExecInput{}).program_end;
+    for (int a = 0; a < 3; ++a)
+      worst_step = std::max(worst_step, std::abs(again.ex.position()[a] - last[a]) / dt /
+                                            s.cfg.axes[static_cast<std::size_t>(a)].max_velocity_mm_s);
+    last = again.ex.position();
+    if (i % 50 == 0 && again.ex.seq() <= 2) {  // the tip on the original piece (nearest point, dense then refined)
+      const Vec3 tip = forward(kin, to_joints(s.cfg, again.ex.position(), again.ex.rotary())).tip;
+      const RuledCurves& c = parts[again.ex.seq() == 1 ? 0 : 1];
+      const int n = again.ex.seq() == 1 ? s.blocks[0].ruled.segment_count : s.blocks[1].ruled.segment_count;
+      double best = 1e9, bu = 0.0;
+      for (int k = 0; k <= 64 * n; ++k) {
+        const double d = norm(ruled_jet(c, k / 64.0).c.p - tip);
+        if (d < best) best = d, bu = k / 64.0;
+      }
+      for (double h = 1.0 / 128.0; h > 1e-12; h *= 0.5) {
+        for (double cand : {bu - h, bu + h}) {
+          const double d = cand >= 0.0 && cand <= n ? norm(ruled_jet(c, cand).c.p - tip) : 1e9;
+          if (d < best) best = d, bu = cand;
+        }
+      }
+      worst_off = std::max(worst_off, best);
+    }
+  }
+  EXPECT_TRUE(ended);
+  EXPECT_EQ(again.ex.position(), s.blocks[1].rotary.joint_end) << "the host's end joints";
+  EXPECT_LE(worst_step, 1.0) << "a jump";
+  EXPECT_LT(worst_off, 1e-6) << "the resumed tip left the piece, mm";
+  std::printf("[ figures ] resumed at %.4f of %.4f mm: rest %.4f mm, %d segments; tip off the piece at most %.3g mm\n",
+              run.ex.progress(), b.length, r.length, r.ruled.segment_count, worst_off);
+
+  EXPECT_FALSE(continue_block(b, at, s.cfg, 0.005, &why)) << "the rotary joints are needed";
+  EXPECT_NE(why.find("rotary joints"), std::string::npos) << why;
+  EXPECT_FALSE(continue_block(b, at + Vec3{0.0, 0.0, 0.1}, s.cfg, 0.005, &why, rot));
+  EXPECT_NE(why.find("not on the interrupted ruled piece"), std::string::npos) << why;
 }
 
 TEST(ExecutorRuled, BlockCheckRefusesCorruptRuledBlocks) {

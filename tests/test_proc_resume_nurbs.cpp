@@ -24,7 +24,6 @@ namespace {
 using namespace std::chrono_literals;
 
 double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
-bool idle_after_job(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].get<bool>() && s["last_job"].is_object(); }
 
 
 // Lines 1-3 lead in; the curve is lines 4-8 (G5.2 .. G5.3); line 9 leads out.
@@ -63,24 +62,12 @@ void kill_host_inside_the_curve_and_resume(const std::string& tag, const char* p
       },
       60);
   ASSERT_EQ(inside["state"], "RUNNING") << inside.dump();
-  p.kill_host(SIGKILL);
-  Status st = wait_rt_state(tag, MachineState::kHostLost);
-  ASSERT_EQ(st.state, MachineState::kHostLost) << to_string(st.state);
-  ASSERT_GE(st.line, static_cast<std::uint32_t>(kCurveFirst));
-  ASSERT_LE(st.line, static_cast<std::uint32_t>(kCurveLast)) << "stopped inside the curve";
-  const Vec3 held = st.commanded;
-
-  ASSERT_TRUE(p.start_host()) << p.host_log();
-  json s = p.wait_status([](const json& x) { return x["rt"]["state"] == "attached"; }, 10);
-  ASSERT_EQ(s["state"], "HOST_LOST");
-  const json r = p.call("resume", json::object(), 60);
-  ASSERT_TRUE(r.contains("result")) << r.dump() << p.host_log();
-  EXPECT_TRUE(r["result"]["resumed"].get<bool>());
-  EXPECT_GE(r["result"]["line"].get<int>(), kCurveFirst);
-  for (int i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(r["result"]["from"][std::string(1, "xyz"[i])].get<double>(), held[i]);
-  s = p.wait_status(idle_after_job, 180);
-  ASSERT_TRUE(s["last_job"].is_object()) << s.dump();
-  EXPECT_EQ(s["last_job"]["end"], "completed") << s.dump();
+  const KillAndResume k = kill_host_and_resume(p);
+  ASSERT_EQ(k.error, "");
+  ASSERT_GE(k.lost.line, static_cast<std::uint32_t>(kCurveFirst));
+  ASSERT_LE(k.lost.line, static_cast<std::uint32_t>(kCurveLast)) << "stopped inside the curve";
+  EXPECT_GE(k.reply["result"]["line"].get<int>(), kCurveFirst);
+  const json& s = k.final;
   const Vec3 expected{12.5 + 9.0, 12.5, 24.0};
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(pos(s, "commanded", i), expected[i], 1e-6);
 

@@ -8,7 +8,9 @@
 // The first test's program: the tool tilted away from the pole with TCP off, then under TCP a 41-point pass
 // (split into two blocks), a short link with a turned tangent, and a second pass back.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -18,6 +20,7 @@
 #include "config/config.hpp"
 #include "config/joint_map.hpp"
 #include "geometry/kinematics.hpp"
+#include "gcode/ruled_program.hpp"
 #include "geometry/ruled_model.hpp"
 #include "ipc/trace_format.hpp"
 #include "five_axis_trace.hpp"
@@ -199,6 +202,65 @@ TEST(RuledRun, PiecesFollowTheRuledSurfaceAtTheFeedWithinTheJointLimits) {
               constant_rows, worst_feed * 100.0, worst_cmd * 1e3, worst_act * 1e3);
 }
 
+// What the trace of a run of `pieces` (machine coordinates, each with its G5.4's line as the
+// trace names it) shows, every cycle: no commanded joint beyond its travel or speed, every
+// measured linear joint inside its travel, every piece run, the machine idle at the end; and
+// the swept tool axis (tip and the point 10 mm up the tool, forward kinematics of the commanded
+// joints and of the measured ones, every 10th cycle of each piece) off the ruled surface
+// through the piece's set points by at most 2 um commanded and 20 um measured.
+struct RunOnSurface {
+  double worst_cmd = 0.0, worst_act = 0.0;  // mm
+  Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};  // measured linear joints
+};
+
+RunOnSurface check_run_on_surface(const MachineConfig& cfg, const std::vector<Piece>& pieces, const std::string& trace,
+                                  std::size_t min_rows) {
+  RunOnSurface out;
+  const Kinematics kin = kinematics_with_tool(cfg, 0.0);
+  const std::vector<Row> rows = read_five_axis_trace(trace, cfg.rotary_mask());
+  EXPECT_GT(rows.size(), min_rows);
+  if (rows.empty()) return out;
+  std::map<int, const Piece*> by_line;
+  for (const Piece& p : pieces) by_line[p.line] = &p;
+  EXPECT_EQ(by_line.size(), pieces.size()) << "one line per piece";
+  std::map<int, double> hint;
+  std::map<int, int> rows_per_piece;
+  double& worst_cmd = out.worst_cmd;
+  double& worst_act = out.worst_act;
+  Vec3& lo = out.lo;
+  Vec3& hi = out.hi;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& row = rows[i];
+    const std::string violation = commanded_joint_violation(cfg, rows, i);
+    EXPECT_EQ(violation, "");
+    if (!violation.empty()) return out;
+    for (int ax = 0; ax < kAxes; ++ax) {
+      const auto k = static_cast<std::size_t>(ax);
+      lo[k] = std::min(lo[k], row.s.actual[k]);
+      hi[k] = std::max(hi[k], row.s.actual[k]);
+    }
+    const auto pc = by_line.find(static_cast<int>(row.s.line));
+    if (pc == by_line.end() || row.s.state != MachineState::kRunning) continue;
+    if (rows_per_piece[pc->first]++ % 10 != 0) continue;
+    const ToolPose tc = forward(kin, to_joints(cfg, row.s.commanded, row.j.commanded));
+    const ToolPose ta = forward(kin, to_joints(cfg, row.s.actual, row.j.actual));
+    double& h = hint[pc->first];
+    worst_cmd = std::max(worst_cmd, axis_deviation(*pc->second, tc.tip, tc.axis, 10.0, h));
+    double ha = h;
+    worst_act = std::max(worst_act, axis_deviation(*pc->second, ta.tip, ta.axis, 10.0, ha));
+  }
+  for (int ax = 0; ax < kAxes; ++ax) {
+    const AxisConfig& a = cfg.axes[static_cast<std::size_t>(ax)];
+    EXPECT_GE(lo[static_cast<std::size_t>(ax)], a.travel_min_mm) << "measured joint " << ax;
+    EXPECT_LE(hi[static_cast<std::size_t>(ax)], a.travel_max_mm) << "measured joint " << ax;
+  }
+  EXPECT_EQ(rows_per_piece.size(), pieces.size()) << "every G5.4 group ran";
+  EXPECT_LT(worst_cmd, 2e-3) << "commanded swept axis off the ruled surface, mm";
+  EXPECT_LT(worst_act, 0.02) << "measured swept axis off the ruled surface, mm";
+  EXPECT_EQ(rows.back().s.state, MachineState::kIdle);
+  return out;
+}
+
 // The program `pcnc ruled` writes by default (the seed's example fitted to desktop-5axis's
 // joints) runs on the machine as written: pcnc check shows a ruled block for every G5.4 group,
 // pcnc run completes it with every commanded joint inside its travel and velocity (and every
@@ -209,7 +271,6 @@ TEST(RuledRun, TheProgramPcncRuledWritesRunsOnTheFiveAxisMachine) {
   const std::string dir = make_temp_dir("ruledex");
   const std::string config = write_five_axis_config(dir, "ruledex");
   const MachineConfig cfg = load_config(config);
-  const Kinematics kin = kinematics_with_tool(cfg, 0.0);
   const std::string path = dir + "/ex.ngc";
   const ProcessResult gen = run_process({pcnc_exe(), "ruled", "--config", config, "--samples", "0", "-o", path}, 120);
   ASSERT_EQ(gen.exit_code, 0) << gen.out << gen.err;
@@ -254,46 +315,95 @@ TEST(RuledRun, TheProgramPcncRuledWritesRunsOnTheFiveAxisMachine) {
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("result            completed"), std::string::npos) << r.out;
 
-  const std::vector<Row> rows = read_five_axis_trace(trace, cfg.rotary_mask());
-  ASSERT_GT(rows.size(), 100000u);
-  std::map<int, const Piece*> by_line;
-  for (const Piece& p : pieces) by_line[p.line] = &p;
-  std::map<int, double> hint;
-  std::map<int, int> rows_per_piece;
-  double worst_cmd = 0.0, worst_act = 0.0;
-  Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const Row& row = rows[i];
-    ASSERT_EQ(commanded_joint_violation(cfg, rows, i), "");
-    for (int ax = 0; ax < kAxes; ++ax) {
-      const auto k = static_cast<std::size_t>(ax);
-      lo[k] = std::min(lo[k], row.s.actual[k]);
-      hi[k] = std::max(hi[k], row.s.actual[k]);
-    }
-    const auto pc = by_line.find(static_cast<int>(row.s.line));
-    if (pc == by_line.end() || row.s.state != MachineState::kRunning) continue;
-    if (rows_per_piece[pc->first]++ % 10 != 0) continue;
-    const ToolPose tc = forward(kin, to_joints(cfg, row.s.commanded, row.j.commanded));
-    const ToolPose ta = forward(kin, to_joints(cfg, row.s.actual, row.j.actual));
-    double& h = hint[pc->first];
-    worst_cmd = std::max(worst_cmd, axis_deviation(*pc->second, tc.tip, tc.axis, 10.0, h));
-    double ha = h;
-    worst_act = std::max(worst_act, axis_deviation(*pc->second, ta.tip, ta.axis, 10.0, ha));
-  }
-  for (int ax = 0; ax < kAxes; ++ax) {
-    const AxisConfig& a = cfg.axes[static_cast<std::size_t>(ax)];
-    EXPECT_GE(lo[static_cast<std::size_t>(ax)], a.travel_min_mm) << "measured joint " << ax;
-    EXPECT_LE(hi[static_cast<std::size_t>(ax)], a.travel_max_mm) << "measured joint " << ax;
-  }
-  EXPECT_EQ(rows_per_piece.size(), pieces.size()) << "every G5.4 group ran";
-  EXPECT_LT(worst_cmd, 2e-3) << "commanded swept axis off the ruled surface, mm";
-  EXPECT_LT(worst_act, 0.02) << "measured swept axis off the ruled surface, mm";
-  EXPECT_EQ(rows.back().s.state, MachineState::kIdle);
+  const RunOnSurface run = check_run_on_surface(cfg, pieces, trace, 100000);
+  const double worst_cmd = run.worst_cmd, worst_act = run.worst_act;
+  const Vec3 lo = run.lo, hi = run.hi;
   const std::size_t at = r.out.find("program time");
   std::printf("[ figures ] %zu G5.4 groups, %zu ruled blocks; %s; swept axis (tip and 10 mm up the tool, every "
               "10th cycle) off the surface: commanded %.3g um, measured %.3g um; measured joints X %.4f..%.4f Y %.4f..%.4f Z %.4f..%.4f mm\n",
               pieces.size(), ruled_blocks, at == std::string::npos ? "?" : r.out.substr(at, r.out.find('\n', at) - at).c_str(),
               worst_cmd * 1e3, worst_act * 1e3, lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]);
+}
+
+// The file form (issue 17): the JSON program the real `pcnc ruled --json` writes (a coarser
+// example than the test above: cusp 0.2 mm) runs through `pcnc run` as the G-code form does.
+// `pcnc check --print-blocks` gives the same blocks for ex.json and ex.ngc (their source lines
+// aside: the JSON's name the piece's place in the file); the run completes with every cycle
+// inside the joints' travel and speed and the swept axis on the ruled surface (the same checks
+// as above, each piece found by the line of its object in the JSON file); a refused JSON file
+// is named at its place and nothing moves.
+TEST(RuledRun, TheJsonFormPcncRuledWritesRunsThroughPcncRun) {
+  const std::string dir = make_temp_dir("ruledjson");
+  const std::string config = write_five_axis_config(dir, "ruledjson");
+  const MachineConfig cfg = load_config(config);
+  const std::string ngc = dir + "/ex.ngc", json = dir + "/ex.json";
+  const ProcessResult gen =
+      run_process({pcnc_exe(), "ruled", "--config", config, "--samples", "0", "--cusp", "0.2", "-o", ngc, "--json", json}, 120);
+  ASSERT_EQ(gen.exit_code, 0) << gen.out << gen.err;
+
+  const std::string text = read_file(json);
+  const RuledJsonProgram prog = read_ruled_program_json(text, "ex.json");
+  ASSERT_EQ(prog.error, "");
+  ASSERT_GT(prog.pieces.size(), 10u);
+  std::vector<Piece> pieces;
+  for (std::size_t k = 0; k < prog.pieces.size(); ++k) {
+    Piece p;
+    p.line = prog.places[k].piece.line;
+    for (std::size_t i = 0; i < prog.pieces[k].points.size(); ++i) {
+      p.points.push_back(kG54 + prog.pieces[k].points[i]);
+      p.axes.push_back(prog.pieces[k].axes[i]);
+    }
+    RuledModelResult m = ruled_model_through(p.points, p.axes, RulingForm::kVector);
+    ASSERT_TRUE(m.error.empty()) << m.error;
+    p.model = m.model;
+    pieces.push_back(std::move(p));
+  }
+
+  // the same blocks from both forms
+  auto blocks_of = [&](const std::string& path) {
+    const ProcessResult chk = run_process({pcnc_exe(), "check", path, "--config", config, "--print-blocks"}, 120);
+    EXPECT_EQ(chk.exit_code, 0) << chk.out << chk.err;
+    std::vector<std::string> out;
+    std::istringstream in(chk.out);
+    for (std::string l; std::getline(in, l);) {
+      if (l.empty() || !std::isdigit(static_cast<unsigned char>(l[0]))) continue;  // the summary
+      const std::size_t at = l.find(" L"), end = l.find(' ', at + 1);
+      out.push_back(l.substr(0, at) + l.substr(end));  // without the source line
+    }
+    return out;
+  };
+  const std::vector<std::string> from_json = blocks_of(json), from_ngc = blocks_of(ngc);
+  ASSERT_GT(from_json.size(), prog.pieces.size());
+  EXPECT_EQ(from_json, from_ngc);
+  std::size_t ruled = 0;
+  for (const std::string& l : from_json) ruled += l.find(" ruled (") != std::string::npos;
+  EXPECT_GE(ruled, prog.pieces.size());
+
+  const std::string trace = dir + "/ex.csv";
+  const ProcessResult r = run_process({pcnc_exe(), "run", json, "--config", config, "--clock", "virtual", "--trace", trace}, 600);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("result            completed"), std::string::npos) << r.out;
+  const RunOnSurface run = check_run_on_surface(cfg, pieces, trace, 10000);
+  const std::size_t at = r.out.find("program time");
+  std::printf("[ figures ] ex.json: %zu pieces, %zu ruled blocks (the same %zu blocks as ex.ngc); %s; swept axis off the "
+              "surface: commanded %.3g um, measured %.3g um\n",
+              prog.pieces.size(), ruled, from_json.size(),
+              at == std::string::npos ? "?" : r.out.substr(at, r.out.find('\n', at) - at).c_str(), run.worst_cmd * 1e3,
+              run.worst_act * 1e3);
+
+  // a refused file: its place, and nothing moves
+  nlohmann::json j = nlohmann::json::parse(text);
+  j["pieces"][2]["points"][1] = {1.0, 2.0};
+  const std::string bad = dir + "/bad.json";
+  std::ofstream(bad) << j.dump(1);
+  const RuledJsonProgram bp = read_ruled_program_json(j.dump(1), bad);
+  const ProcessResult rb = run_process({pcnc_exe(), "run", bad, "--config", config, "--clock", "virtual"}, 120);
+  EXPECT_EQ(rb.exit_code, 2) << rb.out << rb.err;
+  EXPECT_NE(rb.err.find(bad + ":" + std::to_string(bp.refusal.line) + ":" + std::to_string(bp.refusal.column) +
+                        ": error: pieces[2].points[1]: expected three numbers"),
+            std::string::npos)
+      << rb.err;
+  EXPECT_NE((rb.out + rb.err).find("nothing was moved"), std::string::npos) << rb.out << rb.err;
 }
 
 // A machine without rotary joints refuses G5.4 at its line and column, before anything moves.

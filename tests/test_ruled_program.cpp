@@ -1,4 +1,4 @@
-// test_ruled_program.cpp — the G5.4 ... G5.5 writer and the JSON form (tools/ruled_program.hpp):
+// test_ruled_program.cpp — the G5.4 ... G5.5 writer and the JSON form (host/gcode/ruled_program.hpp):
 // the program's order of lines, every set point read back within its printed precision, axes
 // written normalised, no "-0" words, and the JSON form read back exactly.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "ruled_program.hpp"
+#include "gcode/ruled_program.hpp"
 
 namespace pcnc {
 namespace {
@@ -123,35 +123,78 @@ TEST(RuledProgram, JsonFileFormReadsBackAsThePieces) {
   }
 }
 
-TEST(RuledProgram, JsonFileFormRefusesWhatTheGcodeFormRefuses) {
+// Each refusal names the file, the line and column where the value at fault starts, and its
+// key path; nothing is read then.
+TEST(RuledProgram, JsonFileFormRefusesWhatTheGcodeFormRefusesAtThePlace) {
   const std::string head = R"({"format": "pcnc-ruled-program", "version": 1, "units": "mm", "feed_mm_min": 600, "pieces": )";
   const std::string ok_piece = R"({"points": [[0, 0, 0], [1, 0, 0]], "axes": [[0, 0, 1], [0, 0, 1]]})";
   ASSERT_EQ(read_ruled_program_json(head + "[" + ok_piece + "]}", "p.json").error, "");
-  const std::pair<std::string, std::string> cases[] = {
-      {"{", "p.json: not JSON"},
-      {head + "[" + ok_piece + "], \"extra\": 1}", "p.json: the file: unknown key 'extra'"},
-      {R"({"format": "x", "version": 1, "units": "mm", "feed_mm_min": 600, "pieces": []})", "p.json: format \"x\""},
-      {R"({"format": "pcnc-ruled-program", "version": 2, "units": "mm", "feed_mm_min": 600, "pieces": []})", "p.json: version 2"},
-      {R"({"format": "pcnc-ruled-program", "version": 1, "units": "in", "feed_mm_min": 600, "pieces": []})", "p.json: units \"in\""},
-      {R"({"format": "pcnc-ruled-program", "version": 1, "units": "mm", "feed_mm_min": 0, "pieces": []})", "p.json: feed_mm_min 0"},
-      {head + "[]}", "p.json: pieces: expected a non-empty array"},
-      {head + R"([{"points": [[0, 0, 0]], "axes": [[0, 0, 1]]}]})", "p.json: piece 1: expected at least 2 set points"},
-      {head + R"([{"points": [[0, 0, 0], [1, 0, 0]], "axes": [[0, 0, 1]]}]})", "p.json: piece 1: expected arrays"},
-      {head + R"([{"points": [[0, 0, 0], [1, 0]], "axes": [[0, 0, 1], [0, 0, 1]]}]})", "p.json: piece 1, set point 2: expected three numbers"},
-      {head + R"([{"points": [[0, 0, 0], [1, 0, 0]], "axes": [[0, 0, 1], [0, 0, 0.9]]}]})",
-       "p.json: piece 1, set point 2: tool vector of length 0.9: expected a unit vector"},
-      {head + R"([{"points": [[0, 0, 0], [0, 0, 1e-7]], "axes": [[0, 0, 1], [0, 0, 1]]}]})",
-       "p.json: piece 1, set point 2: less than 1e-6 mm"},
-      {head + R"([{"points": [[0, 0, 0], [1, 0, 0]], "axes": [[0, 0, 1], [0, 0, 1]], "comment": "x"}]})",
-       "p.json: piece 1: unknown key 'comment'"},
-      {head + "[" + ok_piece + R"(, {"points": [[2, 0, 0], [3, 0, 0]], "axes": [[0, 0, 1], [0, 0, 1]]}]})",
-       "p.json: piece 2: does not start where piece 1 ended"},
+  struct Case {
+    std::string text;
+    std::string anchor;  // the value at fault: its last occurrence in the text (empty: column 1)
+    std::string want;    // after "p.json:1:<col>: error: "
   };
-  for (const auto& [text, want] : cases) {
-    const RuledJsonProgram r = read_ruled_program_json(text, "p.json");
+  const Case cases[] = {
+      {head + "[" + ok_piece + "], \"extra\": 1}", "", "the file: unknown key 'extra'"},
+      {R"({"format": "x", "version": 1, "units": "mm", "feed_mm_min": 600, "pieces": []})", R"("x")", "format: \"x\": expected"},
+      {R"({"format": "pcnc-ruled-program", "version": 2, "units": "mm", "feed_mm_min": 600, "pieces": []})", "2,", "version: 2: expected 1"},
+      {R"({"format": "pcnc-ruled-program", "version": 1, "units": "in", "feed_mm_min": 600, "pieces": []})", R"("in")", "units: \"in\""},
+      {R"({"format": "pcnc-ruled-program", "version": 1, "units": "mm", "feed_mm_min": 0, "pieces": []})", "0,", "feed_mm_min: 0: expected a number > 0"},
+      {head + "[]}", "[]", "pieces: expected a non-empty array"},
+      {head + R"([{"points": [[0, 0, 0]], "axes": [[0, 0, 1]]}]})", "[[0, 0, 0]]", "pieces[0].points: expected at least 2 set points"},
+      {head + R"([{"points": [[0, 0, 0], [1, 0, 0]], "axes": [[0, 0, 1]]}]})", R"({"points")",
+       "pieces[0]: expected arrays 'points' and 'axes' of the same length (2 and 1)"},
+      {head + R"([{"points": [[0, 0, 0], [1, 0]], "axes": [[0, 0, 1], [0, 0, 1]]}]})", "[1, 0]",
+       "pieces[0].points[1]: expected three numbers"},
+      {head + R"([{"points": [[0, 0, 0], [1, 0, 0]], "axes": [[0, 0, 1], [0, 0, 0.9]]}]})", "[0, 0, 0.9]",
+       "pieces[0].axes[1]: tool vector of length 0.9: expected a unit vector"},
+      {head + R"([{"points": [[0, 0, 0], [0, 0, 1e-7]], "axes": [[0, 0, 1], [0, 0, 1]]}]})", "[0, 0, 1e-7]",
+       "pieces[0].points[1]: less than 1e-6 mm"},
+      {head + R"([{"points": [[0, 0, 0], [1, 0, 0]], "axes": [[0, 0, 1], [0, 0, 1]], "comment": "x"}]})", R"({"points")",
+       "pieces[0]: unknown key 'comment'"},
+      {head + "[" + ok_piece + R"(, {"points": [[2, 0, 0], [3, 0, 0]], "axes": [[0, 0, 1], [0, 0, 1]]}]})",
+       R"({"points": [[2)", "pieces[1]: does not start where pieces[0] ended"},
+  };
+  for (const Case& c : cases) {
+    const RuledJsonProgram r = read_ruled_program_json(c.text, "p.json");
+    const std::size_t col = c.anchor.empty() ? 1 : c.text.rfind(c.anchor) + 1;
+    const std::string want = "p.json:1:" + std::to_string(col) + ": error: " + c.want;
     EXPECT_EQ(r.error.rfind(want, 0), 0u) << r.error << " | want: " << want;
+    EXPECT_EQ(r.refusal.line, 1);
+    EXPECT_EQ(r.refusal.column, static_cast<int>(col));
     EXPECT_TRUE(r.pieces.empty());
   }
+  // over several lines: the line and column of the value; a text that is not JSON: where the parser stopped
+  const std::string multi = head + "[\n" + ok_piece + ",\n  {\"points\": [[1, 0, 0],\n     [1, 0]], \"axes\": [[0, 0, 1], [0, 0, 1]]}]}";
+  EXPECT_EQ(read_ruled_program_json(multi, "p.json").error.rfind("p.json:4:6: error: pieces[1].points[1]: expected three numbers", 0), 0u)
+      << read_ruled_program_json(multi, "p.json").error;
+  const RuledJsonProgram bad = read_ruled_program_json("{\"format\": \"pcnc-ruled-program\",\n \"version\" 1}", "p.json");
+  EXPECT_EQ(bad.error.rfind("p.json:2:", 0), 0u) << bad.error;
+  EXPECT_NE(bad.error.find("the file: not JSON: syntax error"), std::string::npos) << bad.error;
+}
+
+// Where each piece, set point and first tool vector stands, for the front end's messages.
+TEST(RuledProgram, JsonFileFormKnowsWhereEachValueStands) {
+  const std::string text = "{\"format\": \"pcnc-ruled-program\", \"version\": 1, \"units\": \"mm\", \"feed_mm_min\": 600,\n"
+                           " \"pieces\": [\n"
+                           "  {\"axes\": [[0, 0, 1], [0, 0, 1]],\n"
+                           "   \"points\": [[0, 0, 0], [1, 0, 0]]},\n"
+                           "  {\"points\": [[1, 0, 0],\n"
+                           "              [2, 0, 0]], \"axes\": [[0, 0, 1], [0, 0, 1]]}]}\n";
+  const RuledJsonProgram r = read_ruled_program_json(text, "p.json");
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.places.size(), 2u);
+  auto is = [](const JsonPlace& p, const char* path, int line, int column) {
+    return p.path == path && p.line == line && p.column == column;
+  };
+  EXPECT_TRUE(is(r.places[0].piece, "pieces[0]", 3, 3));
+  EXPECT_TRUE(is(r.places[0].first_axis, "pieces[0].axes[0]", 3, 13));
+  EXPECT_TRUE(is(r.places[0].points[1], "pieces[0].points[1]", 4, 26));
+  EXPECT_TRUE(is(r.places[1].piece, "pieces[1]", 5, 3));
+  EXPECT_TRUE(is(r.places[1].points[0], "pieces[1].points[0]", 5, 15));
+  EXPECT_TRUE(is(r.places[1].points[1], "pieces[1].points[1]", 6, 15));
+  EXPECT_TRUE(is(r.places[1].first_axis, "pieces[1].axes[0]", 6, 36));
+  EXPECT_EQ(r.text_lines, 7u);
 }
 
 }  // namespace

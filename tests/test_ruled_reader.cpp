@@ -1,5 +1,5 @@
 // test_ruled_reader.cpp — the reader of the G5.4 ... G5.5 form (host/gcode/ruled_reader.hpp):
-// what the writer (tools/ruled_program.hpp) writes for passes over the seed's example reads
+// what the writer (host/gcode/ruled_program.hpp) writes for passes over the seed's example reads
 // back as the same pieces within the printed precision (X Y Z 5 decimals, I J K 7), in order,
 // with the feed and the lines; a piece read back builds a ruled model and block that the rt's
 // follower runs to its last point; every rule of the form is refused at its line and column.
@@ -14,7 +14,7 @@
 #include "geometry/ruled_passes.hpp"
 #include "ipc/block_ruled.hpp"
 #include "motion/ruled_follower.hpp"
-#include "ruled_program.hpp"
+#include "gcode/ruled_program.hpp"
 
 namespace pcnc {
 namespace {

@@ -163,7 +163,7 @@ void add_check_subcommand(CLI::App& app, int& exit_code) {
   auto opts = std::make_shared<CheckCommandOptions>();
   CLI::App* sub =
       app.add_subcommand("check", "check a G-code program without a machine: syntax, words, arcs, soft limits, feeds");
-  sub->add_option("FILE", opts->file, "G-code program")->required();
+  sub->add_option("FILE", opts->file, "G-code program, or a ruled-surface program in the JSON file form (a .json file: pcnc ruled --json, docs/ruled-surface.md), run as the G-code form the host makes of it")->required();
   sub->add_option("--config", opts->config_path,
                   "machine configuration (TOML); default: $PCNC_CONFIG or configs/desktop-mill.toml");
   sub->add_flag("--fit", opts->fit, "scale the program down uniformly (never up) and centre it so it fits the travel");

@@ -314,7 +314,7 @@ void add_ctl_subcommand(CLI::App& app, int& exit_code) {
   auto* run = ctl->add_subcommand("run", "check FILE and run it (refused unless IDLE, or when preflight finds errors)");
   static std::string run_file, work_offset, contouring, run_offset;
   static bool fit = false, run_wait = false;
-  run->add_option("FILE", run_file, "G-code program")->required();
+  run->add_option("FILE", run_file, "G-code program, or a ruled-surface program in the JSON file form (a .json file: pcnc ruled --json, docs/ruled-surface.md), run as the G-code form the host makes of it")->required();
   run->add_option("--work-offset", work_offset, "default coordinate system G54..G59");
   run->add_option("--contouring", contouring, "contouring at program start: on|off")->check(CLI::IsMember({"on", "off"}));
   run->add_flag("--fit", fit, "scale the program down so it fits the travel");

@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table,
       surface, tolerance;
   bool fit = false, quiet = false, verbose = false;
-  run->add_option("FILE", file, "G-code program")->required()->check(CLI::ExistingFile);
+  run->add_option("FILE", file, "G-code program, or a ruled-surface program in the JSON file form (a .json file: pcnc ruled --json, docs/ruled-surface.md), run as the G-code form the host makes of it")->required()->check(CLI::ExistingFile);
   run->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
   run->add_option("--clock", clock, "real: 2 kHz in real time; virtual: as fast as possible, same cycles")
       ->check(CLI::IsMember({"real", "virtual"}))

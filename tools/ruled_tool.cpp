@@ -21,7 +21,8 @@
 #include "geometry/ruled_passes.hpp"
 #include "geometry/ruled_surface.hpp"
 #include "number_format.hpp"
-#include "ruled_program.hpp"
+#include "gcode/ruled_json_input.hpp"
+#include "gcode/ruled_program.hpp"
 
 namespace pcnc {
 namespace {
@@ -227,13 +228,10 @@ int run_ruled_tool(const RuledToolOptions& o, std::ostream& out, std::ostream& e
   RuledProgramOptions ro;
   ro.feed_mm_min = o.feed;
   ro.clearance_z = clearance;
-  if (five_axis) {
-    // the joints at the first set point's axis, nearest home (the rt starts there)
-    const Joints q = inverse(kinematics_with_tool(cfg, 0.0), ToolPose{first.tip + cfg.gcode.work_offsets[0], first.axis},
-                             home_joints(cfg), cfg.rotary_travel());
-    const char tilt = tilt_index(cfg) == 1 ? 'B' : 'A';
-    ro.turn_joints = std::string(1, tilt) + fmt("%.6f", q[kTilt] * 180.0 / M_PI) + " C" + fmt("%.6f", q[kRotary] * 180.0 / M_PI);
-    ro.turn_back = std::string(1, tilt) + "0 C0";
+  if (five_axis) {  // the joints at the first set point's axis, nearest home (the rt starts there)
+    const RuledTurnWords words = ruled_turn_words(cfg, first.tip + cfg.gcode.work_offsets[0], first.axis);
+    ro.turn_joints = words.turn;
+    ro.turn_back = words.back;
   }
   ro.header = {"pcnc ruled: ruled-surface passes (G5.4 ... G5.5, docs/ruled-surface.md)",
                "surface: " + what,
@@ -298,7 +296,7 @@ void add_ruled_subcommand(CLI::App& app, int& exit_code) {
   sub->add_option("SURFACE", opts->surface, "a B-spline surface file (docs/surface.md), in program coordinates")
       ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", opts->output, "the program to write (.ngc)")->required();
-  sub->add_option("--json", opts->json, "also write the pieces as JSON (the file form)");
+  sub->add_option("--json", opts->json, "also write the pieces as JSON (the file form, .json): pcnc check/run run it as they run the G-code form, with the same preamble made from their config");
   sub->add_option("--tool-radius", opts->tool_radius, "ball-end radius R, mm")->capture_default_str();
   sub->add_option("--cusp", opts->cusp, "cusp (scallop) height h between passes, mm")->capture_default_str();
   sub->add_option("--config", opts->config_path, "machine configuration (TOML); its X/Y travel sizes the example");

@@ -1,7 +1,7 @@
 // ruled_tool.hpp — `pcnc ruled [SURFACE] [--tool-radius R] [--cusp H] [--config F] [--feed F]
 // -o OUT.ngc`: plans the passes of a ball-end mill over a part surface (the seed's example
 // scaled to the config's X/Y travel, or a B-spline surface file) as ruled-surface pieces
-// (geometry/ruled_passes.hpp), writes them in the G5.4 ... G5.5 form (ruled_program.hpp) and
+// (geometry/ruled_passes.hpp), writes them in the G5.4 ... G5.5 form (gcode/ruled_program.hpp) and
 // prints the plan's figures and the seed's Tables 1-2 for chosen samples (docs/ruled-surface.md).
 #pragma once
 

@@ -18,9 +18,23 @@ std::string format_diagnostic(const Diagnostic& d) {
   return s;
 }
 
+void DiagnosticSink::place(int& line, int& column, std::string& message) const {
+  if (!places_ || line < 1 || static_cast<std::size_t>(line) > places_->size()) return;
+  const SourcePlace& p = (*places_)[static_cast<std::size_t>(line - 1)];
+  line = p.line;
+  column = p.column;
+  if (!p.path.empty()) message = p.path + ": " + message;
+}
+
+int DiagnosticSink::file_line(int line) const {
+  if (!places_ || line < 1 || static_cast<std::size_t>(line) > places_->size()) return line;
+  return (*places_)[static_cast<std::size_t>(line - 1)].line;
+}
+
 void DiagnosticSink::error(int line, int column, std::string message) {
   ++error_count_;
   if (error_count_ > kMaxErrors) return;
+  place(line, column, message);
   kept_.push_back({Diagnostic{Diagnostic::Severity::kError, file_, line, column, std::move(message)}, {}, 0});
 }
 
@@ -38,6 +52,7 @@ void DiagnosticSink::warning(int line, int column, std::string_view key, std::st
     ++dropped_warnings_;
     return;
   }
+  place(line, column, message);
   kept_.push_back(
       {Diagnostic{Diagnostic::Severity::kWarning, file_, line, column, std::move(message)}, std::string(key), 0});
 }

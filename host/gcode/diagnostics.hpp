@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,17 @@ struct Diagnostic {
   int column = 0;
   std::string message;
 };
+
+/// Where a line of a program the front end made from another file form came from in that
+/// file (a JSON ruled-surface program run as its G-code form): the line and column of the value
+/// and its key path ("pieces[2].points[5]").
+struct SourcePlace {
+  int line = 0;
+  int column = 0;
+  std::string path;
+};
+/// One place per line of the made program, from its line 1.
+using SourcePlaces = std::vector<SourcePlace>;
 
 /// "file:line:col: error: message" (column omitted when 0, line omitted when 0).
 std::string format_diagnostic(const Diagnostic& d);
@@ -50,6 +62,11 @@ class DiagnosticSink {
   const std::string& file() const { return file_; }
   /// The file later diagnostics name (the control flow switches it inside a subroutine file).
   void set_file(std::string file) { file_ = std::move(file); }
+  /// A made program's lines (LineReader::Generated): diagnostics at its line L are reported at
+  /// places[L - 1] (line, column) with the place's path before the message.
+  void set_source_places(std::shared_ptr<const SourcePlaces> places) { places_ = std::move(places); }
+  /// A made program's line L as the file's line (L itself without places).
+  int file_line(int line) const;
 
  private:
   struct Kept {
@@ -57,7 +74,9 @@ class DiagnosticSink {
     std::string key;
     std::uint64_t repeats = 0;
   };
+  void place(int& line, int& column, std::string& message) const;
   std::string file_;
+  std::shared_ptr<const SourcePlaces> places_;
   std::vector<Kept> kept_;
   std::uint64_t error_count_ = 0;
   std::uint64_t warning_count_ = 0;

@@ -55,6 +55,12 @@ LineReader::LineReader(const std::string& path) : path_(path) {
 LineReader::LineReader(FromText, std::string_view text)
     : text_(text), full_text_(text), from_text_(true), total_(text.size()) {}
 
+LineReader::LineReader(Generated, std::string text, std::shared_ptr<const SourcePlaces> places)
+    : owned_(std::move(text)), places_(std::move(places)), from_text_(true) {
+  text_ = full_text_ = owned_;
+  total_ = owned_.size();
+}
+
 LineReader::LineReader(FromFeed, std::shared_ptr<LineFeed> feed) : feed_(std::move(feed)) {}
 
 bool LineReader::seek(const Position& pos) {

@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "gcode/diagnostics.hpp"
+
 namespace pcnc {
 
 class LineFeed;
@@ -36,6 +38,11 @@ class LineReader {
   /// waits for the next line; the end of input is the feed's close().
   struct FromFeed {};
   LineReader(FromFeed, std::shared_ptr<LineFeed> feed);
+  /// Reads a program the front end made from another file form (a JSON ruled-surface program
+  /// as its G-code form, gcode/ruled_json_input.hpp): the reader owns `text`; `places` says, for
+  /// each of its lines, where that line came from in the file (diagnostics and blocks name it).
+  struct Generated {};
+  LineReader(Generated, std::string text, std::shared_ptr<const SourcePlaces> places);
   ~LineReader();
   LineReader(const LineReader&) = delete;
   LineReader& operator=(const LineReader&) = delete;
@@ -57,6 +64,8 @@ class LineReader {
 
   std::uint64_t line_number() const { return line_no_; }  // of the line last returned
   const std::string& path() const { return path_; }        // empty for text in memory
+  /// Generated: where each line came from; null otherwise.
+  const std::shared_ptr<const SourcePlaces>& source_places() const { return places_; }
   std::uint64_t bytes_read() const { return consumed_; }
   std::uint64_t total_bytes() const { return total_; }
 
@@ -70,6 +79,8 @@ class LineReader {
   std::size_t end_ = 0;    // end of valid data in buf_
   bool eof_ = false;
   bool skipping_ = false;  // discarding the rest of an over-long line
+  std::string owned_;  // Generated: the text text_ points into
+  std::shared_ptr<const SourcePlaces> places_;
   std::string_view text_;
   std::string_view full_text_;
   std::string path_;

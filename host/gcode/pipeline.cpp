@@ -41,6 +41,8 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       validator_(config_, frame.start, frame.rot_start),
       to_merge_([this](Move& m) { return checked_move(m); }),
       to_surface_([this](Move& m) { return comp_.next(from_source_, m); }) {
+  // a program made from another file form: its diagnostics and blocks name that file's places
+  if (reader_->source_places()) sink_.set_source_places(reader_->source_places());
   if (frame.surface) {
     // the path tolerance when there is one, else gcode.surface_tolerance_mm
     const double tol = config_.motion.path_tolerance_mm > 0.0 ? config_.motion.path_tolerance_mm
@@ -73,7 +75,10 @@ bool Pipeline::checked_move(Move& m) {
 
 bool Pipeline::accept(Block& b) {
   const BlockVerdict v = validator_.check(b);
-  if (v.fault == FaultCode::kNone) return true;
+  if (v.fault == FaultCode::kNone) {
+    b.line = static_cast<std::uint32_t>(sink_.file_line(static_cast<int>(b.line)));
+    return true;
+  }
   sink_.error(static_cast<int>(b.line), 0, describe_refusal(b, v));
   return false;
 }

@@ -5,7 +5,8 @@
 //
 // The stages, in their one fixed order; each hands plain values (Move, Block) to the next:
 //
-//   LineReader   source text, line by line, in fixed memory            (line_reader.hpp)
+//   LineReader   source text, line by line, in fixed memory            (line_reader.hpp;
+//                a .json ruled-surface program: its G-code form, ruled_json_input.hpp)
 //   MoveSource   lexer -> parser -> interpreter: Moves in machine mm   (move_source.hpp)
 //   CutterComp   G41/G42: the tool centre's path (LinuxCNC's moves)   (cutter_comp.hpp)
 //   SurfaceCorrection  --surface: Z by a measured surface, optional    (surface_correction.hpp)
@@ -69,7 +70,11 @@ class Pipeline {
   /// and surface correction (what LinuxCNC's interpreter would hand its motion planner), not
   /// yet smoothed: `pcnc check --print-moves`. False after the End move.
   /// Not to be mixed with next()/drain() on one pipeline.
-  bool front_end_move(Move& m) { return to_smoother_(m); }
+  bool front_end_move(Move& m) {
+    const bool more = to_smoother_(m);
+    m.line = sink_.file_line(m.line);  // a made program's line as its file's
+    return more;
+  }
   /// Message comments ((MSG,...), (DEBUG,...), (PRINT,...)) as their lines run.
   void set_message_handler(MessageHandler handler) { source_.set_message_handler(std::move(handler)); }
   /// The offsets and stored positions as the program has left them so far.

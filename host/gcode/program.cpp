@@ -16,6 +16,7 @@
 #include "gcode/planned_time.hpp"
 #include "config/surface_file.hpp"
 #include "gcode/preprocessor.hpp"
+#include "gcode/ruled_json_input.hpp"
 #include "gcode/tcp_fit_travel.hpp"
 #include "config/joint_map.hpp"
 
@@ -74,12 +75,26 @@ JobFrame make_frame(const MachineConfig& config, const JobOptions& options, cons
   return f;
 }
 
+// The program's reader: a G-code file or text as it is; a JSON ruled-surface program (by its
+// name, ".json") as the G-code form made from it for this machine and frame (ruled_json_input.hpp;
+// throws ProgramRefused when the file is refused).
+std::unique_ptr<LineReader> open_reader(const std::string* path, std::string_view text, const std::string& name,
+                                        const MachineConfig& config, const JobFrame& frame) {
+  if (is_ruled_json_program(path ? *path : name)) {
+    if (path) return open_ruled_json_program(*path, config, frame.offset, frame.scale);
+    RuledJsonInput in = ruled_json_input(std::string(text), name, config, frame.offset, frame.scale);
+    if (!in.refusal_text.empty()) throw ProgramRefused(in.refusal);
+    return std::make_unique<LineReader>(LineReader::Generated{}, std::move(in.text), std::move(in.places));
+  }
+  if (path) return std::make_unique<LineReader>(*path);
+  return std::make_unique<LineReader>(LineReader::FromText{}, text);
+}
+
 struct Input {
   const std::string* path = nullptr;
   std::string_view text;
-  std::unique_ptr<LineReader> open() const {
-    if (path) return std::make_unique<LineReader>(*path);
-    return std::make_unique<LineReader>(LineReader::FromText{}, text);
+  std::unique_ptr<LineReader> open(const std::string& name, const MachineConfig& config, const JobFrame& frame) const {
+    return open_reader(path, text, name, config, frame);
   }
 };
 
@@ -124,7 +139,8 @@ Transform fit_transform(const Input& in, const std::string& name, const MachineC
   DiagnosticSink scratch(name);
   MachineConfig programmed = config;
   set_operator_tolerance(programmed.motion, 0.0);
-  Pipeline measure(in.open(), programmed, make_frame(programmed, options, t), scratch, false);
+  const JobFrame frame = make_frame(programmed, options, t);
+  Pipeline measure(in.open(name, programmed, frame), programmed, frame, scratch, false);
   std::vector<FitPose> poses;
   double tool_length = 0.0;
   if (config.rotary_mask() != 0) measure.collect_fit_poses(&poses, &tool_length);
@@ -169,7 +185,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
         sink.warning(0, 0, "fit-offset", "--fit recentres the program: the --offset value is not used");
     }
     const JobFrame frame = make_frame(config, options, t);
-    Pipeline pipeline(in.open(), config, frame, sink);
+    Pipeline pipeline(in.open(name, config, frame), config, frame, sink);
     if (options.on_message) pipeline.set_message_handler(options.on_message);
     Block b;
     PlanRecorder plan(config);
@@ -187,6 +203,10 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.comp = pipeline.comp_figures();
     result.transform = t;
     result.lines = pipeline.lines();
+    if (const auto& places = pipeline.reader().source_places(); places && !places->empty())
+      result.lines = static_cast<std::uint64_t>(std::max_element(places->begin(), places->end(), [](const SourcePlace& a, const SourcePlace& b) {
+                       return a.line < b.line;
+                     })->line);  // a made program: the last line of its file that it reached
     // the programmed moves: a smoothed curve counts for the G1 moves it replaced
     result.moves = pre.moves() + pipeline.smoothing().moves - pipeline.smoothing().curves;
     result.last_point = pre.moves() > 0 ? pre.last_point() : frame.start;
@@ -202,6 +222,8 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.smoothed_blocks = pipeline.smoothed_blocks();
     result.max_path_deviation_mm = pipeline.smoothing().max_deviation_mm;
     result.assumed_probe_lines = pipeline.interpreter().assumed_probe_lines();
+  } catch (const ProgramRefused& e) {
+    sink.error(e.diagnostic.line, e.diagnostic.column, e.diagnostic.message);
   } catch (const std::exception& e) {
     sink.error(0, 0, e.what());
   }
@@ -255,7 +277,8 @@ MoveListing list_input(const Input& in, const std::string& name, const MachineCo
   try {
     Transform t;
     t.offset = start_work(config, options).g5x[0];
-    Pipeline pipeline(in.open(), config, make_frame(config, options, t), sink, false);
+    const JobFrame frame = make_frame(config, options, t);
+    Pipeline pipeline(in.open(name, config, frame), config, frame, sink, false);
     pipeline.set_message_handler(on_message);
     Move m;
     // Up to the first error, as LinuxCNC's interpreter stops there (pcnc check without
@@ -270,6 +293,8 @@ MoveListing list_input(const Input& in, const std::string& name, const MachineCo
     }
     result.lines = pipeline.lines();
     result.work = work_left(config, options, pipeline.work_state());
+  } catch (const ProgramRefused& e) {
+    sink.error(e.diagnostic.line, e.diagnostic.column, e.diagnostic.message);
   } catch (const std::exception& e) {
     sink.error(0, 0, e.what());
   }
@@ -345,8 +370,8 @@ struct BlockStream::Impl {
 
 BlockStream::BlockStream(const std::string& path, const MachineConfig& config, const JobOptions& options,
                          const Transform& transform)
-    : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(path), path, config,
-                                   make_frame(config, options, transform))) {
+    : impl_(std::make_unique<Impl>(open_reader(&path, {}, path, config, make_frame(config, options, transform)), path,
+                                   config, make_frame(config, options, transform))) {
   if (options.on_message) impl_->pipeline.set_message_handler(options.on_message);
   impl_->config = config;
   impl_->options = options;
@@ -354,8 +379,8 @@ BlockStream::BlockStream(const std::string& path, const MachineConfig& config, c
 
 BlockStream::BlockStream(FromText, std::string_view text, const std::string& name, const MachineConfig& config,
                          const JobOptions& options, const Transform& transform)
-    : impl_(std::make_unique<Impl>(std::make_unique<LineReader>(LineReader::FromText{}, text), name, config,
-                                   make_frame(config, options, transform))) {
+    : impl_(std::make_unique<Impl>(open_reader(nullptr, text, name, config, make_frame(config, options, transform)), name,
+                                   config, make_frame(config, options, transform))) {
   if (options.on_message) impl_->pipeline.set_message_handler(options.on_message);
   impl_->config = config;
   impl_->options = options;

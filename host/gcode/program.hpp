@@ -107,7 +107,9 @@ struct CheckResult {
 /// job's start position). A refused block is an error at its source line. The blocks are not
 /// kept: memory does not grow with file length (rapid_lines aside, one entry per run of rapids,
 /// and the plan: one entry per block at most, runs of lines with one plan merged).
-/// A file that cannot be read gives ok = false with one error diagnostic.
+/// A file that cannot be read gives ok = false with one error diagnostic. A `path` (or, for the
+/// _text forms, a `name`) ending in ".json" is a ruled-surface program in the JSON file form, run
+/// as its G-code form (gcode/ruled_json_input.hpp); the same holds for BlockStream.
 /// Why `path` cannot be a program although it opens: a directory, FIFO, device or socket (only
 /// regular files are read). Empty for a regular file, and for one that cannot be opened at
 /// all (check_program reports that). Never blocks and reads nothing.

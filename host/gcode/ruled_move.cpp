@@ -43,13 +43,10 @@ RuledJointWalk walk_ruled_piece(const RuledModel& model, const MachineConfig& cf
   RuledJointWalk w;
   const Kinematics kin = kinematics_with_tool(cfg, tool_length);
   const RotaryTravel travel = cfg.rotary_travel();
-  Joints vmax{}, amax{};
-  joint_limits(cfg, vmax, amax);
   const RuledCurves c = model.curves();
   const int n = static_cast<int>(model.directrix.size());
   Joints q = q0;
   w.q_min = w.q_max = q0;
-  double cap = std::numeric_limits<double>::infinity();
   for (int s = 0; s <= n * kRuledSamplesPerSegment; ++s) {
     const double u = static_cast<double>(s) / kRuledSamplesPerSegment;
     const RuledJet j = ruled_jet(c, u);
@@ -72,14 +69,45 @@ RuledJointWalk walk_ruled_piece(const RuledModel& model, const MachineConfig& cf
       w.q_min[i] = std::min(w.q_min[i], q[i]);
       w.q_max[i] = std::max(w.q_max[i], q[i]);
     }
-    // joint rates at a tip speed of 1 mm/s (constant): dq scales with F, ddq with F^2
+    // joint rates at a tip speed of 1 mm/s (constant): q' = dq/ds and q'' = d²q/ds²
     const ToolMotion tm = tool_motion(j, u, 1.0, 0.0);
     const Joints dq = joint_rates(kin, q, PoseRate{tm.velocity, tm.axis_velocity});
     const Joints ddq = joint_accels(kin, q, dq, PoseRate{tm.acceleration, tm.axis_acceleration});
+    Joints r{}, b{};
+    for (std::size_t i = 0; i < q.size(); ++i) r[i] = std::abs(dq[i]), b[i] = std::abs(ddq[i]);
+    w.rate.push_back(r);
+    w.bend.push_back(b);
+  }
+  w.q_end = q;
+  return w;
+}
+
+double ruled_tangential_accel(const RuledJointWalk& w, const MachineConfig& cfg) {
+  Joints vmax{}, amax{};
+  joint_limits(cfg, vmax, amax);
+  double accel = std::numeric_limits<double>::infinity();
+  for (const AxisConfig& a : cfg.axes) accel = std::min(accel, a.max_accel_mm_s2);
+  accel *= kRuledLimitShare;
+  for (const Joints& r : w.rate)
+    for (std::size_t i = 0; i < r.size(); ++i)
+      if (r[i] > 0.0) accel = std::min(accel, kRuledTangentialShare * kRuledLimitShare * amax[i] / r[i]);
+  return accel;
+}
+
+void cap_ruled_feed(RuledJointWalk& w, const MachineConfig& cfg, double accel) {
+  Joints vmax{}, amax{};
+  joint_limits(cfg, vmax, amax);
+  double cap = std::numeric_limits<double>::infinity();
+  w.speed_joint = -1;
+  w.sample_caps.clear();
+  for (std::size_t s = 0; s < w.rate.size(); ++s) {
     double here = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < q.size(); ++i) {
-      const double fv = std::abs(dq[i]) > 0.0 ? kRuledLimitShare * vmax[i] / std::abs(dq[i]) : here;
-      const double fa = std::abs(ddq[i]) > 0.0 ? std::sqrt(kRuledLimitShare * amax[i] / std::abs(ddq[i])) : here;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(kJoints); ++i) {
+      const double r = w.rate[s][i], b = w.bend[s][i];
+      const double fv = r > 0.0 ? kRuledLimitShare * vmax[i] / r : here;
+      // what the tangential acceleration leaves of the joint's budget for the path's term
+      const double left = std::max(0.0, kRuledLimitShare * amax[i] - r * accel);
+      const double fa = b > 0.0 ? std::sqrt(left / b) : here;
       here = std::min({here, fv, fa});
       if (std::min(fv, fa) < cap) {
         cap = std::min(fv, fa);
@@ -88,9 +116,7 @@ RuledJointWalk walk_ruled_piece(const RuledModel& model, const MachineConfig& cf
     }
     w.sample_caps.push_back(here);
   }
-  w.q_end = q;
   w.feed_cap = cap;
-  return w;
 }
 
 std::vector<double> ruled_feed_schedule(const RuledModel& part, const std::vector<double>& sample_caps, double feed,
@@ -117,6 +143,26 @@ std::vector<double> ruled_feed_schedule(const RuledModel& part, const std::vecto
   return v;
 }
 
+void set_ruled_block_fields(Block& b) {
+  const RuledCurves c = curves_of(b.ruled);
+  const RuledJet j0 = ruled_jet(c, 0.0), j1 = ruled_jet(c, b.ruled.segment_count);
+  b.kind = BlockKind::kRuled;
+  b.start = j0.c.p;
+  b.end = j1.c.p;
+  b.length = b.ruled.length;
+  b.speed = 0.0;
+  for (int i = 0; i < b.ruled.schedule_count; ++i) b.speed = std::max(b.speed, b.ruled.schedule_speed[i]);
+  b.dir_start = normalized(j0.c.d1);
+  b.dir_end = normalized(j1.c.d1);
+  const RuledExtent e = ruled_extent(b.ruled);
+  b.motion_class = e.moving <= 1 ? MotionClass::kSingleAxis : static_cast<MotionClass>(e.moving);
+  b.driving_axis = static_cast<std::uint8_t>(e.widest);
+  b.driving_dir = b.end[e.widest] >= b.start[e.widest] ? 1 : -1;
+  b.rotary.tcp = 1;
+  b.rotary.axis_start = j0.e.p;
+  b.rotary.axis_end = j1.e.p;
+}
+
 RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
   RuledMoveBlocks out;
   if (!m.ruled || m.ruled->directrix.empty()) {
@@ -124,25 +170,27 @@ RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
     return out;
   }
   const Joints q0 = ruled_start_joints(m, cfg);
-  const RuledJointWalk whole = walk_ruled_piece(*m.ruled, cfg, m.tool_length, q0);
+  RuledJointWalk whole = walk_ruled_piece(*m.ruled, cfg, m.tool_length, q0);
   if (!whole.error.empty()) {
     out.error = whole.error;
     return out;
   }
+  // the tip's tangential acceleration, one for the whole piece (its parts flow into each other;
+  // kept for braking and holds too): what the slowest linear axis allows, and what leaves every
+  // joint half its budget for the path's term
+  const double accel = ruled_tangential_accel(whole, cfg);
+  cap_ruled_feed(whole, cfg, accel);
   out.speed_joint = whole.feed_cap < m.feed_mm_s ? whole.speed_joint : -1;
-  // the tip's tangential acceleration: what the slowest linear axis allows (kept for braking too)
-  double accel = std::numeric_limits<double>::infinity();
-  for (const AxisConfig& a : cfg.axes) accel = std::min(accel, a.max_accel_mm_s2);
-  accel *= kRuledLimitShare;
   const std::vector<RuledModel> parts = split_for_blocks(*m.ruled);
   Joints q = q0;
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const RuledModel& part = parts[k];
-    const RuledJointWalk w = walk_ruled_piece(part, cfg, m.tool_length, q);
+    RuledJointWalk w = walk_ruled_piece(part, cfg, m.tool_length, q);
     if (!w.error.empty()) {
       out.error = w.error;
       return out;
     }
+    cap_ruled_feed(w, cfg, accel);
     Block b{};
     b.kind = BlockKind::kRuled;
     b.line = static_cast<std::uint32_t>(m.line > 0 ? m.line : 0);
@@ -160,24 +208,10 @@ RuledMoveBlocks plan_ruled_move(const Move& m, const MachineConfig& cfg) {
     if (k > 0) b.ruled.start_speed = std::min(out.blocks.back().ruled.schedule_speed[out.blocks.back().ruled.schedule_count - 1], sched.front());
     if (k > 0) out.blocks.back().ruled.end_speed = b.ruled.start_speed;
     out.feed = std::max(out.feed, top);
-    const RuledCurves c = curves_of(b.ruled);
-    const RuledJet j0 = ruled_jet(c, 0.0), j1 = ruled_jet(c, b.ruled.segment_count);
-    b.start = j0.c.p;
-    b.end = j1.c.p;
-    b.length = b.ruled.length;
-    b.speed = top;
+    set_ruled_block_fields(b);
     b.accel = accel;
-    b.dir_start = normalized(j0.c.d1);
-    b.dir_end = normalized(j1.c.d1);
-    const RuledExtent e = ruled_extent(b.ruled);
-    b.motion_class = e.moving <= 1 ? MotionClass::kSingleAxis : static_cast<MotionClass>(e.moving);
-    b.driving_axis = static_cast<std::uint8_t>(e.widest);
-    b.driving_dir = b.end[e.widest] >= b.start[e.widest] ? 1 : -1;
     RotaryMotion& r = b.rotary;
-    r.tcp = 1;
     r.tool_length = m.tool_length;
-    r.axis_start = j0.e.p;
-    r.axis_end = j1.e.p;
     Vec3 xyz{};
     r.start = r.end = m.rot_start;
     from_joints(cfg, q, xyz, r.start);

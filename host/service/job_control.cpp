@@ -509,11 +509,13 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
     cont = Continuation{true, Block{}};
   } else {
     const double tol = std::max(10.0 * cfg.motion.block_tolerance_mm, 0.005);
-    cont = continue_block(b, at, cfg, tol, &why);
+    cont = continue_block(b, at, cfg, tol, &why, st.rot_commanded);
     if (!cont) return fail(why);
   }
-  // The continuation starts exactly where the machine stands.
-  if (!cont->skip && b.kind != BlockKind::kDwell && b.kind != BlockKind::kEnd) cont->block.start = at;
+  // The continuation starts exactly where the machine stands (a ruled block: at the tip its
+  // joints give, on the piece, which continue_block placed).
+  if (!cont->skip && b.kind != BlockKind::kDwell && b.kind != BlockKind::kEnd && b.kind != BlockKind::kRuled)
+    cont->block.start = at;
   // The journal first: a resumed run that could not be recorded would leave one that points
   // at the wrong block, so the resume is refused and the old journal stays as it was.
   jj.seq_base = cont->skip ? k : k - 1;

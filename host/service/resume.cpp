@@ -8,6 +8,10 @@
 #include "gcode/move.hpp"
 #include "gcode/nurbs_schedule.hpp"
 #include "gcode/preprocessor.hpp"
+#include "gcode/ruled_move.hpp"
+#include "config/joint_map.hpp"
+#include "geometry/kinematics.hpp"
+#include "ipc/block_ruled.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/tangential_budget.hpp"
 #include "ipc/block_nurbs.hpp"
@@ -111,10 +115,97 @@ std::optional<Continuation> continue_nurbs(const Block& b, const Vec3& at, doubl
   return c;
 }
 
+// The schedule's speed at u as the rt reads it: linear between points, constant beyond the ends.
+double schedule_at(const RuledGeometry& g, double u) {
+  const int m = std::clamp(g.schedule_count, 1, kMaxRuledSchedule);
+  if (u <= g.schedule_u[0]) return g.schedule_speed[0];
+  for (int k = 1; k < m; ++k) {
+    if (u <= g.schedule_u[k]) {
+      const double w = (u - g.schedule_u[k - 1]) / (g.schedule_u[k] - g.schedule_u[k - 1]);
+      return g.schedule_speed[k - 1] + w * (g.schedule_speed[k] - g.schedule_speed[k - 1]);
+    }
+  }
+  return g.schedule_speed[m - 1];
+}
+
+// A Ferguson segment cut at t: the same cubic on [t, 1], reparametrised over [0, 1].
+HermiteSegment cut_segment(const HermiteSegment& s, double t) {
+  const CurveJet j = hermite_jet(s, t);
+  return HermiteSegment{j.p, s.p1, (1.0 - t) * j.d1, (1.0 - t) * s.t1};
+}
+
+// A ruled block from the parameter u* nearest the tip the joints give (see resume.hpp).
+std::optional<Continuation> continue_ruled(const Block& b, const Vec3& at, const std::optional<Rot3>& rot, double tol,
+                                           double skip_tol, const MachineConfig& config, std::string* why) {
+  if (!rot) return fail(why, "resuming inside a ruled-surface block (G5.4) needs the rotary joints where the machine stands");
+  Continuation c;
+  const RuledGeometry& g = b.ruled;
+  const int n = g.segment_count;
+  if (n < 1 || n > kMaxRuledSegments) return fail(why, "the interrupted ruled block is invalid");
+  const ToolPose pose = forward(kinematics_with_tool(config, b.rotary.tool_length), to_joints(config, at, *rot));
+  const RuledCurves curves = curves_of(g);
+  auto dist = [&](double u) { return norm(ruled_jet(curves, u).c.p - pose.tip); };
+  // the nearest directrix point: a dense search, then golden sections around the best
+  double u = 0.0, best = dist(0.0);
+  for (int k = 1; k <= 64 * n; ++k) {
+    const double v = static_cast<double>(k) / 64.0;
+    if (const double d = dist(v); d < best) best = d, u = v;
+  }
+  double lo = std::max(0.0, u - 1.0 / 64.0), hi = std::min(static_cast<double>(n), u + 1.0 / 64.0);
+  for (int k = 0; k < 80; ++k) {
+    const double a = hi - 0.618 * (hi - lo), d = lo + 0.618 * (hi - lo);
+    if (dist(a) < dist(d)) hi = d; else lo = a;
+  }
+  u = 0.5 * (lo + hi);
+  const RuledJet here = ruled_jet(curves, u);
+  if (!(norm(here.c.p - pose.tip) <= tol)) {
+    return fail(why, "the tool tip is not on the interrupted ruled piece (off by " + std::to_string(norm(here.c.p - pose.tip)) + " mm)");
+  }
+  if (!(norm(here.e.p - pose.axis) <= 1e-3)) {
+    return fail(why, "the tool axis is not the interrupted ruled piece's there (off by " + std::to_string(norm(here.e.p - pose.axis)) + ")");
+  }
+  // the rest: segment i cut at t, the later ones as they are
+  int i = std::min(static_cast<int>(std::floor(u)), n - 1);
+  double t = u - i;
+  if (t >= 1.0 - 1e-9 && i + 1 < n) ++i, t = 0.0;  // on a set point: the segment starting there
+  RuledModel rest;
+  rest.form = static_cast<RulingForm>(g.ruling_form);
+  rest.directrix.push_back(cut_segment(g.directrix[i], t));
+  rest.ruling.push_back(cut_segment(g.ruling[i], t));
+  for (int k = i + 1; k < n; ++k) {
+    rest.directrix.push_back(g.directrix[k]);
+    rest.ruling.push_back(g.ruling[k]);
+  }
+  if (hermite_arc_length(HermiteView{rest.directrix.data(), static_cast<int>(rest.directrix.size())}) <= skip_tol) {
+    c.skip = true;
+    return c;
+  }
+  Block r{};
+  r.line = b.line;
+  r.contouring = b.contouring;
+  r.path_tolerance_mm = b.path_tolerance_mm;
+  if (std::string e = to_geometry(rest, g.schedule_speed[0], g.accel, 0.0, g.end_speed, r.ruled); !e.empty()) {
+    return fail(why, "the rest of the interrupted ruled block cannot be made a block: " + e);
+  }
+  // the schedule at u* as the rt reads it (linear between points), then the later points
+  const int m = r.ruled.segment_count + 1;
+  if (r.ruled.schedule_count != m) return fail(why, "the rest of the interrupted ruled block has an unexpected schedule");
+  r.ruled.schedule_speed[0] = schedule_at(g, u);
+  for (int k = 1; k < m; ++k) r.ruled.schedule_speed[k] = schedule_at(g, static_cast<double>(i + k));
+  set_ruled_block_fields(r);
+  r.accel = g.accel;
+  r.rotary.tool_length = b.rotary.tool_length;
+  r.rotary.start = *rot;
+  r.rotary.end = b.rotary.end;
+  r.rotary.joint_end = b.rotary.joint_end;
+  c.block = r;
+  return c;
+}
+
 }  // namespace
 
 std::optional<Continuation> continue_block(const Block& b, const Vec3& at, const MachineConfig& config, double tol,
-                                           std::string* why) {
+                                           std::string* why, const std::optional<Rot3>& rot) {
   // Nothing is left only when the next block may start where the machine stands: the rt
   // checks that a block starts where the previous one ended within its block tolerance.
   // (A machine 8 um short of a line's end, with the line skipped, made the next block fail
@@ -134,7 +225,7 @@ std::optional<Continuation> continue_block(const Block& b, const Vec3& at, const
     case BlockKind::kNurbs:
       return continue_nurbs(b, at, tol, skip_tol, config, why);
     case BlockKind::kRuled:
-      return fail(why, "resuming inside a ruled-surface block (G5.4) is not supported; expected to restart the program");
+      return continue_ruled(b, at, rot, tol, skip_tol, config, why);
     case BlockKind::kRapid:
     case BlockKind::kLine:
     case BlockKind::kArc:

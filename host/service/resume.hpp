@@ -7,8 +7,8 @@
 // point). The blocks after it are re-streamed unchanged from the checked program.
 //
 // May include: shared/ (ipc/block, config); resume.cpp also gcode/move.hpp,
-// gcode/preprocessor.hpp and gcode/nurbs_schedule.hpp, to re-plan the remaining part the way
-// the front end plans a block.
+// gcode/preprocessor.hpp, gcode/nurbs_schedule.hpp and gcode/ruled_move.hpp, to re-plan the
+// remaining part the way the front end plans a block.
 #pragma once
 
 #include <optional>
@@ -33,7 +33,14 @@ struct Continuation {
 /// that the next block starts where the machine stands. Fails (nullopt, `why` set) when `at` is not on the block's path within
 /// `tolerance_mm`, or inside a flat arc of more than one turn (the point does not say which
 /// turn, and the rt's status holds no progress along a block).
+/// A ruled block (G5.4) is cut likewise at the parameter u* of the directrix point nearest the
+/// tip the joints give (`at` the linear joints, `rot` the rotary ones, both as commanded:
+/// forward kinematics with the block's tool length): the Ferguson segment holding u* is cut
+/// there (the same cubic on [u*, its end]), the later segments kept, the schedule cut at u*,
+/// the joints starting at `rot`; refused without `rot`, or when the tip is off the directrix or
+/// the tool axis off the ruling at u*.
 std::optional<Continuation> continue_block(const Block& interrupted, const Vec3& at, const MachineConfig& config,
-                                           double tolerance_mm, std::string* why);
+                                           double tolerance_mm, std::string* why,
+                                           const std::optional<Rot3>& rot = std::nullopt);
 
 }  // namespace pcnc

@@ -128,6 +128,28 @@ bool read_rt_status(const std::string& tag, Status& out) {
   }
 }
 
+KillAndResume kill_host_and_resume(ServicePair& p) {
+  KillAndResume k;
+  p.kill_host(SIGKILL);
+  k.lost = wait_rt_state(p.tag(), MachineState::kHostLost);
+  if (k.lost.state != MachineState::kHostLost) return k.error = std::string("the rt is ") + to_string(k.lost.state), k;
+  if (!p.start_host()) return k.error = "the new host did not start: " + p.host_log(), k;
+  const json s = p.wait_status([](const json& x) { return x["rt"]["state"] == "attached"; }, 10);
+  if (s["state"] != "HOST_LOST") return k.error = "the new host sees " + s.dump(), k;
+  k.reply = p.call("resume", json::object(), 60);
+  if (!k.reply.contains("result") || !k.reply["result"].value("resumed", false))
+    return k.error = "resume: " + k.reply.dump() + " " + p.host_log(), k;
+  for (int i = 0; i < 3; ++i) {
+    if (k.reply["result"]["from"][std::string(1, "xyz"[i])].get<double>() != k.lost.commanded[static_cast<std::size_t>(i)])
+      return k.error = "resumed from another point than the held one: " + k.reply.dump(), k;
+  }
+  k.final = p.wait_status(
+      [](const json& x) { return x["state"] == "IDLE" && !x["job"]["active"].get<bool>() && x["last_job"].is_object(); }, 180);
+  if (!k.final["last_job"].is_object() || k.final["last_job"]["end"] != "completed")
+    return k.error = "the resumed job did not complete: " + k.final.dump(), k;
+  return k;
+}
+
 Status wait_rt_state(const std::string& tag, MachineState state, double timeout_s) {
   Status st{};
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);

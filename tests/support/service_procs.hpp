@@ -75,4 +75,17 @@ Status wait_rt_state(const std::string& tag, MachineState state, double timeout_
 
 std::string zigzag_program(const std::string& dir, int rows, double width, double feed);
 
+/// A lost host and its resume (docs/reliability.md): kills the pair's host with SIGKILL while
+/// its job runs, waits for the rt's HOST_LOST, starts a new host, asks it to resume and waits
+/// for the job's end. `error` says which step failed (empty when all did what they should: the
+/// resume replied with a result from the held position, the job ended); `lost` is the rt's
+/// status when it held, `reply` the resume's reply, `final` the status after the job.
+struct KillAndResume {
+  std::string error;
+  Status lost{};
+  json reply;
+  json final;
+};
+KillAndResume kill_host_and_resume(ServicePair& p);
+
 }  // namespace pcnc::test
