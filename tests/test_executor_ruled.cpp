@@ -113,7 +113,7 @@ TEST(ExecutorRuled, SplitPieceFlowsAndEndsOnTheHostsEndJoints) {
   const Piece s = make_setup();
   Runner run(s);
   const double dt = s.cfg.cycle_period_s();
-  int flows = 0, stops = 0, cycles = 0;
+  int flows = 0, cycles = 0;
   double min_mid = 1e9;
   bool ended = false;
   Vec3 last{};
@@ -124,7 +124,6 @@ TEST(ExecutorRuled, SplitPieceFlowsAndEndsOnTheHostsEndJoints) {
   for (; cycles < 100000 && !ended; ++cycles) {
     const ExecResult r = run.step(s, ExecInput{});
     flows += r.junction_flows;
-    stops += r.junction_stops;
     ended = r.program_end;
     if (run.ex.seq() <= 2 && run.ex.speed() == s.feed && last_speed == s.feed) {
       // the velocity feed-forward is the joints' rate: at constant feed the difference of the

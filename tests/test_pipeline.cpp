@@ -178,10 +178,16 @@ TEST(Pipeline, EveryCorpusProgramUnderEveryShippedConfigPassesTheBlockCheck) {
     if (e.path().extension() == ".toml") configs.push_back(e.path().string());
   std::sort(configs.begin(), configs.end());
   ASSERT_GE(configs.size(), 2u);
-  for (const std::string& cfg : configs) {
+  const std::vector<std::string> programs = corpus_programs();
+  int sampled_accepted = 0;
+  for (std::size_t k = 0; k < configs.size(); ++k) {
+    const std::string& cfg = configs[k];
     const MachineConfig c = load_config(cfg);
     int checked = 0, accepted = 0;
-    for (const std::string& path : corpus_programs()) {
+    for (std::size_t i = 0; i < programs.size(); ++i) {
+      // under the sanitizers: program i under config i mod n only (test_paths.hpp)
+      if (test::sanitizer_build() && i % configs.size() != k) continue;
+      const std::string& path = programs[i];
       JobOptions o;
       o.contouring = true;
       o.fit = true;
@@ -194,7 +200,14 @@ TEST(Pipeline, EveryCorpusProgramUnderEveryShippedConfigPassesTheBlockCheck) {
       const std::string e = first_error(r);
       EXPECT_EQ(e.find("refused by the rt's block check"), std::string::npos) << cfg << ": " << e;
     }
+    if (test::sanitizer_build()) {
+      sampled_accepted += accepted;
+      continue;
+    }
     EXPECT_GE(accepted, 30) << cfg << ": of " << checked;
+  }
+  if (test::sanitizer_build()) {
+    EXPECT_GE(sampled_accepted, 30) << "of " << programs.size();
   }
 }
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# fuzz.sh — builds the libFuzzer targets in build-fuzz (clang, ASan, UBSan) and runs each for
+# fuzz.sh — builds the libFuzzer targets in build-fuzz (clang, ASan, UBSan; or in the build
+# $PCNC_FUZZ_BUILD names, which tools/test.sh sets to its clang ASan build) and runs each for
 # N seconds (default 60, or $PCNC_FUZZ_SECONDS): fuzz_gcode (the G-code front end, seeded from
 # ../shared/gcode) and fuzz_protocol (the control protocol's parsing and dispatch against an
 # in-process machine, seeded from fuzz/corpus_protocol). Exits non-zero on a crash, a hang or
@@ -13,11 +14,17 @@ targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(gcode protocol)
 root="$(cd "$(dirname "$0")/.." && pwd)"
 shared="${PCNC_SHARED_DIR:-$root/../shared}"
-build="$root/build-fuzz"
+build="${PCNC_FUZZ_BUILD:-$root/build-fuzz}"
 
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DPCNC_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_UNITY_BUILD=ON >/dev/null
-# (-g1: line tables, enough for a crash report; a unity build compiles the libraries in batches)
+if [ -n "${PCNC_FUZZ_BUILD:-}" ]; then
+  # tools/test.sh's ASan+UBSan build, configured there with -DPCNC_FUZZ=ON: used as it is
+  grep -q '^PCNC_FUZZ:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null ||
+    { echo "fuzz.sh: $build is not a build configured with -DPCNC_FUZZ=ON" >&2; exit 2; }
+else
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DPCNC_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_UNITY_BUILD=ON >/dev/null
+  # (-g1: line tables, enough for a crash report; a unity build compiles the libraries in batches)
+fi
 cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}"
 
 summary=()

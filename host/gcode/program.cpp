@@ -511,7 +511,7 @@ std::string format_block(const Block& b) {
       pt(b.end);
       break;
     case BlockKind::kPause:
-      add(b.optional_stop ? " optional (M1) at " : " (M0) at ");
+      add("%s", b.optional_stop ? " optional (M1) at " : " (M0) at ");
       pt(b.end);
       break;
     case BlockKind::kEnd:

@@ -32,6 +32,7 @@ struct RuledGeometry {
   // Feed schedule: the speed cap (mm/s) at increasing parameter values, linear in between;
   // constant beyond the ends. At least one point.
   std::int32_t schedule_count = 0;
+  std::int32_t reserved = 0;  // explicit: no padding bytes, so equal blocks are equal bytes
   double schedule_u[kMaxRuledSchedule]{};
   double schedule_speed[kMaxRuledSchedule]{};
 };
