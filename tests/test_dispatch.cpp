@@ -9,6 +9,7 @@
 #include "config/config.hpp"
 #include "service/dispatch.hpp"
 #include "service/methods.hpp"
+#include "service/subscriptions.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc {
@@ -124,6 +125,26 @@ TEST(Dispatch, AHandlerExceptionIsAnInternalErrorReply) {
   EXPECT_EQ(code(r), rpc::kInternalError);
   EXPECT_EQ(r["id"], 9);
   EXPECT_NE(r["error"]["message"].get<std::string>().find("boom"), std::string::npos);
+}
+
+// A rate the protocol accepts can be so small that its period overflows the clock (5e-324 Hz:
+// 1/rate is infinite); found by clang's UBSan in the live protocol fuzz test. Such a client
+// gets one push now and none for a day, not a push every tick.
+TEST(Subscriptions, ATinyRateGetsOnePushNotOneEveryTick) {
+  for (const double rate : {5e-324, 1e-300, 1e-9}) {
+    int pushes = 0;
+    Subscriptions subs{[&](ClientId, std::string_view line) {
+      if (line.find("\"status\"") != std::string_view::npos) ++pushes;
+    }};
+    subs.subscribe(7, rate);
+    for (int i = 0; i < 5; ++i) subs.tick([] { return json{{"state", "IDLE"}}; });
+    EXPECT_EQ(pushes, 1) << "rate " << rate;
+  }
+  int pushes = 0;
+  Subscriptions fast{[&](ClientId, std::string_view) { ++pushes; }};
+  fast.subscribe(7, 50.0);
+  fast.tick([] { return json{{"state", "IDLE"}}; });
+  EXPECT_EQ(pushes, 1);
 }
 
 }  // namespace

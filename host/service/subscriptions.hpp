@@ -35,8 +35,9 @@ class Subscriptions {
 
  private:
   using Clock = std::chrono::steady_clock;
+  static constexpr double kLongestPeriodS = 86400.0;  // a rate below 1/day pushes once a day
   struct Subscription {
-    double period_s = 0.1;
+    Clock::duration period{};
     Clock::time_point next{};
   };
   Send send_;
