@@ -136,6 +136,38 @@ TEST(ResumeNurbs, StoppedAnywhereContinuesOnTheSameCurveAndPassesTheBlockCheck) 
   }
 }
 
+TEST(ResumeNurbs, StoppedOffTheCurveByACornerBlendBeginsWhereTheMachineStands) {
+  // The rt's corner blend can hold the machine up to 40 % of the block's path tolerance (2 µm at
+  // 0.005 mm) off the block's curve: the continuation begins exactly there (its first control
+  // point moved), passes the block check from that point, and rejoins the original curve.
+  const MachineConfig c = config();
+  const Block b = nurbs_block(c, wave(), 20.0);
+  const NurbsView v = view_of(b.nurbs);
+  for (double f : {0.01, 0.3, 0.7}) {
+    const double u_star = v.u_min() + f * (v.u_max() - v.u_min());
+    const Vec3 at = nurbs_point(v, u_star) + Vec3{0.0, 0.0, 0.002};
+    std::string why;
+    auto k = continue_block(b, at, c, 0.005, &why);
+    ASSERT_TRUE(k) << why;
+    ASSERT_FALSE(k->skip);
+    const Block& n = k->block;
+    EXPECT_EQ(n.start, at);
+    EXPECT_LT(norm(n.end - b.end), 1e-12);
+    Block first = n;
+    first.seq = 1;
+    const BlockVerdict verdict = check_block(first, at, 1, c);
+    EXPECT_EQ(verdict.fault, FaultCode::kNone) << verdict.reason << " at f=" << f;
+    // every point of the continuation within the offset of the original curve
+    const NurbsView w = view_of(n.nurbs);
+    for (int m = 0; m <= 200; ++m) {
+      const Vec3 p = nurbs_point(w, w.u_min() + (w.u_max() - w.u_min()) * m / 200.0);
+      double d = 0.0;
+      nurbs_project(v, p, &d, 64);
+      EXPECT_LE(d, 0.002 + 1e-6) << f << " " << m;
+    }
+  }
+}
+
 TEST(ResumeNurbs, OffTheCurveIsRefusedAndAtItsEndIsSkipped) {
   const MachineConfig c = config();
   const Block b = nurbs_block(c, wave(), 20.0);

@@ -84,7 +84,7 @@ CornerBlend corner_blend_plan(const CornerBlendInput& in) {
   const double L = 2.0 * h;
   // the corner speed: every sample of the window, every axis (the speed there at most
   // v_c² + 2(1 − share)·a_t·|τ|, the path acceleration there (1 − share)·a_t)
-  constexpr int kSamples = 64;
+  constexpr int kSamples = 256;
   double v2 = std::numeric_limits<double>::infinity();
   for (int k = 0; k <= kSamples; ++k) {
     const double sigma = static_cast<double>(k) / kSamples;
@@ -103,6 +103,7 @@ CornerBlend corner_blend_plan(const CornerBlendInput& in) {
       if (p1 > 0.0 && in.axis_velocity[i] > 0.0) v2 = std::min(v2, (in.axis_velocity[i] / p1) * (in.axis_velocity[i] / p1) - extra);
     }
   }
+  v2 *= 0.995;  // the bounds between the samples
   if (!(v2 > 0.0)) return out;
   out.on = true;
   out.h = h;
