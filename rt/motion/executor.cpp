@@ -581,9 +581,10 @@ void Executor::plan_blend(std::size_t i, double cap) {
   const double kappa = 1.5 * std::max(norm(p.curv_end), norm(q.curv_start));  // a margin for a NURBS's change of curvature
   const double budget = kBlendToleranceShare * p.path_tolerance;
   const double sin_phi = norm(cross(b.t_in, b.t_out));
-  // The window: within the deviation budget, its second half inside q (what follows q is not
-  // known yet), not begun (the setpoints so far are the blocks' own path).
-  double h = std::min({corner_blend_half_length(sin_phi, kappa, budget), q.length, b.at - here});
+  // The window: within the deviation budget, its second half inside the first half of q (what
+  // follows q is not known yet; the corner at q's end has the other half), not begun (the
+  // setpoints so far are the blocks' own path).
+  double h = std::min({corner_blend_half_length(sin_phi, kappa, budget), 0.5 * q.length, b.at - here});
   // The junction before p: a window there and this one overlap only as a group of equal
   // half-lengths (the superposition then runs p forward, never back) within the budget for both
   // turns; otherwise this window stays within p, clear of that one.
@@ -595,7 +596,7 @@ void Executor::plan_blend(std::size_t i, double cap) {
     double hg = 0.0;
     if (prev_on && !prev.grouped && i > 0) {
       const double sin_prev = norm(cross(prev.t_in, prev.t_out));
-      hg = std::min({corner_blend_half_length(sin_prev + sin_phi, kappa, budget), q.length, prev.reach,
+      hg = std::min({corner_blend_half_length(sin_prev + sin_phi, kappa, budget), 0.5 * q.length, prev.reach,
                      prev.at - here, b.at - here});
     }
     if (hg > alone && hg > prev.h) {

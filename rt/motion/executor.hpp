@@ -90,7 +90,7 @@ struct ExecResult {
 
 /// The share of a block's path tolerance a corner blend may take (the rest is left to the host,
 /// whose curves and merged lines keep up to 90 % of the tolerance from the programmed points).
-constexpr double kBlendToleranceShare = 0.4;
+constexpr double kBlendToleranceShare = 0.35;
 
 class Executor {
  public:
