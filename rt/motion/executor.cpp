@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "motion/junction.hpp"
@@ -426,6 +427,22 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     const double ahead = k_ * (v_ + a_ramp * dt_) * dt_;
     v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * block_brake_capacity(blk.nurbs, s_ + ahead)));
   }
+  // Corner windows: inside one the speed keeps to its cap; ahead of one the machine can slow to
+  // it by the window's start.
+  {
+    const double here = path_base_ + s_;
+    if (entered_.on && here < entered_.at + entered_.h) cap = std::min(cap, entered_.v_window);
+    for (std::size_t i = 0; i + 1 < prepared_ && flows_after(i); ++i) {
+      const CornerBlend& w = blend_[i];
+      if (!w.on) continue;
+      const double to_window = w.at - w.h - here;
+      if (to_window <= 0.0) {
+        cap = std::min(cap, w.v_window);
+      } else if (to_window < remaining) {
+        v_stop = std::min(v_stop, stop_speed(to_window, w.v_window, a, dt_, k_));
+      }
+    }
+  }
   const double v_allow = std::min(cap, v_stop);
   const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
   const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
@@ -569,12 +586,7 @@ void Executor::plan_blend(std::size_t i, double cap) {
   const double step = junction_speed_cap(p.dir_end, q.dir_start, junction_.axis_accel, dt_, f_);
   const double jd = junction_deviation_speed(p.dir_end, q.dir_start, junction_.axis_accel, p.path_tolerance);
   if (!(jd > step)) return;
-  CornerBlend b;
-  b.corner = p.end;
-  b.t_in = p.dir_end;
-  b.t_out = q.dir_start;
-  b.k_in = p.curv_end;
-  b.k_out = q.curv_start;
+  CornerBlend b = corner_of(p.end, p.dir_end, q.dir_start, p.curv_end, q.curv_start);
   b.at = path_base_;
   for (std::size_t m = 0; m <= i; ++m) b.at += prep_[m].length;
   const double here = path_base_ + s_;  // the path position of the last setpoint
@@ -612,6 +624,13 @@ void Executor::plan_blend(std::size_t i, double cap) {
   b.on = true;
   b.h = h;
   b.v_corner = cap;
+  // inside the window dp/ds mixes the two tangents (and turns by up to κ·h): each axis's share is
+  // at most the larger of its two, so this speed keeps every axis within its velocity limit
+  b.v_window = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < kAxes; ++a) {
+    const double share = std::max(std::abs(b.t_in[a]), std::abs(b.t_out[a])) + kappa * h;
+    if (share > 0.0) b.v_window = std::min(b.v_window, cfg_.axes[a].max_velocity_mm_s / share);
+  }
   b.deviation = kBlendDeviation * sin_phi * h + 0.5 * kappa * h * h;
   blend_[i] = b;
 }

@@ -65,13 +65,18 @@ PathJet corner_blend_at(const CornerBlend& b, double s, const PathJet& own) {
   return PathJet{own.p + d.p, own.d1 + d.d1, own.d2 + d.d2};
 }
 
+CornerBlend corner_of(const Vec3& corner, const Vec3& t_in, const Vec3& t_out, const Vec3& k_in, const Vec3& k_out) {
+  CornerBlend b;
+  b.corner = corner;
+  b.t_in = t_in;
+  b.t_out = t_out;
+  b.k_in = k_in;
+  b.k_out = k_out;
+  return b;
+}
+
 CornerBlend corner_blend_plan(const CornerBlendInput& in) {
-  CornerBlend out;
-  out.corner = in.corner;
-  out.t_in = in.t_in;
-  out.t_out = in.t_out;
-  out.k_in = in.k_in;
-  out.k_out = in.k_out;
+  CornerBlend out = corner_of(in.corner, in.t_in, in.t_out, in.k_in, in.k_out);
   const double sin_phi = norm(cross(in.t_in, in.t_out));
   const Vec3 d = in.t_out - in.t_in;
   const double kappa = std::max(0.0, in.curvature);

@@ -70,6 +70,7 @@ struct CornerBlend {
   // it, less the window at that block's start), and whether it shares its h with the corner before
   double reach = 0.0;
   bool grouped = false;
+  double v_window = 0.0;  // the path speed cap inside the window (every axis within its velocity)
 };
 
 /// What a corner's plan needs: the geometry, the blocks' lengths (the window is clipped to half
@@ -90,6 +91,10 @@ struct CornerBlendInput {
   std::array<double, kAxes> axis_accel{};
   std::array<double, kAxes> axis_velocity{};
 };
+
+/// A corner's geometry (the blend off, no window yet): the corner point, the tangents and the
+/// curvature vectors of the two blocks there.
+CornerBlend corner_of(const Vec3& corner, const Vec3& t_in, const Vec3& t_out, const Vec3& k_in, const Vec3& k_out);
 
 /// The window and corner speed for a junction (on = false when the turn is 0, or no window of
 /// positive length keeps every bound at a positive corner speed). Pure, no allocation.
