@@ -427,21 +427,24 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     const double ahead = k_ * (v_ + a_ramp * dt_) * dt_;
     v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * block_brake_capacity(blk.nurbs, s_ + ahead)));
   }
-  // Corner windows: inside one the speed keeps to its cap; ahead of one the machine can slow to
-  // it by the window's start.
+  // Corner windows: inside one dp/ds mixes the two tangents, so each axis's share of the path
+  // speed is |(1 − w)·t_a,i + w·t_b,i| (+ κ·h as the tangents turn): the speed keeps every axis
+  // within its velocity limit where the machine is and where this cycle will land.
   {
     const double here = path_base_ + s_;
-    if (entered_.on && here < entered_.at + entered_.h) cap = std::min(cap, entered_.v_window);
-    for (std::size_t i = 0; i + 1 < prepared_ && flows_after(i); ++i) {
-      const CornerBlend& w = blend_[i];
-      if (!w.on) continue;
-      const double to_window = w.at - w.h - here;
-      if (to_window <= 0.0) {
-        cap = std::min(cap, w.v_window);
-      } else if (to_window < remaining) {
-        v_stop = std::min(v_stop, stop_speed(to_window, w.v_window, a, dt_, k_));
+    const double next = here + (v_ + a_ramp * dt_) * dt_;
+    auto window_cap = [&](const CornerBlend& w) {
+      for (const double x : {here, next}) {
+        if (!w.on || std::abs(x - w.at) >= w.h) continue;
+        const double wt = blend_weight((x - w.at + w.h) / (2.0 * w.h)).w;
+        for (int i = 0; i < kAxes; ++i) {
+          const double share = std::abs((1.0 - wt) * w.t_in[i] + wt * w.t_out[i]) + w.v_window;
+          if (share > 0.0) cap = std::min(cap, cfg_.axes[i].max_velocity_mm_s / share);
+        }
       }
-    }
+    };
+    window_cap(entered_);
+    for (std::size_t i = 0; i + 1 < prepared_ && flows_after(i); ++i) window_cap(blend_[i]);
   }
   const double v_allow = std::min(cap, v_stop);
   const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
@@ -624,14 +627,7 @@ void Executor::plan_blend(std::size_t i, double cap) {
   b.on = true;
   b.h = h;
   b.v_corner = cap;
-  // inside the window dp/ds mixes the two tangents (and turns by up to κ·h): each axis's share is
-  // at most the larger of its two, so this speed keeps every axis within its velocity limit
-  b.v_window = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < kAxes; ++a) {
-    const double share = std::max(std::abs(b.t_in[a]), std::abs(b.t_out[a])) + kappa * h;
-    if (share > 0.0) b.v_window = std::min(b.v_window, cfg_.axes[a].max_velocity_mm_s / share);
-  }
-  b.deviation = kBlendDeviation * sin_phi * h + 0.5 * kappa * h * h;
+  b.v_window = kappa * h;  // how far the tangents turn within the window (the speed cap's margin)
   blend_[i] = b;
 }
 

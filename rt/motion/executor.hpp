@@ -29,6 +29,11 @@
 //      the junction flows; otherwise the block lands exactly at its end (the last cycles
 //      approach it at <= a·dt per cycle), the machine holds one cycle at rest, and the next
 //      block starts from rest.
+// Corner blending: a flowing junction passed at the junction-deviation speed (a real corner
+// between lines, arcs or NURBS blocks with a path tolerance) is rounded over a short arc-length
+// window around it (geometry/corner_blend.hpp), planned when its second block is prepared and
+// added as an offset to the blocks' own path each cycle; s still runs on the speed law above, so
+// the timing is unchanged (docs/rt-executor.md, "Corner blending").
 // NURBS blocks (G5.2/G06.2) run in the same scheme: s is the chord length along the exact
 // curve, advanced with the NURBS engineer's Taylor + Newton parameter step; the block's feed
 // schedule (shared/nurbs_schedule) at the current and the predicted parameter caps the speed.

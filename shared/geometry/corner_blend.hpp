@@ -70,7 +70,7 @@ struct CornerBlend {
   // it, less the window at that block's start), and whether it shares its h with the corner before
   double reach = 0.0;
   bool grouped = false;
-  double v_window = 0.0;  // the path speed cap inside the window (every axis within its velocity)
+  double v_window = 0.0;  // the executor's: κ·h, the tangents' turn within the window (its speed cap's margin)
 };
 
 /// What a corner's plan needs: the geometry, the blocks' lengths (the window is clipped to half
