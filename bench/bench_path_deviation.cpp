@@ -7,7 +7,8 @@
 // Usage: bench_path_deviation PROGRAM TRACE.csv [--config F] [--fit] [--contouring on|off]
 // Prints: "cmd_max_um act_max_um rows" (rows of the trace while a feed move ran); with
 // --worst N, also (to stderr) the N trace rows farthest from the path, measured, with their time,
-// line, speed and the commanded row's distance (where the servo lags: a diagnostic).
+// line, speed and the commanded row's distance (where the servo lags: a diagnostic); with
+// --worst-cmd as well, the N rows farthest by their commanded position.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -65,6 +66,8 @@ int main(int argc, char** argv) {
   app.add_flag("--fit", fit);
   std::size_t worst_n = 0;
   app.add_option("--worst", worst_n);
+  bool by_cmd = false;  // --worst lists the rows farthest by their commanded position instead
+  app.add_flag("--worst-cmd", by_cmd);
   CLI11_PARSE(app, argc, argv);
   MachineConfig c = load_config(config_path);
   set_operator_tolerance(c.motion, 0.0);
@@ -132,12 +135,13 @@ int main(int argc, char** argv) {
       worst.push_back({best_act * 1000.0, best * 1000.0, f[0], f[1], f[12]});
       if (worst.size() > 4 * worst_n) {
         std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(worst_n), worst.end(),
-                          [](const Row& a, const Row& b) { return a.act_um > b.act_um; });
+                          [by_cmd](const Row& a, const Row& b) { return by_cmd ? a.cmd_um > b.cmd_um : a.act_um > b.act_um; });
         worst.resize(worst_n);
       }
     }
   }
-  std::sort(worst.begin(), worst.end(), [](const Row& a, const Row& b) { return a.act_um > b.act_um; });
+  std::sort(worst.begin(), worst.end(),
+            [by_cmd](const Row& a, const Row& b) { return by_cmd ? a.cmd_um > b.cmd_um : a.act_um > b.act_um; });
   for (std::size_t k = 0; k < std::min(worst_n, worst.size()); ++k) {
     std::fprintf(stderr, "t %s line %s speed %s: act %.2f um, cmd %.2f um\n", worst[k].t.c_str(), worst[k].line.c_str(),
                  worst[k].speed.c_str(), worst[k].act_um, worst[k].cmd_um);

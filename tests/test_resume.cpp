@@ -16,6 +16,7 @@
 #include "gcode/nurbs_move.hpp"
 #include "gcode/preprocessor.hpp"
 #include "geometry/nurbs.hpp"
+#include "geometry/plane.hpp"
 #include "ipc/block_check.hpp"
 #include "ipc/block_nurbs.hpp"
 #include "machine_runner.hpp"
@@ -136,6 +137,38 @@ TEST(ResumeNurbs, StoppedAnywhereContinuesOnTheSameCurveAndPassesTheBlockCheck) 
   }
 }
 
+TEST(ResumeNurbs, StoppedOffTheCurveByACornerBlendBeginsWhereTheMachineStands) {
+  // The rt's corner blend can hold the machine up to 40 % of the block's path tolerance (2 µm at
+  // 0.005 mm) off the block's curve: the continuation begins exactly there (its first control
+  // point moved), passes the block check from that point, and rejoins the original curve.
+  const MachineConfig c = config();
+  const Block b = nurbs_block(c, wave(), 20.0);
+  const NurbsView v = view_of(b.nurbs);
+  for (double f : {0.01, 0.3, 0.7}) {
+    const double u_star = v.u_min() + f * (v.u_max() - v.u_min());
+    const Vec3 at = nurbs_point(v, u_star) + Vec3{0.0, 0.0, 0.002};
+    std::string why;
+    auto k = continue_block(b, at, c, 0.005, &why);
+    ASSERT_TRUE(k) << why;
+    ASSERT_FALSE(k->skip);
+    const Block& n = k->block;
+    EXPECT_EQ(n.start, at);
+    EXPECT_LT(norm(n.end - b.end), 1e-12);
+    Block first = n;
+    first.seq = 1;
+    const BlockVerdict verdict = check_block(first, at, 1, c);
+    EXPECT_EQ(verdict.fault, FaultCode::kNone) << verdict.reason << " at f=" << f;
+    // every point of the continuation within the offset of the original curve
+    const NurbsView w = view_of(n.nurbs);
+    for (int m = 0; m <= 200; ++m) {
+      const Vec3 p = nurbs_point(w, w.u_min() + (w.u_max() - w.u_min()) * m / 200.0);
+      double d = 0.0;
+      nurbs_project(v, p, &d, 64);
+      EXPECT_LE(d, 0.002 + 1e-6) << f << " " << m;
+    }
+  }
+}
+
 TEST(ResumeNurbs, OffTheCurveIsRefusedAndAtItsEndIsSkipped) {
   const MachineConfig c = config();
   const Block b = nurbs_block(c, wave(), 20.0);
@@ -252,6 +285,55 @@ namespace {
 // done (within the 10 um resume tolerance) and the next block, starting at the line's end,
 // failed the rt's start-continuity check (block tolerance 1 um): FAULT. What is left of a
 // block is skipped only within half the block tolerance of its end.
+TEST(Resume, ArcsAndLinesStoppedOffTheirPathByACornerBlendContinueFromThere) {
+  // Inside a corner blend's window the machine stands up to 0.35 of the path tolerance (1.75 µm at
+  // 0.005 mm) off the block: an arc (the G18 lead-in arcs of LHchips4 have r 1.09 mm) and a line
+  // continue from where it stands and pass the rt's block check from there.
+  const MachineConfig c = config();
+  Move m;
+  m.kind = MoveKind::kArc;
+  m.line = 5;
+  m.start = {13.59, 12.5, 20};
+  m.end = {12.5, 12.5, 21.09};
+  m.center = {12.5, 12.5, 20};
+  m.radius = 1.09;
+  m.normal_axis = 1;
+  m.sweep = -std::numbers::pi / 2;  // in the Z-X plane (G18), from +X to +Z
+  m.feed_mm_s = 10.0;
+  const Block arc = make_block(m, c);
+  ASSERT_EQ(arc.kind, BlockKind::kArc);
+  for (double dr : {0.00175, -0.00175}) {  // 30 % into the arc, off it radially by 1.75 µm either way
+    const double r = 1.09 + dr;
+    // the arc's angle runs in its plane (X, Z for G18), from the start's angle
+    const Block probe = arc;
+    const double a0 = probe.arc.start_angle + probe.arc.sweep * 0.3;
+    Vec3 at = m.center;
+    const auto ax = plane_axes(1);
+    at[ax[0]] += r * std::cos(a0);
+    at[ax[1]] += r * std::sin(a0);
+    std::string why;
+    auto k = continue_block(arc, at, c, 0.01, &why);
+    ASSERT_TRUE(k) << why;
+    Block first = k->block;
+    first.start = at;
+    first.seq = 1;
+    const BlockVerdict v = check_block(first, at, 1, c);
+    EXPECT_EQ(v.fault, FaultCode::kNone) << v.reason << " dr " << dr;
+  }
+  m.kind = MoveKind::kLine;
+  m.start = {2, 2, 20};
+  m.end = {12, 2, 20};
+  const Block line = make_block(m, c);
+  const Vec3 at{5, 2.00175, 20};
+  std::string why;
+  auto k = continue_block(line, at, c, 0.01, &why);
+  ASSERT_TRUE(k) << why;
+  Block first = k->block;
+  first.start = at;
+  first.seq = 1;
+  EXPECT_EQ(check_block(first, at, 1, c).fault, FaultCode::kNone);
+}
+
 TEST(Resume, AFewMicronsShortOfTheEndIsStillCutNotSkipped) {
   const MachineConfig c = config();
   Move m;

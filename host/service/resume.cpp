@@ -53,7 +53,12 @@ std::optional<Continuation> continue_nurbs(const Block& b, const Vec3& at, doubl
   for (const double k : curve.knots) {
     if (std::abs(u - k) <= snap) u = k;
   }
-  const NurbsCurve tail = u > v.u_min() ? nurbs_segment(curve, u, v.u_max()) : curve;
+  NurbsCurve tail = u > v.u_min() ? nurbs_segment(curve, u, v.u_max()) : curve;
+  // The machine may stand off the curve by the rt's corner blend (docs/rt-executor.md, "Corner
+  // blending": at most 40 % of the block's path tolerance): the curve begins where it stands (its
+  // first control point moved there, which bends only its first span, by at most that much), as
+  // the rt's block check asks of a block's start.
+  tail.points.front() = at;
   Block n{};
   n.line = b.line;
   n.kind = BlockKind::kNurbs;

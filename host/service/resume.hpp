@@ -27,8 +27,9 @@ struct Continuation {
 /// The rest of `interrupted` from `at` (machine coordinates, at rest). Lines and rapids
 /// continue straight to the end; arcs and helices from the angle (or height) reached; a
 /// NURBS block from the parameter u* of the curve point nearest `at` (geometry/nurbs.hpp
-/// nurbs_project), the curve cut there (nurbs_segment) and its feed schedule cut at u*
-/// (never raised). A dwell is repeated whole; an M00/M01 pause is skipped (resuming is its
+/// nurbs_project), the curve cut there (nurbs_segment) with its first control point moved to
+/// `at` (the rt's corner blend may stop the machine a few µm off the curve, docs/rt-executor.md),
+/// and its feed schedule cut at u* (never raised). A dwell is repeated whole; an M00/M01 pause is skipped (resuming is its
 /// continue). Nothing is left (skip) only within half the rt's block tolerance of the end, so
 /// that the next block starts where the machine stands. Fails (nullopt, `why` set) when `at` is not on the block's path within
 /// `tolerance_mm`, or inside a flat arc of more than one turn (the point does not say which

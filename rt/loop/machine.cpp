@@ -105,4 +105,6 @@ const char* Machine::fault_reason() const { return impl_->sm.fault_reason(); }
 void Machine::set_axis_blocked(int axis, bool blocked) { impl_->drive.set_blocked(axis, blocked); }
 Vec3 Machine::true_position() const { return impl_->drive.true_position(); }
 
+bool Machine::blending() const { return impl_->exec.blending(); }
+
 }  // namespace pcnc

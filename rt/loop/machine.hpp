@@ -86,6 +86,8 @@ class Machine {
 
   /// The simulated axes' true positions (not quantised by the encoders), mm.
   Vec3 true_position() const;
+  /// The last cycle's setpoint was inside a corner blend's window (rt/motion/executor.hpp).
+  bool blending() const;
 
  private:
   struct Impl;

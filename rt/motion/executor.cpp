@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "motion/junction.hpp"
@@ -57,6 +58,10 @@ void Executor::set_position(const Vec3& p) {
   fresh_ = true;
   has_prev_ = false;
   exit_valid_ = false;
+  blend_.fill(CornerBlend{});
+  entered_ = CornerBlend{};
+  path_base_ = 0.0;
+  blended_ = false;
 }
 
 void Executor::flush(MotionRing& ring) {
@@ -105,8 +110,10 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
           cap = std::fmin(cap, joint_junction_speed(p.jrate_end, p.jcurv_end, q.jrate_start, q.jcurv_start, joint_accel_, dt_, f_));
         }
         corner_[prepared_ - 1] = cap;
+        plan_blend(prepared_ - 1, cap);
       } else {
         corner_[prepared_ - 1] = 0.0;
+        blend_[prepared_ - 1] = CornerBlend{};
       }
     }
     exit_valid_ = false;
@@ -120,12 +127,16 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
 void Executor::pop(MotionRing& ring, ExecResult& out) {
   has_prev_ = prep_[0].motion;
   if (has_prev_) prev_ = prep_[0];
+  if (prep_[0].motion) path_base_ += prep_[0].length;
   ring.pop();
   for (std::size_t i = 1; i < prepared_; ++i) {
     prep_[i - 1] = prep_[i];
     corner_[i - 1] = corner_[i];
+    blend_[i - 1] = blend_[i];
   }
   --prepared_;
+  blend_[prepared_] = CornerBlend{};
+  entered_ = CornerBlend{};
   exit_valid_ = false;
   ++out.blocks_done;
   s_ = 0.0;
@@ -215,6 +226,7 @@ bool Executor::advance(const Block& blk, double ds, double& leftover) {
       tangent_ = s_ > 0.5 * b.length ? b.dir_end : b.dir_start;
       curvature_ = {0.0, 0.0, 0.0};
     }
+    apply_blend();
     return at_end;
   }
   s_ += ds;
@@ -227,7 +239,11 @@ bool Executor::advance(const Block& blk, double ds, double& leftover) {
   pos_ = pp.p;
   tangent_ = pp.tangent;
   curvature_ = pp.curvature;
-  if (b.rotary) place_joints(blk);
+  if (b.rotary) {
+    place_joints(blk);
+  } else {
+    apply_blend();
+  }
   return at_end;
 }
 
@@ -411,6 +427,25 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     const double ahead = k_ * (v_ + a_ramp * dt_) * dt_;
     v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * block_brake_capacity(blk.nurbs, s_ + ahead)));
   }
+  // Corner windows: inside one dp/ds mixes the two tangents, so each axis's share of the path
+  // speed is |(1 − w)·t_a,i + w·t_b,i| (+ κ·h as the tangents turn): the speed keeps every axis
+  // within its velocity limit where the machine is and where this cycle will land.
+  {
+    const double here = path_base_ + s_;
+    const double next = here + (v_ + a_ramp * dt_) * dt_;
+    auto window_cap = [&](const CornerBlend& w) {
+      for (const double x : {here, next}) {
+        if (!w.on || std::abs(x - w.at) >= w.h) continue;
+        const double wt = blend_weight((x - w.at + w.h) / (2.0 * w.h)).w;
+        for (int i = 0; i < kAxes; ++i) {
+          const double share = std::abs((1.0 - wt) * w.t_in[i] + wt * w.t_out[i]) + w.v_window;
+          if (share > 0.0) cap = std::min(cap, cfg_.axes[i].max_velocity_mm_s / share);
+        }
+      }
+    };
+    window_cap(entered_);
+    for (std::size_t i = 0; i + 1 < prepared_ && flows_after(i); ++i) window_cap(blend_[i]);
+  }
   const double v_allow = std::min(cap, v_stop);
   const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
   const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
@@ -526,7 +561,9 @@ void Executor::ruled_step(MotionRing& ring, const ExecInput& in, ExecResult& out
 }
 
 const Block& Executor::flow_into_next(MotionRing& ring, ExecResult& out) {
+  const CornerBlend crossing = blend_[0];
   pop(ring, out);
+  entered_ = crossing;
   fresh_ = false;
   ++out.junction_flows;
   after_motion_ = true;
@@ -537,6 +574,82 @@ const Block& Executor::flow_into_next(MotionRing& ring, ExecResult& out) {
   seq_ = next.seq;
   begin_block(next, false);
   return next;
+}
+
+void Executor::plan_blend(std::size_t i, double cap) {
+  blend_[i] = CornerBlend{};
+  const PreparedBlock& p = prep_[i];
+  const PreparedBlock& q = prep_[i + 1];
+  auto blendable = [](const PreparedBlock& b) {
+    return b.motion && !b.rotary && !b.angular &&
+           (b.kind == BlockKind::kLine || b.kind == BlockKind::kRapid || b.kind == BlockKind::kArc || b.kind == BlockKind::kNurbs);
+  };
+  if (!(cap > 0.0) || !(p.path_tolerance > 0.0) || !blendable(p) || !blendable(q)) return;
+  // a real corner: passed at the junction-deviation speed, above what the velocity-step rule allows
+  const double step = junction_speed_cap(p.dir_end, q.dir_start, junction_.axis_accel, dt_, f_);
+  const double jd = junction_deviation_speed(p.dir_end, q.dir_start, junction_.axis_accel, p.path_tolerance);
+  if (!(jd > step)) return;
+  CornerBlend b = corner_of(p.end, p.dir_end, q.dir_start, p.curv_end, q.curv_start);
+  b.at = path_base_;
+  for (std::size_t m = 0; m <= i; ++m) b.at += prep_[m].length;
+  const double here = path_base_ + s_;  // the path position of the last setpoint
+  const double kappa = 1.5 * std::max(norm(p.curv_end), norm(q.curv_start));  // a margin for a NURBS's change of curvature
+  const double budget = kBlendToleranceShare * p.path_tolerance;
+  const double sin_phi = norm(cross(b.t_in, b.t_out));
+  // The window: within the deviation budget, its second half inside the first half of q (what
+  // follows q is not known yet; the corner at q's end has the other half), not begun (the
+  // setpoints so far are the blocks' own path).
+  double h = std::min({corner_blend_half_length(sin_phi, kappa, budget), 0.5 * q.length, b.at - here});
+  // The junction before p: a window there and this one overlap only as a group of equal
+  // half-lengths (the superposition then runs p forward, never back) within the budget for both
+  // turns; otherwise this window stays within p, clear of that one.
+  CornerBlend& prev = i > 0 ? blend_[i - 1] : entered_;
+  const bool prev_on = prev.on && (i == 0 || flows_after(i - 1));
+  b.reach = prev_on ? std::max(0.0, p.length - prev.h) : p.length;
+  if (h > b.reach) {
+    const double alone = b.reach;
+    double hg = 0.0;
+    if (prev_on && !prev.grouped && i > 0) {
+      const double sin_prev = norm(cross(prev.t_in, prev.t_out));
+      hg = std::min({corner_blend_half_length(sin_prev + sin_phi, kappa, budget), 0.5 * q.length, prev.reach,
+                     prev.at - here, b.at - here});
+    }
+    if (hg > alone && hg > prev.h) {
+      prev.h = hg;  // the previous window widens: the two corners become one group
+      prev.grouped = b.grouped = true;
+      prev.deviation = kBlendDeviation * norm(cross(prev.t_in, prev.t_out)) * hg + 0.5 * kappa * hg * hg;
+      h = hg;
+    } else {
+      h = alone;
+    }
+  }
+  if (!(h > 1e-3 * p.path_tolerance)) return;
+  b.on = true;
+  b.h = h;
+  b.v_corner = cap;
+  b.v_window = kappa * h;  // how far the tangents turn within the window (the speed cap's margin)
+  blend_[i] = b;
+}
+
+void Executor::apply_blend() {
+  const double s = path_base_ + s_;
+  PathJet d{};
+  bool any = false;
+  auto add = [&](const CornerBlend& b) {
+    if (!b.on || std::abs(s - b.at) >= b.h) return;
+    const PathJet o = corner_blend_offset(b, s);
+    d.p = d.p + o.p;
+    d.d1 = d.d1 + o.d1;
+    d.d2 = d.d2 + o.d2;
+    any = true;
+  };
+  add(entered_);
+  for (std::size_t i = 0; i + 1 < prepared_ && flows_after(i); ++i) add(blend_[i]);
+  blended_ = any;
+  if (!any) return;
+  pos_ = pos_ + d.p;
+  tangent_ = tangent_ + d.d1;
+  curvature_ = curvature_ + d.d2;
 }
 
 }  // namespace pcnc

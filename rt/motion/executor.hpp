@@ -29,6 +29,11 @@
 //      the junction flows; otherwise the block lands exactly at its end (the last cycles
 //      approach it at <= a·dt per cycle), the machine holds one cycle at rest, and the next
 //      block starts from rest.
+// Corner blending: a flowing junction passed at the junction-deviation speed (a real corner
+// between lines, arcs or NURBS blocks with a path tolerance) is rounded over a short arc-length
+// window around it (geometry/corner_blend.hpp), planned when its second block is prepared and
+// added as an offset to the blocks' own path each cycle; s still runs on the speed law above, so
+// the timing is unchanged (docs/rt-executor.md, "Corner blending").
 // NURBS blocks (G5.2/G06.2) run in the same scheme: s is the chord length along the exact
 // curve, advanced with the NURBS engineer's Taylor + Newton parameter step; the block's feed
 // schedule (shared/nurbs_schedule) at the current and the predicted parameter caps the speed.
@@ -49,6 +54,7 @@
 #include "ipc/block.hpp"
 #include "config/config.hpp"
 #include "motion/junction.hpp"
+#include "geometry/corner_blend.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/axis_slerp.hpp"
 #include "geometry/kinematics.hpp"
@@ -87,6 +93,10 @@ struct ExecResult {
   bool probe_wait = false;  // starved right after a probing block: the host is at its sync point
 };
 
+/// The share of a block's path tolerance a corner blend may take (the rest is left to the host,
+/// whose curves and merged lines keep up to 90 % of the tolerance from the programmed points).
+constexpr double kBlendToleranceShare = 0.35;
+
 class Executor {
  public:
   explicit Executor(const MachineConfig& config);
@@ -117,6 +127,8 @@ class Executor {
   std::uint32_t line() const { return line_; }
   std::uint64_t seq() const { return seq_; }
   bool contouring() const { return contouring_; }
+  /// The last cycle's setpoint was inside a corner blend's window (docs/rt-executor.md).
+  bool blending() const { return blended_; }
   /// Has a block in execution (possibly between blocks within a cycle).
   bool busy() const { return prepared_ > 0; }
   /// The motion block in execution and the path length reached on it (for the contour
@@ -165,6 +177,13 @@ class Executor {
   /// This cycle's linear joints become last cycle's (the seed of the TCP inverse continues across
   /// a flowing junction from whatever block came before).
   void remember_cycle();
+  /// Plans the corner blend of junction i (between prep_[i] and prep_[i + 1], just prepared, its
+  /// speed cap `cap`); may widen the window of junction i − 1 to span a short block between them
+  /// (docs/rt-executor.md, "Corner blending"). Off when the junction does not qualify.
+  void plan_blend(std::size_t i, double cap);
+  /// Adds the offsets of the corner windows around the path position reached to pos_, tangent_
+  /// and curvature_ (the block's own path there).
+  void apply_blend();
   /// Ends the probing block in execution where the machine stands (executor_probe.cpp).
   void finish_probe(MotionRing& ring, ExecResult& out, ProbeOutcome outcome);
 
@@ -179,6 +198,13 @@ class Executor {
   // corner_[i]: the speed cap of the junction between prep_[i] and prep_[i + 1] from the
   // geometry alone (0: it does not flow), computed once when prep_[i + 1] is prepared.
   std::array<double, kRingSlots> corner_{};
+  // blend_[i]: the corner blend of junction i (on: its window replaces the sharp corner; its `at`
+  // is the corner's position in path_base_'s coordinate); entered_: the junction crossed into the
+  // block in execution, whose window may still reach into it
+  std::array<CornerBlend, kRingSlots> blend_{};
+  CornerBlend entered_{};
+  double path_base_ = 0.0;  // path length run before the block in execution (since set_position)
+  bool blended_ = false;
   // exit_speed_of_current() depends only on the prepared blocks and the input: it is kept
   // until a block is prepared or popped, or the hold or the override changes.
   bool exit_valid_ = false;

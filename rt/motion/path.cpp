@@ -148,6 +148,19 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     pb.v_first = g.schedule_speed[0];
     pb.v_last = g.schedule_speed[g.schedule_count - 1];
     pb.brake_accel = std::max(pb.accel, block_brake_capacity(g, 0.0) / pb.length);
+    pb.ramp_accel = pb.accel;
+    for (int i = 0; i < g.schedule_count; ++i) pb.ramp_accel = std::max(pb.ramp_accel, g.schedule_accel[i]);
+    {
+      const NurbsView view = view_of(g);
+      auto curvature = [](const NurbsEval& e) {
+        const double d1 = norm(e.d1);
+        if (!(d1 > 0.0)) return Vec3{0.0, 0.0, 0.0};
+        const Vec3 t = (1.0 / d1) * e.d1;
+        return (1.0 / (d1 * d1)) * (e.d2 - dot(e.d2, t) * t);
+      };
+      pb.curv_start = curvature(nurbs_eval(view, view.u_min()));
+      pb.curv_end = curvature(nurbs_eval(view, view.u_max()));
+    }
     pb.dir_start = normalized(b.dir_start);
     pb.dir_end = normalized(b.dir_end);
     plain_joint_rates(pb);
@@ -174,6 +187,8 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     pb.dir_start = evaluate(pb, 0.0).tangent;
     pb.dir_end = evaluate(pb, pb.length).tangent;
     arc_caps(pb, cfg);
+    pb.curv_start = evaluate(pb, 0.0).curvature;
+    pb.curv_end = evaluate(pb, pb.length).curvature;
     // s runs uniformly in angle, so on a spiral the true speed is up to r_max/r_mean times the
     // parameter speed: scale the caps so the true speed never exceeds them.
     const double r_mean = 0.5 * (pb.r0 + pb.r1), r_max = std::max(pb.r0, pb.r1);
@@ -189,6 +204,7 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     line_caps(pb, cfg);
   }
   pb.brake_accel = pb.accel;
+  pb.ramp_accel = pb.accel;
   plain_joint_rates(pb);
   return pb;
 }

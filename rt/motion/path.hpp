@@ -42,6 +42,10 @@ struct PreparedBlock {
   // the acceleration the stop rules may count on when braking through the whole block: accel,
   // but for NURBS the mean of its schedule's accelerations (block_brake_capacity / length)
   double brake_accel = 0.0;
+  // the largest path acceleration the block ramps at (NURBS: its schedule's largest), mm/s², and
+  // the curvature vector d²p/ds² at its two ends, 1/mm (the corner blend, corner_blend.hpp)
+  double ramp_accel = 0.0;
+  Vec3 curv_start{}, curv_end{};
   // arc only
   int a1 = 0, a2 = 1, an = 2;   // in-plane first, second axis; normal axis
   double c1 = 0.0, c2 = 0.0;    // centre in the plane

@@ -68,6 +68,7 @@ void MachineRunner::cycle() {
   r.ferr = s.following_error;
   r.truth = machine_.true_position();
   r.speed = s.path_speed;
+  r.blend = machine_.blending();
   records_.push_back(r);
 }
 

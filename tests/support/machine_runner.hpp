@@ -17,6 +17,7 @@ struct CycleRecord {
   std::uint64_t seq = 0;  // the block in execution (Status::block_seq)
   Vec3 cmd{}, act{}, ferr{}, truth{};
   double speed = 0.0;
+  bool blend = false;  // the setpoint was inside a corner blend's window
 };
 
 class MachineRunner {
