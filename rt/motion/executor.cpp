@@ -617,7 +617,6 @@ void Executor::plan_blend(std::size_t i, double cap) {
     if (hg > alone && hg > prev.h) {
       prev.h = hg;  // the previous window widens: the two corners become one group
       prev.grouped = b.grouped = true;
-      prev.deviation = kBlendDeviation * norm(cross(prev.t_in, prev.t_out)) * hg + 0.5 * kappa * hg * hg;
       h = hg;
     } else {
       h = alone;
@@ -626,7 +625,6 @@ void Executor::plan_blend(std::size_t i, double cap) {
   if (!(h > 1e-3 * p.path_tolerance)) return;
   b.on = true;
   b.h = h;
-  b.v_corner = cap;
   b.v_window = kappa * h;  // how far the tangents turn within the window (the speed cap's margin)
   blend_[i] = b;
 }

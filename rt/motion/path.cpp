@@ -12,6 +12,7 @@
 #include "geometry/kinematics_rates.hpp"
 #include "geometry/axis_caps.hpp"
 #include "geometry/plane.hpp"
+#include "geometry/tangential_budget.hpp"
 #include "motion/nurbs_follower.hpp"
 
 namespace pcnc {
@@ -152,14 +153,8 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
     for (int i = 0; i < g.schedule_count; ++i) pb.ramp_accel = std::max(pb.ramp_accel, g.schedule_accel[i]);
     {
       const NurbsView view = view_of(g);
-      auto curvature = [](const NurbsEval& e) {
-        const double d1 = norm(e.d1);
-        if (!(d1 > 0.0)) return Vec3{0.0, 0.0, 0.0};
-        const Vec3 t = (1.0 / d1) * e.d1;
-        return (1.0 / (d1 * d1)) * (e.d2 - dot(e.d2, t) * t);
-      };
-      pb.curv_start = curvature(nurbs_eval(view, view.u_min()));
-      pb.curv_end = curvature(nurbs_eval(view, view.u_max()));
+      pb.curv_start = nurbs_frame(view, view.u_min()).k;  // curvature vectors at the ends
+      pb.curv_end = nurbs_frame(view, view.u_max()).k;
     }
     pb.dir_start = normalized(b.dir_start);
     pb.dir_end = normalized(b.dir_end);

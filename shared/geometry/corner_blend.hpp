@@ -64,6 +64,7 @@ struct CornerBlend {
   Vec3 t_in{}, t_out{};  // unit: block A's end tangent, block B's start tangent
   Vec3 k_in{}, k_out{};  // curvature vectors (d²p/ds²) of block A at its end, block B at its start
   double at = 0.0;       // the corner's position along the path (arc length; the executor's)
+  // from corner_blend_plan only (the executor keeps the planned junction speed and leaves them 0):
   double v_corner = 0.0;  // the largest speed at the corner for which the bounds hold, mm/s
   double deviation = 0.0;  // the bound on the distance from the blocks' paths, mm
   // the executor's bookkeeping: how far before the corner the window may reach (the block before
