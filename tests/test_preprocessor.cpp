@@ -127,15 +127,15 @@ TEST(Preprocessor, QuarterArcGeometryAndTangents) {
 }
 
 TEST(Preprocessor, ArcSpeedLimitedByCentripetalAcceleration) {
-  // r = 1 mm at 1000 mm/s: v^2/r must stay within 0.7 of 1500 mm/s^2 -> v = sqrt(1050).
+  // r = 1 mm at 1000 mm/s: v^2/r must stay within 0.95 of 1500 mm/s^2 -> v = sqrt(1425).
   const Block b = make_block(arc({1, 0, 0}, {-1, 0, 0}, {0, 0, 0}, 1, kPi, 2, 1000), limits());
-  EXPECT_NEAR(b.speed, std::sqrt(1050.0), 1e-9);
+  EXPECT_NEAR(b.speed, std::sqrt(1425.0), 1e-9);
   EXPECT_LE(b.speed * b.speed / 1.0, kArcCentripetalShare * 1500 + 1e-9);
   // at that top speed the tangential part gets what the centripetal part leaves
   EXPECT_NEAR(b.accel, std::sqrt(1 - kArcCentripetalShare * kArcCentripetalShare) * 1500, 1e-9);
 }
 
-// Arcs take kArcCentripetalShare (0.7) of the smaller plane axis's acceleration for the
+// Arcs take kArcCentripetalShare (0.95) of the smaller plane axis's acceleration for the
 // centripetal part at their top speed: at every speed the block may run at (up to twice its
 // speed, the largest override, and never above the axes' cap) and at every point of the full
 // circle, the in-plane acceleration a_t·T + (v²/r)·N keeps each plane axis within its own limit.

@@ -10,9 +10,9 @@
 // those cycles are not the curves': the blend asks more than an axis's limit there, for a few
 // cycles (far less than the sharp corner's velocity step did in one), which is printed and held
 // to a bound of its own.
-// The arcs (the programs' G2/G3: LHchips4's lead-in and lead-out arcs, at 0.7 of the plane's
-// acceleration for the centripetal part) are held to the same limits on the cycles inside
-// one arc block.
+// The arcs (the programs' G2/G3: LHchips4's lead-in and lead-out arcs, rgh's 643 small arcs;
+// at most 0.95 of the plane's acceleration for the centripetal part, the tangential part by
+// speed) are held to the same limits on the cycles inside one arc block.
 // The setpoints are exact doubles here (no trace rounding); the only margin is 0.1 % of the
 // limit for the second difference averaging the acceleration over two cycles while the
 // curvature and the tangent turn. The worst ratios are printed as figures.
@@ -116,15 +116,21 @@ Run run_smoothed(const std::string& file) {
   return out;
 }
 
-void expect_within_limits(const char* name) {
+// What a program must exercise for its check to mean something: NURBS blocks, cycles on the
+// curves and on the arcs, cycles in corner blends.
+struct Coverage {
+  std::size_t nurbs = 10, curve_cycles = 10000, arc_cycles = 1000, blend_cycles = 1000;
+};
+
+void expect_within_limits(const char* name, Coverage least = {}) {
   const std::string file = test::shared_dir() + "/gcode/cam/linuxcnc-tp/" + name;
   const Run r = run_smoothed(file);
-  EXPECT_GT(r.nurbs, 10u) << name << ": smoothed into curves";
-  EXPECT_GT(r.curve_cycles, 10000u) << name;
-  EXPECT_GT(r.arc_cycles, 1000u) << name << ": the programs' arcs";
+  EXPECT_GT(r.nurbs, least.nurbs) << name << ": smoothed into curves";
+  EXPECT_GT(r.curve_cycles, least.curve_cycles) << name;
+  EXPECT_GT(r.arc_cycles, least.arc_cycles) << name << ": the programs' arcs";
   EXPECT_LE(r.worst_velocity, 1.0 + 1e-9) << name;
   EXPECT_EQ(r.accel_violations, 0) << name << ": first " << r.first_violation;
-  EXPECT_GT(r.blend_cycles, 1000u) << name << ": the real corners are blended";
+  EXPECT_GT(r.blend_cycles, least.blend_cycles) << name << ": the real corners are blended";
   EXPECT_LT(r.worst_blend_accel, kBlendAccelBound) << name;
   std::printf("[ figures  ] %s: %zu blocks (%zu NURBS), machine time %.2f s, worst setpoint velocity %.4f of "
               "the axis limit, on the curves (%zu cycles) acceleration %.4f, on the arcs (%zu cycles) %.4f, in the "
@@ -136,6 +142,18 @@ void expect_within_limits(const char* name) {
 TEST(SurfacingLimits, LHchips4KeepsEveryAxisWithinItsLimits) { expect_within_limits("LHchips4.ngc"); }
 
 TEST(SurfacingLimits, BlurTorusKeepsEveryAxisWithinItsLimits) { expect_within_limits("blur_torus.ngc"); }
+
+// 643 small arcs (radius 0.1–33 mm, median 0.7) between short lines: the arcs' acceleration
+// shared by speed (rt/motion/path.hpp arc_path_accel) ramps and brakes them near the plane's
+// limit at every speed.
+TEST(SurfacingLimits, RghArcsKeepEveryAxisWithinItsLimits) {
+  Coverage least;
+  least.nurbs = 5;
+  least.curve_cycles = 50;
+  least.arc_cycles = 5000;
+  least.blend_cycles = 100;
+  expect_within_limits("rgh.ngc", least);
+}
 
 }  // namespace
 }  // namespace pcnc

@@ -9,8 +9,9 @@
 # the programmed moves, the traced commanded and measured positions' distance from the
 # programmed path (bench_path_deviation), the host CPU of `pcnc check` (the whole front end
 # with the fit) against the machine time, and with --real the ring underruns at real clock.
-# The ideal planner's times are the issue's (unlimited look-ahead, every junction at the
-# junction-deviation speed for 0.005 mm).
+# The ideal planner's time is bench_ideal_planner's (report/ideal_planner.hpp: grbl's junction
+# deviation for 0.005 mm with unlimited look-ahead, arcs as chords of 0.002 mm); "issue" is the
+# figure issue 14 gives for the program (LHchips4 62.8 s, blur_torus 78.5 s), "-" for others.
 # Usage: tools/bench_surfacing.sh [BUILD_DIR] [--real] [FILES...]
 #   (default files: cam/linuxcnc-tp/LHchips4.ngc and blur_torus.ngc of ../shared/gcode)
 set -euo pipefail
@@ -27,9 +28,10 @@ for a in "$@"; do
 done
 PCNC=$BUILD/tools/pcnc
 DEV=$BUILD/bench/bench_path_deviation
+IDEAL=$BUILD/bench/bench_ideal_planner
 SHARED=$(cd .. && pwd)/shared
-[ -x "$PCNC" ] && [ -x "$DEV" ] || {
-  echo "bench_surfacing: build first: cmake --build $BUILD --target pcnc pcnc-rt pcnc-host bench_path_deviation"
+[ -x "$PCNC" ] && [ -x "$DEV" ] && [ -x "$IDEAL" ] || {
+  echo "bench_surfacing: build first: cmake --build $BUILD --target pcnc pcnc-rt pcnc-host bench_path_deviation bench_ideal_planner"
   exit 2
 }
 [ ${#FILES[@]} -gt 0 ] || FILES=("$SHARED/gcode/cam/linuxcnc-tp/LHchips4.ngc" "$SHARED/gcode/cam/linuxcnc-tp/blur_torus.ngc")
@@ -42,7 +44,7 @@ sed -e "s#^shm_name = .*#shm_name = \"/pcnc-bench-surf-$$\"#" -e "s#^host_timeou
 MILL=$TMP/mill.toml
 TOL=0.005
 
-ideal() {
+issue_ideal() {
   case "$(basename "$1")" in
     LHchips4.ngc) echo 62.8 ;;
     blur_torus.ngc) echo 78.5 ;;
@@ -63,8 +65,8 @@ run_time() {  # run_time FILE ARGS... -> machine time (s) of a virtual-clock run
 }
 
 echo "== smoothing bench ($(date -u +%Y-%m-%d), $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)); desktop mill, --fit --contouring on, tolerance $TOL mm"
-printf '%-16s %7s %7s %8s %8s %8s %6s %13s %8s %8s %8s %8s %7s\n' program "L/F s" "ideal" "M22 s" "M21 t=0" "smooth" "/ideal" "moves>blocks" \
-  "host um" "cmd um" "act um" "check s" "cpu %"
+printf '%-16s %7s %7s %6s %8s %8s %8s %6s %13s %8s %8s %8s %8s %7s\n' program "L/F s" "ideal" "issue" "M22 s" "M21 t=0" "smooth" "/ideal" \
+  "moves>blocks" "host um" "cmd um" "act um" "check s" "cpu %"
 for f in "${FILES[@]}"; do
   name=$(basename "$f")
   sed -e 's/G64\( *[PQ] *[-0-9.]*\)*/G61/g' "$f" >"$TMP/m22.ngc"
@@ -80,10 +82,13 @@ for f in "${FILES[@]}"; do
   /usr/bin/time -o "$TMP/cpu" -f '%U %S' "$PCNC" check "$f" --config "$MILL" --fit --contouring on --tolerance $TOL -q \
     >/dev/null 2>&1 || true
   cpu=$(awk '{print $1 + $2}' "$TMP/cpu")
-  id=$(ideal "$f")
+  id=$("$IDEAL" "$f" --config "$MILL" --fit --contouring on --tolerance $TOL 2>/dev/null | awk '{print $2}')
+  [ -n "$id" ] || id=-
+  iss=$(issue_ideal "$f")
   ratio=$( [ "$id" = - ] || [ "$ts" = fail ] && echo - || python3 -c "print('%.2f' % ($ts / $id))")
   pct=$( [ "$ts" = fail ] && echo - || python3 -c "print('%.1f' % (100 * $cpu / $ts))")
-  printf '%-16s %7s %7s %8s %8s %8s %6s %13s %8s %8s %8s %8s %7s\n' "$name" "$lf" "$id" "$t22" "$t0" "$ts" "$ratio" "$mb" "$hd" "$cd" "$ad" "$cpu" "$pct"
+  printf '%-16s %7s %7s %6s %8s %8s %8s %6s %13s %8s %8s %8s %8s %7s\n' "$name" "$lf" "$id" "$iss" "$t22" "$t0" "$ts" "$ratio" "$mb" "$hd" "$cd" \
+    "$ad" "$cpu" "$pct"
 done
 echo "(host um: the host's measure of the curves against the programmed moves; cmd/act um: the traced commanded and"
 echo " measured positions against the programmed path; check s: CPU of 'pcnc check' with smoothing, the whole front end)"

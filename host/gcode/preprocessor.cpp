@@ -168,23 +168,6 @@ double decel_start_distance(double length, double speed, double accel) {
   return length - stop;
 }
 
-// Angles where |sin| peaks are pi/2 + k*pi; |cos| peaks at k*pi.
-static double max_abs_trig(double start, double sweep, double peak_offset, double (*f)(double)) {
-  const double lo = std::min(start, start + sweep);
-  const double hi = std::max(start, start + sweep);
-  // smallest peak >= lo
-  const double k = std::ceil((lo - peak_offset) / kPi);
-  if (peak_offset + k * kPi <= hi) return 1.0;
-  return std::max(std::fabs(f(lo)), std::fabs(f(hi)));
-}
-
-double max_abs_sin(double start, double sweep) {
-  return max_abs_trig(start, sweep, kPi / 2.0, [](double x) { return std::sin(x); });
-}
-double max_abs_cos(double start, double sweep) {
-  return max_abs_trig(start, sweep, 0.0, [](double x) { return std::cos(x); });
-}
-
 Block make_block(const Move& m, const MachineConfig& cfg) {
   Block b{};
   make_block_into(m, cfg, b);

@@ -38,8 +38,4 @@ double decel_start_distance(double length, double speed, double accel);
 /// axis it has; an angular block (no linear travel) gets 0, 0 and the start coordinate.
 void restate_line_plan(const Move& move, Block& b);
 
-/// Largest |sin| and |cos| over the angles from `start` through `start + sweep` (sweep signed).
-double max_abs_sin(double start, double sweep);
-double max_abs_cos(double start, double sweep);
-
 }  // namespace pcnc

@@ -271,12 +271,14 @@ CheckResult check_program_text(std::string_view text, const std::string& name, c
 namespace {
 
 MoveListing list_input(const Input& in, const std::string& name, const MachineConfig& config, const JobOptions& options,
-                       const std::function<void(const Move&)>& on_move, const MessageHandler& on_message) {
+                       const std::function<void(const Move&)>& on_move, const MessageHandler& on_message,
+                       const Transform* framed = nullptr) {
   MoveListing result;
   DiagnosticSink sink(name);
   try {
     Transform t;
     t.offset = start_work(config, options).g5x[0];
+    if (framed) t = *framed;
     const JobFrame frame = make_frame(config, options, t);
     Pipeline pipeline(in.open(name, config, frame), config, frame, sink, false);
     pipeline.set_message_handler(on_message);
@@ -310,6 +312,13 @@ MoveListing list_moves(const std::string& path, const MachineConfig& config, con
   Input in;
   in.path = &path;
   return list_input(in, path, config, options, on_move, on_message);
+}
+
+MoveListing list_moves(const std::string& path, const MachineConfig& config, const JobOptions& options,
+                       const Transform& transform, const std::function<void(const Move&)>& on_move) {
+  Input in;
+  in.path = &path;
+  return list_input(in, path, config, options, on_move, {}, &transform);
 }
 
 MoveListing list_moves_text(std::string_view text, const std::string& name, const MachineConfig& config,

@@ -191,6 +191,11 @@ struct MoveListing {
 };
 MoveListing list_moves(const std::string& path, const MachineConfig& config, const JobOptions& options,
                        const std::function<void(const Move&)>& on_move, const MessageHandler& on_message);
+/// The same moves in the frame of a checked job (`check_program(...).transform`: --fit's scale
+/// and offset), as its stream makes them: what a model of another planner is fed
+/// (report/ideal_planner.hpp).
+MoveListing list_moves(const std::string& path, const MachineConfig& config, const JobOptions& options,
+                       const Transform& transform, const std::function<void(const Move&)>& on_move);
 MoveListing list_moves_text(std::string_view text, const std::string& name, const MachineConfig& config,
                             const JobOptions& options, const std::function<void(const Move&)>& on_move,
                             const MessageHandler& on_message);

@@ -174,11 +174,33 @@ double Executor::compute_exit_speed(const ExecInput& in) const {
   for (std::size_t j = e; j >= 1; --j) {
     // the same discrete rule (with its margin) the block will be run with; a NURBS block may
     // brake at its schedule's accelerations (their mean over the block)
-    const double v_in = std::min({cap_of(prep_[j], in), prep_[j].v_first,
-                                  stop_speed(prep_[j].length, v_out, prep_[j].brake_accel, dt_, k_)});
+    const double cap = std::min(cap_of(prep_[j], in), prep_[j].v_first);
+    double stop = stop_speed(prep_[j].length, v_out, prep_[j].brake_accel, dt_, k_);
+    if (prep_[j].kind == BlockKind::kArc && stop < cap) stop = std::max(stop, arc_stop_speed(prep_[j], prep_[j].length, v_out, false, cap));
+    const double v_in = std::min(cap, stop);
     v_out = std::min(v_in, junction_cap(j - 1, in));
   }
   return v_out;
+}
+
+// The stop rule on an arc whose tangential acceleration falls as its speed rises
+// (arc_path_accel): the largest V up to `cap` from which the rule brakes within `distance` to
+// `v_exit` at the acceleration the arc keeps at every speed up to V (bisection: the rule's speed
+// rises with the acceleration, which falls with V). `exact`: stop_speed_exact's rule (a stop at
+// rest with no junction-restricted cycle left), else stop_speed's with its margin.
+double Executor::arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap) const {
+  auto rule = [&](double v) {
+    const double acc = std::max(b.accel, arc_path_accel(b, v));
+    return exact ? stop_speed_exact(distance, acc, dt_) : stop_speed(distance, v_exit, acc, dt_, k_);
+  };
+  if (!std::isfinite(cap)) cap = b.v_machine;
+  if (rule(cap) >= cap) return cap;
+  double lo = 0.0, hi = cap;
+  for (int i = 0; i < 24; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (rule(mid) >= mid ? lo : hi) = mid;
+  }
+  return lo;
 }
 
 void Executor::begin_block(const Block& blk, bool from_rest) {
@@ -413,6 +435,14 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     }
     a_ramp = std::max(a, std::min(block_schedule_accel(g, nurbs_u_, nurbs_hint_), block_schedule_accel(g, u_next, nurbs_hint_)));
   }
+  double a_brake = a_ramp;  // slowing down in this cycle
+  if (b.kind == BlockKind::kArc) {
+    // An arc shares its plane's acceleration by speed (path.hpp arc_path_accel): braking may
+    // take the tangential part at the speed the machine has (the cycle's highest), speeding up
+    // the part left at the speed this cycle may reach; `a` (its value at the top speed) at least.
+    a_brake = std::max(a, arc_path_accel(b, v_));
+    a_ramp = std::max(a, arc_path_accel(b, v_ + a_brake * dt_));
+  }
   const bool stop_at_end = !flows_after(0);
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
   const double remaining = b.length - s_;
@@ -421,6 +451,10 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   // discrete braking rule. Otherwise the rule with the margin k for the restricted cycles.
   double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
                                                : stop_speed(remaining, v_exit, a, dt_, k_);
+  if (b.kind == BlockKind::kArc && v_stop < cap) {
+    // An arc may also brake at what it keeps at every speed up to the one it brakes from.
+    v_stop = std::max(v_stop, arc_stop_speed(b, remaining, v_exit, stop_at_end && crossed_ == 0, cap));
+  }
   if (b.kind == BlockKind::kNurbs) {
     // A NURBS block may also brake at its schedule's accelerations along the rest of the block:
     // what it can shed from the point k cycles ahead (at the fastest speed this cycle may take).
@@ -449,8 +483,9 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const double v_allow = std::min(cap, v_stop);
   const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
   const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
+  const double a_step_down = near_junction ? (1.0 - f_) * a_brake : a_brake;
   double v_new = std::min(v_allow, v_ + a_step * dt_);
-  v_new = std::max({v_new, v_ - a_step * dt_, 0.0});
+  v_new = std::max({v_new, v_ - a_step_down * dt_, 0.0});
   if (probing && probe_tripped_ && v_new <= 0.0) {  // came to rest after the contact
     hold_still();
     finish_probe(ring, out, ProbeOutcome::kContact);

@@ -40,8 +40,10 @@ void line_caps(PreparedBlock& pb, const MachineConfig& cfg) {
 // Arcs: the in-plane axes see the tangential acceleration plus the centripetal v²/r: the
 // centripetal part gets at most kArcCentripetalShare of the smaller plane axis's
 // acceleration, the tangential part what is left of its magnitude (geometry/arc_limits.hpp).
-// The in-plane axes' velocity is bounded as if either axis could carry the whole in-plane
-// speed somewhere on the arc.
+// The in-plane axes' velocity is bounded along the angles the arc sweeps, as the host plans it
+// (the first plane axis carries at most max|sin θ| of the in-plane speed, the second max|cos θ|),
+// plus the share a spiral's change of radius adds: a flat G18 arc that runs almost along X is
+// not held to Z's velocity.
 void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
   const double r_min = std::min(pb.r0, pb.r1);
   const double r_max = std::max(pb.r0, pb.r1);
@@ -49,11 +51,20 @@ void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
   const double h = std::abs(pb.end[pb.an] - pb.start[pb.an]) / pb.length;  // normal share
   const auto& A = cfg.axes;
   const double a_plane = std::min(A[pb.a1].max_accel_mm_s2, A[pb.a2].max_accel_mm_s2);
-  const double v_plane = std::min(A[pb.a1].max_velocity_mm_s, A[pb.a2].max_velocity_mm_s);
+  const double spiral = r_min > 0.0 && std::abs(pb.sweep) > 0.0 ? std::abs(pb.r1 - pb.r0) / (std::abs(pb.sweep) * r_min) : 1.0;
+  const double f1 = std::min(1.0, max_abs_sin(pb.theta0, pb.sweep) + spiral);
+  const double f2 = std::min(1.0, max_abs_cos(pb.theta0, pb.sweep) + spiral);
+  double v_plane = std::numeric_limits<double>::infinity();
+  if (f1 > 0.0) v_plane = std::min(v_plane, A[pb.a1].max_velocity_mm_s / f1);
+  if (f2 > 0.0) v_plane = std::min(v_plane, A[pb.a2].max_velocity_mm_s / f2);
   const ArcCaps c = pcnc::arc_caps(r_min, q, h, q > 1e-12 ? v_plane / q : 0.0, a_plane, A[pb.an].max_velocity_mm_s,
                                    A[pb.an].max_accel_mm_s2, pb.speed);
   pb.v_machine = c.speed;
   pb.accel = std::min(pb.accel, c.accel);
+  pb.arc_a_plane = a_plane;
+  pb.arc_q = q;
+  pb.arc_r = r_min;
+  pb.arc_a_normal = h > 1e-12 ? A[pb.an].max_accel_mm_s2 / h : std::numeric_limits<double>::infinity();
 }
 
 // A block that turns no joint: its joint rates are its tangents (the curvature of a plain arc is
@@ -192,6 +203,7 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
       pb.speed *= f;
       pb.v_machine *= f;
       pb.accel *= f;
+      pb.arc_f = f;
     }
   } else {
     pb.dir_start = normalized(b.end - b.start);
@@ -202,6 +214,12 @@ PreparedBlock prepare_block(const Block& b, const MachineConfig& cfg) {
   pb.ramp_accel = pb.accel;
   plain_joint_rates(pb);
   return pb;
+}
+
+double arc_path_accel(const PreparedBlock& b, double v) {
+  if (b.kind != BlockKind::kArc) return 0.0;
+  const double f = b.arc_f;
+  return f * arc_accel_at(b.arc_a_plane, b.arc_r, b.arc_q, b.arc_a_normal, kArcAccelMargin, v / f);
 }
 
 void tcp_end_rates(PreparedBlock& pb, const Block& b, const MachineConfig& cfg, const Vec3& start_xyz) {

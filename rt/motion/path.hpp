@@ -50,6 +50,10 @@ struct PreparedBlock {
   int a1 = 0, a2 = 1, an = 2;   // in-plane first, second axis; normal axis
   double c1 = 0.0, c2 = 0.0;    // centre in the plane
   double theta0 = 0.0, sweep = 0.0, r0 = 0.0, r1 = 0.0;
+  // arc only: what arc_path_accel shares by speed: the smaller plane axis's acceleration, the
+  // in-plane share q of the path speed, the smallest radius, the path acceleration the normal
+  // axis allows (+inf without a helix) and the spiral's factor (parameter speed / true speed)
+  double arc_a_plane = 0.0, arc_q = 0.0, arc_r = 0.0, arc_a_normal = 0.0, arc_f = 1.0;
   // rotary joints (lines and rapids on a machine with rotary joints, ipc/block.hpp RotaryMotion)
   bool rotary = false;   // the block moves a rotary joint or runs under TCP
   bool tcp = false;      // start/end are the tool tip in workpiece coordinates
@@ -75,6 +79,11 @@ PreparedBlock prepare_block(const Block& block, const MachineConfig& config);
 /// the analytic kinematics rates at the joints it starts from (`start_xyz`, the previous block's
 /// linear axes, and its rotary start) and at its end joints. Pure, no allocation.
 void tcp_end_rates(PreparedBlock& pb, const Block& block, const MachineConfig& config, const Vec3& start_xyz);
+
+/// An arc's tangential path acceleration at path speed v (geometry/arc_limits.hpp arc_accel_at
+/// with kArcAccelMargin): at least what its constant `accel` is at the top speed, more below it.
+/// 0 for a block that is not an arc.
+double arc_path_accel(const PreparedBlock& b, double v);
 
 /// Point, tangent and curvature at path length s (clamped to [0, length]).
 PathPoint evaluate(const PreparedBlock& b, double s);

@@ -6,11 +6,17 @@
 // smaller plane axis's limit a keeps every in-plane axis within it. The speed cap keeps the
 // centripetal part within kArcCentripetalShare·a; the tangential part gets what is left at
 // the fastest speed the block can ever run (feed override included):
-//   a_t = sqrt(a² − (v_top²/r)²) >= sqrt(1 − share²)·a   (0.71·a for share 0.7).
-// The share was 0.5 until 2026-11-26; 0.7 was chosen by tools/bench_surfacing.sh (LHchips4 /
-// blur_torus: 0.5 83.0 / 85.0 s, 0.7 82.1 / 83.0 s, 0.8 82.7 / 82.8 s; docs/smoothing.md).
+//   a_t = sqrt(a² − (v_top²/r)²) >= sqrt(1 − share²)·a   (0.31·a for share 0.95).
+// The share was 0.5 until 2026-11-26, then 0.7 while the executor ramped every arc at the
+// constant (tools/bench_surfacing.sh: a larger share lost more on the ramps than it won at the
+// cap). Since the executor ramps and brakes by speed (below), 0.95: with 0.7 / 0.9 / 0.95 / 0.97
+// LHchips4 took 80.61 / 80.00 / 79.96 / 79.94 s, rgh 9.31 / 8.65 / 8.53 / 8.49 s,
+// Gates_combined_R12 133.49 / 129.57 / 128.84 / 128.60 s (docs/smoothing.md, "Arcs by speed").
 // A slow arc on a large radius thus brakes and accelerates almost at the axis limit, where
-// a fixed split would leave half of it unused.
+// a fixed split would leave half of it unused. That constant is the block's: what the host plans
+// with and the stop rules can count on at every speed. The rt's executor also ramps and brakes
+// by speed (arc_accel_at): below the top speed the tangential part gets what the centripetal
+// part leaves at the speed the machine has.
 #pragma once
 
 #include <algorithm>
@@ -20,7 +26,7 @@
 namespace pcnc {
 
 /// Share of the smaller in-plane axis acceleration an arc may use for centripetal acceleration.
-constexpr double kArcCentripetalShare = 0.7;
+constexpr double kArcCentripetalShare = 0.95;
 /// The largest feed override (FeedOverride::kMax): the top speed an arc block can be run at
 /// is min(what the axes allow, this times its programmed speed).
 constexpr double kArcMaxFeedOverride = 2.0;
@@ -31,6 +37,43 @@ inline double arc_tangential_accel(double a_plane, double r_mm, double v_top_pla
   if (!(r_mm > 0.0)) return a_plane;
   const double a_n = std::min(v_top_plane_mm_s * v_top_plane_mm_s / r_mm, kArcCentripetalShare * a_plane);
   return std::sqrt(a_plane * a_plane - a_n * a_n);
+}
+
+/// Largest |sin| and |cos| over the angles from `start` through `start + sweep` (sweep signed):
+/// how much of an arc's in-plane speed its second and first plane axis carry at most, as the
+/// in-plane velocity is r·(−sin θ, cos θ).
+inline double max_abs_trig(double start, double sweep, double peak_offset, double (*f)(double)) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double lo = std::min(start, start + sweep);
+  const double hi = std::max(start, start + sweep);
+  const double k = std::ceil((lo - peak_offset) / kPi);  // the first peak at or after lo
+  if (peak_offset + k * kPi <= hi) return 1.0;
+  return std::max(std::fabs(f(lo)), std::fabs(f(hi)));
+}
+inline double max_abs_sin(double start, double sweep) {
+  return max_abs_trig(start, sweep, 3.14159265358979323846 / 2.0, [](double x) { return std::sin(x); });
+}
+inline double max_abs_cos(double start, double sweep) {
+  return max_abs_trig(start, sweep, 0.0, [](double x) { return std::cos(x); });
+}
+
+/// Share of what the plane leaves beside the centripetal part that the rt's executor ramps and
+/// brakes an arc at (the NURBS schedule's kTangentialAccelMargin): room for the cycle's linear
+/// steps of speed.
+constexpr double kArcAccelMargin = 0.95;
+
+/// An arc's tangential path acceleration at path speed `v`, shared by speed as the rt's executor
+/// runs it: what the smaller plane axis limit `a_plane` leaves beside the centripetal part of the
+/// in-plane speed q·v on radius `r_mm` (the vector sum within a_plane), times `margin`, over q;
+/// at most `a_normal_path` (the normal axis's share on a helix; +inf without one). It falls as v
+/// rises; 0 where the centripetal part alone would take the whole of a_plane.
+inline double arc_accel_at(double a_plane, double r_mm, double q, double a_normal_path, double margin, double v) {
+  if (!(q > 1e-12) || !(r_mm > 0.0)) return a_normal_path;
+  const double vp = q * v;
+  const double an = vp * vp / r_mm;
+  const double rest = a_plane * a_plane - an * an;
+  const double at = rest > 0.0 ? margin * std::sqrt(rest) / q : 0.0;
+  return std::min(at, a_normal_path);
 }
 
 /// The machine's caps on an arc or helix, as path rates.
