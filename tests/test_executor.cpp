@@ -7,6 +7,9 @@
 
 #include "motion/executor.hpp"
 #include "motion/junction.hpp"
+#include "motion/path.hpp"
+#include "gcode/preprocessor.hpp"
+#include "geometry/arc_limits.hpp"
 #include "geometry/plane.hpp"
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
@@ -198,6 +201,59 @@ TEST(Executor, ArcsInEveryPlaneStayOnTheCircle) {
       EXPECT_EQ(s.back().p, end);
     }
   }
+}
+
+// An arc shares its plane's acceleration by speed (path.hpp arc_path_accel): a half circle of
+// 1 mm at a feed above its centripetal cap ramps up, runs at the cap and stops exactly at its
+// end. On every cycle the in-plane acceleration (tangential and centripetal, from the setpoints'
+// second differences) stays within the plane axes' limit; below the top speed it ramps faster
+// than the block's constant (its value at the top speed), which is all a fixed split could use.
+TEST(Executor, ArcsRampAndBrakeByTheirSpeedWithinThePlaneLimit) {
+  MachineConfig c = cfg();
+  const double a_plane = std::min(c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2);
+  const Vec3 center{12.5, 12.5, 12.5};
+  const double r = 1.0;
+  ProgramBuilder p(c, {center[0] + r, center[1], center[2]});
+  p.arc({center[0] - r, center[1], center[2]}, center, 2, false, 1000.0).end();
+  // the host's own plan of the arc (the builder's is a simpler one)
+  Move m;
+  m.kind = MoveKind::kArc;
+  m.start = {center[0] + r, center[1], center[2]};
+  m.end = {center[0] - r, center[1], center[2]};
+  m.center = center;
+  m.radius = r;
+  m.sweep = std::numbers::pi;
+  m.normal_axis = 2;
+  m.feed_mm_s = 1000.0;
+  std::vector<Block> blocks = p.blocks();
+  const std::uint64_t seq = blocks.front().seq;
+  blocks.front() = make_block(m, c);
+  blocks.front().seq = seq;
+  const PreparedBlock pb = prepare_block(blocks.front(), c);
+  const double cap = std::sqrt(kArcCentripetalShare * a_plane * r);
+  ASSERT_NEAR(pb.v_machine, cap, 1e-9);
+  ASSERT_LT(pb.accel, 0.35 * a_plane) << "the constant: what the plane leaves at the cap";
+  EXPECT_GT(arc_path_accel(pb, 0.0), 0.94 * a_plane);
+  EXPECT_NEAR(arc_path_accel(pb, cap), kArcAccelMargin * pb.accel, 1e-6 * a_plane);
+  const auto s = execute(c, blocks);
+  const double dt = c.cycle_period_s();
+  double worst = 0.0, v_max = 0.0;
+  for (std::size_t k = 2; k < s.size(); ++k) {
+    Vec3 acc{};
+    for (int i = 0; i < 3; ++i) acc[i] = (s[k].p[i] - 2.0 * s[k - 1].p[i] + s[k - 2].p[i]) / (dt * dt);
+    worst = std::max(worst, std::hypot(acc[0], acc[1]) / a_plane);
+    v_max = std::max(v_max, s[k].v);
+  }
+  EXPECT_LE(worst, 1.0 + 1e-3) << "in-plane acceleration within the plane's limit on every cycle";
+  EXPECT_NEAR(v_max, cap, 1e-9) << "reaches the cap";
+  EXPECT_EQ(s.back().p, blocks.front().end);
+  EXPECT_EQ(s.back().v, 0.0);
+  // the first half of the cap is reached at nearly the whole plane's acceleration
+  std::size_t k_half = 0;
+  while (s[k_half].v < 0.5 * cap) ++k_half;
+  const double t_half = static_cast<double>(k_half + 1) * dt;
+  EXPECT_LT(t_half, 0.5 * cap / (0.9 * a_plane));
+  EXPECT_LT(t_half, 0.5 * 0.5 * cap / pb.accel) << "twice as fast as at the constant";
 }
 
 TEST(Executor, HelixAdvancesTheNormalAxisWithTheAngle) {
