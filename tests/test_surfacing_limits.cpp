@@ -37,7 +37,8 @@ constexpr double kAccelMargin = 1e-3;  // second differences against the limit (
 // In the corner blends' windows: the worst axis's acceleration as a ratio to its limit. The sharp
 // corners asked 15 times Z's limit in one cycle at LHchips4's line 4954 (a 7.4 mm/s step) and
 // about 29 times at line 8120 (two turns 2 µm apart, 14.6 mm/s in one cycle); the blend's worst,
-// at line 8120 (a group window of 24 µm: 2.5 cycles at 19 mm/s), is 12.4.
+// at line 8120 (a group window of 24 µm: 2.5 cycles at 19 mm/s), was 12.4; with the arcs ramped by
+// speed it is 12.8, at line 3287 (another pair of turns around a 2 µm line).
 constexpr double kBlendAccelBound = 15.0;
 
 struct Run {
