@@ -15,6 +15,7 @@
 
 #include "config/config.hpp"
 #include "gcode/program.hpp"
+#include "run_job_options.hpp"
 #include "report/ideal_planner.hpp"
 
 using namespace pcnc;
@@ -40,12 +41,7 @@ int main(int argc, char** argv) {
   MachineConfig c = load_config(config_path);
   ideal.tolerance_mm = tolerance >= 0.0 ? tolerance : c.motion.path_tolerance_mm;
   set_operator_tolerance(c.motion, 0.0);  // the moves as programmed, no smoothing
-  JobOptions o;
-  o.fit = fit;
-  o.contouring = contouring == "on";
-  Vec3 home{};
-  for (int i = 0; i < kAxes; ++i) home[static_cast<std::size_t>(i)] = c.axes[static_cast<std::size_t>(i)].home_mm;
-  o.start_position = home;  // where pcnc run starts: the machine at its home position
+  const JobOptions o = run_job_options(c, fit, contouring == "on");
   const CheckResult r = check_program(program, c, o);
   if (!r.ok) {
     std::fprintf(stderr, "bench_ideal_planner: %s does not check\n", program.c_str());

@@ -21,6 +21,7 @@
 
 #include "config/config.hpp"
 #include "gcode/program.hpp"
+#include "run_job_options.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/plane.hpp"
 #include "geometry/spline_fit.hpp"
@@ -71,12 +72,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   MachineConfig c = load_config(config_path);
   set_operator_tolerance(c.motion, 0.0);
-  JobOptions o;
-  o.fit = fit;
-  o.contouring = contouring == "on";
-  Vec3 home{};
-  for (int i = 0; i < kAxes; ++i) home[static_cast<std::size_t>(i)] = c.axes[static_cast<std::size_t>(i)].home_mm;
-  o.start_position = home;  // where pcnc run starts: the machine at its home position
+  const JobOptions o = run_job_options(c, fit, contouring == "on");
   std::vector<Vec3> pts;
   bool first = true;
   const CheckResult r = check_program(program, c, o, [&](const Block& b) {
