@@ -256,6 +256,36 @@ TEST(Executor, ArcsRampAndBrakeByTheirSpeedWithinThePlaneLimit) {
   EXPECT_LT(t_half, 0.5 * 0.5 * cap / pb.accel) << "twice as fast as at the constant";
 }
 
+// A curve's tangential acceleration by speed (path.hpp curve_tangential_accel), on a circle of
+// radius 2 in XY drawn with u the angle: at the point where the tangent is +Y the normal part
+// v²/r loads X alone, so the tangential part gets Y's share until v²/r takes X's; at 45° both
+// axes carry both parts.
+TEST(Executor, CurveTangentialAccelerationIsWhatTheAxesLeaveAtThatSpeed) {
+  const MachineConfig c = cfg();
+  const double ax = c.axes[0].max_accel_mm_s2, ay = c.axes[1].max_accel_mm_s2, m = kArcAccelMargin;
+  const double r = 2.0;
+  auto at = [&](double th) {
+    NurbsEval e;
+    e.p = {r * std::cos(th), r * std::sin(th), 0.0};
+    e.d1 = {-r * std::sin(th), r * std::cos(th), 0.0};
+    e.d2 = {-r * std::cos(th), -r * std::sin(th), 0.0};
+    return e;
+  };
+  EXPECT_NEAR(curve_tangential_accel(at(0.0), c, 0.0), m * ay, 1e-9);
+  EXPECT_NEAR(curve_tangential_accel(at(0.0), c, 20.0), m * ay, 1e-9) << "the normal part is on X alone";
+  EXPECT_EQ(curve_tangential_accel(at(0.0), c, std::sqrt(m * ax * r) * 1.001), 0.0) << "X has nothing left";
+  const double th = std::numbers::pi / 4.0, s = std::sqrt(0.5);
+  for (double v : {0.0, 10.0, 30.0, 50.0}) {
+    const double room = std::min(m * ax, m * ay) - v * v / r * s;
+    EXPECT_NEAR(curve_tangential_accel(at(th), c, v), std::max(0.0, room) / s, 1e-9) << v;
+    // a_t·T + (v²/r)·N within m·A on both axes, and the bound is reached on one of them
+    const double a_t = curve_tangential_accel(at(th), c, v);
+    const double x = std::abs(-a_t * s - v * v / r * s), y = std::abs(a_t * s - v * v / r * s);
+    EXPECT_LE(x, m * ax + 1e-9);
+    EXPECT_LE(y, m * ay + 1e-9);
+  }
+}
+
 TEST(Executor, HelixAdvancesTheNormalAxisWithTheAngle) {
   MachineConfig c = cfg();
   const Vec3 center{12.5, 12.5, 20.0};

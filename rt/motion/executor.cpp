@@ -434,6 +434,15 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
       cap = std::min(cap, std::max(sched, a * dt_));
     }
     a_ramp = std::max(a, std::min(block_schedule_accel(g, nurbs_u_, nurbs_hint_), block_schedule_accel(g, u_next, nurbs_hint_)));
+    {
+      // By speed, as arcs (path.hpp curve_tangential_accel): below the schedule's speed the axes
+      // leave more than its accelerations (each taken at the schedule's speed) where the machine
+      // is and where this cycle lands, at the fastest speed the cycle may reach.
+      const NurbsEval at_next = nurbs_eval(view_of(g), u_next);
+      const double a_here = curve_tangential_accel(nurbs_at_, cfg_, v_);
+      const double v_hi = v_ + std::max(a_ramp, a_here) * dt_;
+      a_ramp = std::max(a_ramp, std::min(curve_tangential_accel(nurbs_at_, cfg_, v_hi), curve_tangential_accel(at_next, cfg_, v_hi)));
+    }
   }
   double a_brake = a_ramp;  // slowing down in this cycle
   if (b.kind == BlockKind::kArc) {

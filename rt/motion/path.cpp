@@ -222,6 +222,20 @@ double arc_path_accel(const PreparedBlock& b, double v) {
   return f * arc_accel_at(b.arc_a_plane, b.arc_r, b.arc_q, b.arc_a_normal, kArcAccelMargin, v / f);
 }
 
+double curve_tangential_accel(const NurbsEval& e, const MachineConfig& cfg, double v) {
+  const double d1 = norm(e.d1);
+  if (!(d1 > 0.0)) return 0.0;
+  const Vec3 t = (1.0 / d1) * e.d1;
+  const Vec3 k = (1.0 / (d1 * d1)) * (e.d2 - dot(e.d2, t) * t);
+  double at = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
+    const double room = kArcAccelMargin * cfg.axes[i].max_accel_mm_s2 - v * v * std::abs(k[i]);
+    if (room <= 0.0) return 0.0;
+    if (std::abs(t[i]) > 1e-12) at = std::min(at, room / std::abs(t[i]));
+  }
+  return at;
+}
+
 void tcp_end_rates(PreparedBlock& pb, const Block& b, const MachineConfig& cfg, const Vec3& start_xyz) {
   if (!pb.tcp || pb.angular || !pb.motion) return;
   const Kinematics kin = kinematics_with_tool(cfg, b.rotary.tool_length);

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 
+#include "geometry/nurbs.hpp"
 #include "ipc/block.hpp"
 #include "config/config.hpp"
 #include "motion/junction.hpp"
@@ -84,6 +85,12 @@ void tcp_end_rates(PreparedBlock& pb, const Block& block, const MachineConfig& c
 /// with kArcAccelMargin): at least what its constant `accel` is at the top speed, more below it.
 /// 0 for a block that is not an arc.
 double arc_path_accel(const PreparedBlock& b, double v);
+
+/// What the axes leave for a curve's tangential acceleration at a point `e` (p, dp/du, d²p/du²)
+/// at path speed v: each axis keeps |a_t·T_i + v²·κ_i| within kArcAccelMargin of its limit, so
+/// a_t <= (m·A_i − v²·|κ_i|)/|T_i| (T the unit tangent, κ the curvature vector); 0 where the normal
+/// part alone takes an axis's share. The executor ramps NURBS blocks by it below their schedule.
+double curve_tangential_accel(const NurbsEval& e, const MachineConfig& config, double v);
 
 /// Point, tangent and curvature at path length s (clamped to [0, length]).
 PathPoint evaluate(const PreparedBlock& b, double s);
