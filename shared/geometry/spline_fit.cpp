@@ -180,6 +180,22 @@ struct SegmentChain {
       mid[i] = pts[i] + 0.5 * ab[i];
       half[i] = 0.5 * std::sqrt(len2[i]);
     }
+    make_chunks(pts);
+  }
+  // Balls around kChunk consecutive segments (centre, radius): a whole chunk is skipped at once.
+  static constexpr std::size_t kChunk = 8;
+  std::vector<Vec3> chunk_mid;
+  std::vector<double> chunk_radius;
+  void make_chunks(const std::vector<Vec3>& pts) {
+    const std::size_t n = a.size();
+    for (std::size_t c = 0; c * kChunk < n; ++c) {
+      const std::size_t first = c * kChunk, last = std::min(n, first + kChunk);  // points first..last
+      const Vec3 centre = 0.5 * (pts[first] + pts[last]);
+      double r2 = 0.0;
+      for (std::size_t i = first; i <= last; ++i) r2 = std::max(r2, dot(pts[i] - centre, pts[i] - centre));
+      chunk_mid.push_back(centre);
+      chunk_radius.push_back(std::sqrt(r2));
+    }
   }
   // The square of point_segment_distance(p, pts[i], pts[i + 1]), the same operations.
   double dist2(const Vec3& p, std::size_t i) const {
@@ -207,6 +223,15 @@ double to_polyline(const Vec3& p, const std::vector<Vec3>& pts, const SegmentCha
   double best = std::sqrt(best2);
   for (std::size_t i = lo; i < hi; ++i) {
     if (i == near) continue;
+    if (i % SegmentChain::kChunk == 0 && i + SegmentChain::kChunk <= hi) {  // a whole chunk inside the window
+      const std::size_t c = i / SegmentChain::kChunk;
+      const Vec3 m = chain.chunk_mid[c] - p;
+      const double reach = best + chain.chunk_radius[c] + kSkipMarginMm;
+      if (dot(m, m) > reach * reach && !(near >= i && near < i + SegmentChain::kChunk)) {
+        i += SegmentChain::kChunk - 1;
+        continue;
+      }
+    }
     const Vec3 m = chain.mid[i] - p;
     const double reach = best + chain.half[i] + kSkipMarginMm;
     if (dot(m, m) > reach * reach) continue;
@@ -228,9 +253,11 @@ std::pair<std::size_t, std::size_t> window(const std::vector<double>& t, double 
   std::size_t j = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), u) - t.begin());
   j = j > 0 ? j - 1 : 0;
   at = j;
-  std::size_t lo = j, hi = std::min(j + 1, n - 1);
-  while (lo > 0 && (j - lo < min_count || u - t[lo] < min_width)) --lo;
-  while (hi + 1 < n && (hi - j < min_count || t[hi] - u < min_width)) ++hi;
+  // first the count (one step), then the width one index at a time
+  std::size_t lo = j >= min_count ? j - min_count : 0;
+  std::size_t hi = std::min(std::max(j + 1, j + min_count), n - 1);
+  while (lo > 0 && u - t[lo] < min_width) --lo;
+  while (hi + 1 < n && t[hi] - u < min_width) ++hi;
   return {lo, hi};
 }
 
