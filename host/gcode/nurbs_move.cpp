@@ -54,12 +54,13 @@ void nurbs_extreme_points(const NurbsCurve& curve, std::vector<Vec3>& out) {
   for (int j = v.degree; j < v.count; ++j) {
     const double a = v.knots[j], b = v.knots[j + 1];
     if (!(a < b)) continue;
-    NurbsEval prev = nurbs_eval(v, a);
+    int span = j;  // every sample and bisection point of this span lies in it
+    NurbsEval prev = nurbs_eval(v, a, span);
     double u_prev = a;
     for (int s = 1; s <= kSamplesPerSpan; ++s) {
       // the last sample of a span sits just inside it: at b the derivative is the next span's
       const double u = s == kSamplesPerSpan ? std::nextafter(b, a) : a + (b - a) * s / kSamplesPerSpan;
-      const NurbsEval e = nurbs_eval(v, u);
+      const NurbsEval e = nurbs_eval(v, u, span);
       out.push_back(e.p);
       for (std::size_t i = 0; i < 3; ++i) {
         if (!((prev.d1[i] < 0.0 && e.d1[i] > 0.0) || (prev.d1[i] > 0.0 && e.d1[i] < 0.0))) continue;
@@ -68,7 +69,7 @@ void nurbs_extreme_points(const NurbsCurve& curve, std::vector<Vec3>& out) {
         for (int k = 0; k < kBisections && lo < hi; ++k) {
           const double mid = 0.5 * (lo + hi);
           if (mid <= lo || mid >= hi) break;
-          const double d = nurbs_eval(v, mid).d1[i];
+          const double d = nurbs_derivative(v, mid, span)[i];  // nurbs_eval's d1, bit for bit
           if ((d < 0.0) == rising) {
             lo = mid;
           } else {
