@@ -164,14 +164,10 @@ TEST(NurbsEval, MatchesIndependentReferenceAndEndsAtControlPoints) {
 
 // The generic Cox–de Boor loops nurbs_eval ran before it was unrolled per degree (the same
 // operations in the same order): the unrolled evaluation must give the same bits.
-NurbsEval generic_eval(const NurbsCurve& c, double u) {
-  const NurbsView v = c.view();
-  u = std::clamp(u, v.u_min(), v.u_max());
-  const int p = v.degree;
-  const int span = find_span(v, u);
-  const double* t = v.knots;
-  auto sdiv = [](double a, double b) { return b != 0.0 ? a / b : 0.0; };
-  double table[6][6] = {};
+inline double sdiv(double a, double b) { return b != 0.0 ? a / b : 0.0; }
+
+// table[d][j] = N_{span-d+j, d}(u) by the generic Cox–de Boor loops.
+void generic_table(const double* t, int span, int p, double u, double (&table)[6][6]) {
   table[0][0] = 1.0;
   for (int d = 1; d <= p; ++d) {
     for (int j = 0; j <= d; ++j) {
@@ -182,6 +178,16 @@ NurbsEval generic_eval(const NurbsCurve& c, double u) {
       table[d][j] = value;
     }
   }
+}
+
+NurbsEval generic_eval(const NurbsCurve& c, double u) {
+  const NurbsView v = c.view();
+  u = std::clamp(u, v.u_min(), v.u_max());
+  const int p = v.degree;
+  const int span = find_span(v, u);
+  const double* t = v.knots;
+  double table[6][6] = {};
+  generic_table(t, span, p, u, table);
   auto derive = [&](int d, const double* lower, double* out) {
     for (int j = 0; j <= d; ++j) {
       const int i = span - d + j;
@@ -225,18 +231,8 @@ Vec3 generic_point(const NurbsCurve& c, double u) {
   const int p = v.degree;
   const int span = find_span(v, u);
   const double* t = v.knots;
-  auto sdiv = [](double a, double b) { return b != 0.0 ? a / b : 0.0; };
   double table[6][6] = {};
-  table[0][0] = 1.0;
-  for (int d = 1; d <= p; ++d) {
-    for (int j = 0; j <= d; ++j) {
-      const int i = span - d + j;
-      double value = 0.0;
-      if (j >= 1) value += sdiv(u - t[i], t[i + d] - t[i]) * table[d - 1][j - 1];
-      if (j <= d - 1) value += sdiv(t[i + d + 1] - u, t[i + d + 1] - t[i + 1]) * table[d - 1][j];
-      table[d][j] = value;
-    }
-  }
+  generic_table(t, span, p, u, table);
   Vec3 a{0.0, 0.0, 0.0};
   double w = 0.0;
   for (int j = 0; j <= p; ++j) {
