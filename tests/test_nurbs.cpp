@@ -166,8 +166,13 @@ TEST(NurbsEval, MatchesIndependentReferenceAndEndsAtControlPoints) {
 // operations in the same order): the unrolled evaluation must give the same bits.
 inline double sdiv(double a, double b) { return b != 0.0 ? a / b : 0.0; }
 
-// table[d][j] = N_{span-d+j, d}(u) by the generic Cox–de Boor loops.
-void generic_table(const double* t, int span, int p, double u, double (&table)[6][6]) {
+// table[d][j] = N_{span-d+j, d}(u) by the generic Cox–de Boor loops, u clamped to the domain;
+// returns the span.
+int generic_table(const NurbsView& v, double& u, double (&table)[6][6]) {
+  u = std::clamp(u, v.u_min(), v.u_max());
+  const int p = v.degree;
+  const int span = find_span(v, u);
+  const double* t = v.knots;
   table[0][0] = 1.0;
   for (int d = 1; d <= p; ++d) {
     for (int j = 0; j <= d; ++j) {
@@ -178,16 +183,15 @@ void generic_table(const double* t, int span, int p, double u, double (&table)[6
       table[d][j] = value;
     }
   }
+  return span;
 }
 
 NurbsEval generic_eval(const NurbsCurve& c, double u) {
   const NurbsView v = c.view();
-  u = std::clamp(u, v.u_min(), v.u_max());
   const int p = v.degree;
-  const int span = find_span(v, u);
   const double* t = v.knots;
   double table[6][6] = {};
-  generic_table(t, span, p, u, table);
+  const int span = generic_table(v, u, table);
   auto derive = [&](int d, const double* lower, double* out) {
     for (int j = 0; j <= d; ++j) {
       const int i = span - d + j;
@@ -227,12 +231,9 @@ NurbsEval generic_eval(const NurbsCurve& c, double u) {
 // nurbs_point's generic loop before the unrolling (its own sums: N·w, then the points).
 Vec3 generic_point(const NurbsCurve& c, double u) {
   const NurbsView v = c.view();
-  u = std::clamp(u, v.u_min(), v.u_max());
   const int p = v.degree;
-  const int span = find_span(v, u);
-  const double* t = v.knots;
   double table[6][6] = {};
-  generic_table(t, span, p, u, table);
+  const int span = generic_table(v, u, table);
   Vec3 a{0.0, 0.0, 0.0};
   double w = 0.0;
   for (int j = 0; j <= p; ++j) {
