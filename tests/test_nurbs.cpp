@@ -162,6 +162,143 @@ TEST(NurbsEval, MatchesIndependentReferenceAndEndsAtControlPoints) {
   }
 }
 
+// The generic Cox–de Boor loops nurbs_eval ran before it was unrolled per degree (the same
+// operations in the same order): the unrolled evaluation must give the same bits.
+inline double sdiv(double a, double b) { return b != 0.0 ? a / b : 0.0; }
+
+// table[d][j] = N_{span-d+j, d}(u) by the generic Cox–de Boor loops, u clamped to the domain;
+// returns the span.
+int generic_table(const NurbsView& v, double& u, double (&table)[6][6]) {
+  u = std::clamp(u, v.u_min(), v.u_max());
+  const int p = v.degree;
+  const int span = find_span(v, u);
+  const double* t = v.knots;
+  table[0][0] = 1.0;
+  for (int d = 1; d <= p; ++d) {
+    for (int j = 0; j <= d; ++j) {
+      const int i = span - d + j;
+      double value = 0.0;
+      if (j >= 1) value += sdiv(u - t[i], t[i + d] - t[i]) * table[d - 1][j - 1];
+      if (j <= d - 1) value += sdiv(t[i + d + 1] - u, t[i + d + 1] - t[i + 1]) * table[d - 1][j];
+      table[d][j] = value;
+    }
+  }
+  return span;
+}
+
+NurbsEval generic_eval(const NurbsCurve& c, double u) {
+  const NurbsView v = c.view();
+  const int p = v.degree;
+  const double* t = v.knots;
+  double table[6][6] = {};
+  const int span = generic_table(v, u, table);
+  auto derive = [&](int d, const double* lower, double* out) {
+    for (int j = 0; j <= d; ++j) {
+      const int i = span - d + j;
+      double value = 0.0;
+      if (j >= 1) value += sdiv(lower[j - 1], t[i + d] - t[i]);
+      if (j <= d - 1) value -= sdiv(lower[j], t[i + d + 1] - t[i + 1]);
+      out[j] = d * value;
+    }
+  };
+  double d1[6] = {}, d2[6] = {}, lower_d1[6] = {};
+  derive(p, table[p - 1], d1);
+  if (p >= 2) {
+    derive(p - 1, table[p - 2], lower_d1);
+    derive(p, lower_d1, d2);
+  }
+  Vec3 a0{}, a1{}, a2{};
+  double w0 = 0.0, w1 = 0.0, w2 = 0.0;
+  for (int j = 0; j <= p; ++j) {
+    const int i = span - p + j;
+    const double w = v.weights[i];
+    const Vec3 wp = w * v.points[i];
+    a0 = a0 + table[p][j] * wp;
+    a1 = a1 + d1[j] * wp;
+    a2 = a2 + d2[j] * wp;
+    w0 += table[p][j] * w;
+    w1 += d1[j] * w;
+    w2 += d2[j] * w;
+  }
+  NurbsEval e;
+  const double inv = 1.0 / w0;
+  e.p = inv * a0;
+  e.d1 = inv * (a1 - w1 * e.p);
+  e.d2 = inv * (a2 - 2.0 * w1 * e.d1 - w2 * e.p);
+  return e;
+}
+
+// nurbs_point's generic loop before the unrolling (its own sums: N·w, then the points).
+Vec3 generic_point(const NurbsCurve& c, double u) {
+  const NurbsView v = c.view();
+  const int p = v.degree;
+  double table[6][6] = {};
+  const int span = generic_table(v, u, table);
+  Vec3 a{0.0, 0.0, 0.0};
+  double w = 0.0;
+  for (int j = 0; j <= p; ++j) {
+    const int i = span - p + j;
+    const double nw = table[p][j] * v.weights[i];
+    a = a + nw * v.points[i];
+    w += nw;
+  }
+  return (1.0 / w) * a;
+}
+
+// Parameters that probe every case: the ends, every knot (and the doubles just beside it),
+// and random values.
+std::vector<double> probe_params(const NurbsCurve& c, unsigned seed) {
+  std::vector<double> us{c.u_min(), c.u_max()};
+  for (const double k : c.knots) {
+    us.push_back(k);
+    us.push_back(std::nextafter(k, -1e300));
+    us.push_back(std::nextafter(k, 1e300));
+  }
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> at(c.u_min(), c.u_max());
+  for (int i = 0; i < 300; ++i) us.push_back(at(rng));
+  return us;
+}
+
+TEST(NurbsEval, UnrolledEvaluationAndSpanHintsGiveTheGenericLoopsBits) {
+  // every degree, rational, with a doubled interior knot (a corner) on the quadratic circle
+  std::vector<NurbsCurve> curves{full_circle(5.0), nurbs_xy()};
+  for (int degree = 1; degree <= kMaxNurbsDegree; ++degree) {
+    curves.push_back(random_curve(degree + 8, degree, 40u + static_cast<unsigned>(degree)));
+    curves.push_back(random_curve(degree + 12, degree, 50u + static_cast<unsigned>(degree), KnotRule::kChordLength));
+  }
+  std::size_t checked = 0;
+  for (std::size_t n = 0; n < curves.size(); ++n) {
+    const NurbsCurve& c = curves[n];
+    ASSERT_EQ(validate(c), "");
+    const NurbsView v = c.view();
+    for (const double u : probe_params(c, 7u + static_cast<unsigned>(n))) {
+      const NurbsEval ref = generic_eval(c, u);
+      const NurbsEval got = nurbs_eval(v, u);
+      EXPECT_EQ(got.p, ref.p) << "curve " << n << " u=" << u;
+      EXPECT_EQ(got.d1, ref.d1) << "curve " << n << " u=" << u;
+      EXPECT_EQ(got.d2, ref.d2) << "curve " << n << " u=" << u;
+      EXPECT_EQ(nurbs_derivative(v, u), ref.d1);
+      EXPECT_EQ(nurbs_point(v, u), generic_point(c, u)) << "curve " << n << " u=" << u;
+      const double uc = std::clamp(u, v.u_min(), v.u_max());
+      // every hint, right or wrong, in range or not: the same span and the same bits
+      for (int hint = -2; hint <= v.count + 2; ++hint) {
+        ASSERT_EQ(find_span(v, uc, hint), find_span(v, uc)) << "curve " << n << " u=" << u << " hint " << hint;
+        int h1 = hint, h2 = hint;
+        const NurbsEval e = nurbs_eval(v, u, h1);
+        EXPECT_EQ(h1, find_span(v, uc));
+        EXPECT_EQ(e.p, ref.p);
+        EXPECT_EQ(e.d1, ref.d1);
+        EXPECT_EQ(e.d2, ref.d2);
+        EXPECT_EQ(nurbs_derivative(v, u, h2), ref.d1);
+        EXPECT_EQ(h2, h1);
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 10000u);
+}
+
 TEST(NurbsEval, DerivativesMatchFiniteDifferences) {
   for (const NurbsCurve& c : {nurbs_xy(), random_curve(15, 3, 11), random_curve(12, 5, 12), quarter_circle(3)}) {
     const NurbsView v = c.view();

@@ -4,6 +4,7 @@
 // points are exact, the curve is C2, and a corner the fit cannot follow is reported.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -139,6 +140,96 @@ TEST(SplineFit, PolylineDeviationOfTheSegmentItself) {
   const double d = polyline_deviation(straight, pts, 16, &per_point);
   EXPECT_GT(d, 0.9);  // the second segment is far from a curve that stops at (1, 0, 0)
   EXPECT_GT(per_point[2], 0.9);
+}
+
+// polyline_deviation as it was before its segments were skipped by bounding balls: every
+// segment of each window scanned with point_segment_distance. The measure must give the same
+// distances bit for bit (the fits, and so the blocks, depend on them).
+std::vector<double> full_scan_per_point(const NurbsCurve& curve, const std::vector<Vec3>& pts, int per_span,
+                                        double& worst) {
+  std::vector<double> t(pts.size(), 0.0);
+  for (std::size_t i = 1; i < pts.size(); ++i) t[i] = t[i - 1] + norm(pts[i] - pts[i - 1]);
+  auto window = [](const std::vector<double>& x, double u, std::size_t min_count, double min_width) {
+    const std::size_t n = x.size();
+    std::size_t j = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), u) - x.begin());
+    j = j > 0 ? j - 1 : 0;
+    std::size_t lo = j, hi = std::min(j + 1, n - 1);
+    while (lo > 0 && (j - lo < min_count || u - x[lo] < min_width)) --lo;
+    while (hi + 1 < n && (hi - j < min_count || x[hi] - u < min_width)) ++hi;
+    return std::pair<std::size_t, std::size_t>{lo, hi};
+  };
+  auto to_polyline = [](const Vec3& p, const std::vector<Vec3>& q, std::size_t lo, std::size_t hi) {
+    double best = norm(p - q[lo]);
+    for (std::size_t i = lo; i < hi; ++i) best = std::min(best, point_segment_distance(p, q[i], q[i + 1]));
+    return best;
+  };
+  const NurbsView v = curve.view();
+  std::vector<double> su;
+  std::vector<Vec3> sp;
+  for (int i = curve.degree; i < v.count; ++i) {
+    const double a = v.knots[i], b = v.knots[i + 1];
+    if (!(b > a)) continue;
+    for (int j = 0; j < per_span; ++j) su.push_back(a + (b - a) * j / per_span);
+  }
+  su.push_back(v.u_max());
+  for (double u : su) sp.push_back(nurbs_point(v, u));
+  const double span = t.back() / static_cast<double>(std::max<std::size_t>(1, su.size() - 1)) * per_span;
+  const double width = 0.05 + 2.0 * span / per_span;
+  std::vector<std::pair<double, double>> devs;  // (u, distance)
+  for (std::size_t k = 0; k < su.size(); ++k) {
+    const auto [lo, hi] = window(t, su[k], 4, width);
+    devs.push_back({su[k], to_polyline(sp[k], pts, lo, hi)});
+  }
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    for (int q = 0; q < (i + 1 < pts.size() ? 4 : 1); ++q) {
+      const double f = q / 4.0;
+      const Vec3 p = q == 0 ? pts[i] : pts[i] + f * (pts[i + 1] - pts[i]);
+      const double u = q == 0 ? t[i] : t[i] + f * (t[i + 1] - t[i]);
+      const auto [lo, hi] = window(su, u, static_cast<std::size_t>(2 * per_span), width);
+      devs.push_back({u, to_polyline(p, sp, lo, hi)});
+    }
+  }
+  worst = 0.0;
+  std::vector<double> per_point(pts.size(), 0.0);
+  for (const auto& [u, d] : devs) {
+    worst = std::max(worst, d);
+    std::size_t j = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), u) - t.begin());
+    if (j >= t.size() || (j > 0 && u - t[j - 1] < t[j] - u)) j = j > 0 ? j - 1 : 0;
+    per_point[j] = std::max(per_point[j], d);
+  }
+  return per_point;
+}
+
+TEST(SplineFit, PolylineDeviationIsTheFullScansBitForBit) {
+  // fitted curves (close to their polylines: most segments skipped), the same curves against
+  // a shifted polyline (far: few skipped), and a run that comes back on itself (a closed loop,
+  // where a window's far end is near its start)
+  std::vector<std::pair<NurbsCurve, std::vector<Vec3>>> cases;
+  for (const auto& [n, step] : {std::pair{120, 0.05}, std::pair{400, 0.02}, std::pair{60, 0.4}}) {
+    const std::vector<Vec3> pts = wave(n, step, 4);
+    const SplineFit fit = fit_polyline(pts, 0.005);  // ok or not: a valid curve near the points
+    ASSERT_EQ(validate(fit.curve), "");
+    cases.push_back({fit.curve, pts});
+    std::vector<Vec3> shifted = pts;
+    for (Vec3& p : shifted) p[2] += 0.01;
+    cases.push_back({fit.curve, shifted});
+  }
+  std::vector<Vec3> loop;
+  for (int i = 0; i <= 200; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / 200.0;
+    loop.push_back({std::cos(a), std::sin(a), 0.0});
+  }
+  cases.push_back({fit_polyline(loop, 0.005).curve, loop});
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    for (int per_span : {16, 5}) {
+      double worst_ref = 0.0;
+      const std::vector<double> ref = full_scan_per_point(cases[c].first, cases[c].second, per_span, worst_ref);
+      std::vector<double> got;
+      EXPECT_EQ(polyline_deviation(cases[c].first, cases[c].second, per_span, &got), worst_ref) << "case " << c;
+      ASSERT_EQ(got.size(), ref.size());
+      for (std::size_t i = 0; i < ref.size(); ++i) EXPECT_EQ(got[i], ref[i]) << "case " << c << " point " << i;
+    }
+  }
 }
 
 }  // namespace

@@ -133,5 +133,29 @@ TEST(TangentialBudget, CurveFrameMatchesFiniteDifferences) {
   EXPECT_NEAR(f0.t[0], 1.0, 1e-3);
 }
 
+TEST(TangentialBudget, CurveFrameWithASpanHintIsTheSameFrame) {
+  // Any hint (the span, a neighbour, out of range) gives the frame without one, bit for bit, and
+  // leaves the span of u (find_span) behind; also where C' vanishes (the doubled point).
+  const NurbsCurve c = make_nurbs({{0, 0, 0}, {0, 0, 0}, {1, 0.2, 0}, {2, 1.5, 0.3}, {2.5, 3, 0.1}, {4, 3.5, 0}, {5, 3, 1}},
+                                  {1.0, 1.0, 1.5, 0.8, 1.2, 1.0, 0.7}, 4);
+  const NurbsView v = c.view();
+  int frames = 0;
+  for (int i = 0; i <= 200; ++i) {
+    const double u = v.u_min() + (v.u_max() - v.u_min()) * i / 200.0;
+    const CurveFrame ref = nurbs_frame(v, u);
+    for (int hint = -1; hint <= v.count + 1; ++hint) {
+      int h = hint;
+      const CurveFrame f = nurbs_frame(v, u, h);
+      EXPECT_EQ(f.ok, ref.ok);
+      EXPECT_EQ(f.p, ref.p) << "u=" << u << " hint " << hint;
+      EXPECT_EQ(f.t, ref.t) << "u=" << u << " hint " << hint;
+      EXPECT_EQ(f.k, ref.k) << "u=" << u << " hint " << hint;
+      EXPECT_EQ(h, find_span(v, u));
+      frames += f.ok ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(frames, 201 * (v.count + 3));
+}
+
 }  // namespace
 }  // namespace pcnc

@@ -15,6 +15,15 @@ constexpr int kSamplesPerSpan = 16;  // dense sampling of each knot span for the
 constexpr int kBisections = 60;      // parameter bisections per extreme (to double precision)
 constexpr int kRefineRounds = 30;    // knot-insertion rounds of refine_into_travel
 
+// The feed schedule's sampling of a smoothed curve (Move::smoothed): half the 128 per span of a
+// programmed curve. A smoothing fit is a C2 cubic within the path tolerance of G1 moves turning
+// at most the smoothing angle, its spans refined where the path bends (down to 1 um): its
+// curvature varies smoothly inside a span; the 128 are for programmed curves' cusps
+// (nurbs_move.hpp). Half the front end's time (docs/smoothing.md, "Front-end cost"). At 32 the
+// rt's setpoints on blur_torus passed an axis's velocity limit by more than 1e-9
+// (tests/test_surfacing_limits.cpp), at 48 too; at 64 they keep it.
+constexpr int kSmoothedSamplesPerSpan = 64;
+
 bool outside(const Vec3& p, const MachineConfig& c, double tol) {
   for (int i = 0; i < kAxes; ++i) {
     const auto k = static_cast<std::size_t>(i);
@@ -45,12 +54,13 @@ void nurbs_extreme_points(const NurbsCurve& curve, std::vector<Vec3>& out) {
   for (int j = v.degree; j < v.count; ++j) {
     const double a = v.knots[j], b = v.knots[j + 1];
     if (!(a < b)) continue;
-    NurbsEval prev = nurbs_eval(v, a);
+    int span = j;  // every sample and bisection point of this span lies in it
+    NurbsEval prev = nurbs_eval(v, a, span);
     double u_prev = a;
     for (int s = 1; s <= kSamplesPerSpan; ++s) {
       // the last sample of a span sits just inside it: at b the derivative is the next span's
       const double u = s == kSamplesPerSpan ? std::nextafter(b, a) : a + (b - a) * s / kSamplesPerSpan;
-      const NurbsEval e = nurbs_eval(v, u);
+      const NurbsEval e = nurbs_eval(v, u, span);
       out.push_back(e.p);
       for (std::size_t i = 0; i < 3; ++i) {
         if (!((prev.d1[i] < 0.0 && e.d1[i] > 0.0) || (prev.d1[i] > 0.0 && e.d1[i] < 0.0))) continue;
@@ -59,7 +69,7 @@ void nurbs_extreme_points(const NurbsCurve& curve, std::vector<Vec3>& out) {
         for (int k = 0; k < kBisections && lo < hi; ++k) {
           const double mid = 0.5 * (lo + hi);
           if (mid <= lo || mid >= hi) break;
-          const double d = nurbs_eval(v, mid).d1[i];
+          const double d = nurbs_derivative(v, mid, span)[i];  // nurbs_eval's d1, bit for bit
           if ((d < 0.0) == rising) {
             lo = mid;
           } else {
@@ -117,6 +127,7 @@ NurbsMoveBlocks plan_nurbs_move(const Move& m, const MachineConfig& config) {
   if (!out.error.empty()) return out;
   NurbsLimits lim = nurbs_limits(config, m.feed_mm_s);
   lim.samples_per_span = schedule_samples_per_span(curve);
+  if (m.smoothed) lim.samples_per_span = std::min(lim.samples_per_span, kSmoothedSamplesPerSpan);
   NurbsBlocks nb = plan_nurbs_blocks_memo(curve, lim);  // the check's plan, when the stream asks again
   if (!nb.error.empty()) {
     out.error = nb.error;

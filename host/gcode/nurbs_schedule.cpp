@@ -164,10 +164,11 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
 
   out.samples.resize(us.size());
   const std::vector<double> arc = nurbs_arc_lengths_at(v, us);
+  int span = v.degree;  // the samples go forward: each one's span is tried first
   for (std::size_t j = 0; j < us.size(); ++j) {
     FeedSample& fs = out.samples[j];
     fs.u = us[j];
-    const CurveFrame f = nurbs_frame(v, fs.u);
+    const CurveFrame f = nurbs_frame(v, fs.u, span);
     fs.has_frame = f.ok;
     fs.t = f.t;
     fs.k = f.k;

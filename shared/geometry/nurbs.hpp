@@ -93,6 +93,10 @@ std::string validate(const NurbsView& curve);
 /// domain is clamped to it (u_max maps to the last non-empty span).
 int find_span(const NurbsView& c, double u);
 
+/// The same span, trying `hint` first (a caller walking along the curve passes the span it
+/// found last): hint when knots[hint] <= u < knots[hint+1], else find_span(c, u).
+int find_span(const NurbsView& c, double u, int hint);
+
 /// C(u). u is clamped to the domain.
 Vec3 nurbs_point(const NurbsView& c, double u);
 
@@ -101,9 +105,14 @@ Vec3 nurbs_point(const NurbsView& c, double u);
 /// the derivatives are those of the span starting there (right-hand side).
 NurbsEval nurbs_eval(const NurbsView& c, double u);
 
+/// The same, with the knot span tried first and updated (find_span with a hint): for a
+/// caller that evaluates many parameters in order. The same values bit for bit.
+NurbsEval nurbs_eval(const NurbsView& c, double u, int& span_hint);
+
 /// C'(u) alone: the same value as nurbs_eval(c, u).d1, bit for bit (the same operations),
 /// without the second derivative's basis work. The arc-length quadratures use it.
 Vec3 nurbs_derivative(const NurbsView& c, double u);
+Vec3 nurbs_derivative(const NurbsView& c, double u, int& span_hint);
 
 /// Unit tangent at u; where the parametric speed vanishes (a doubled control point, as in
 /// LinuxCNC programs that repeat the start point) the direction of C'' is used instead,

@@ -7,14 +7,15 @@ namespace pcnc {
 namespace {
 
 // 4-point Gauss–Legendre on [a, b] of the parametric speed |C'(u)|.
-double gauss4_speed(const NurbsView& c, double a, double b) {
+// [a, b] lies in the knot span `span` (tried first for each point).
+double gauss4_speed(const NurbsView& c, double a, double b, int span) {
   static constexpr double kX[2] = {0.33998104358485626, 0.86113631159405258};
   static constexpr double kW[2] = {0.65214515486254614, 0.34785484513745386};
   const double mid = 0.5 * (a + b);
   const double half = 0.5 * (b - a);
   double sum = 0.0;
   for (int g = 0; g < 2; ++g) {
-    sum += kW[g] * (norm(nurbs_derivative(c, mid - half * kX[g])) + norm(nurbs_derivative(c, mid + half * kX[g])));
+    sum += kW[g] * (norm(nurbs_derivative(c, mid - half * kX[g], span)) + norm(nurbs_derivative(c, mid + half * kX[g], span)));
   }
   return half * sum;
 }
@@ -40,7 +41,7 @@ std::vector<double> nurbs_arc_lengths_at(const NurbsView& c, const std::vector<d
     piece.assign(e - j, 0.0);
     double sum = 0.0;
     for (std::size_t k = j; k < e; ++k) {
-      piece[k - j] = us[k] > us[k - 1] ? gauss4_speed(c, us[k - 1], us[k]) : 0.0;
+      piece[k - j] = us[k] > us[k - 1] ? gauss4_speed(c, us[k - 1], us[k], span) : 0.0;
       sum += piece[k - j];
     }
     const double whole = nurbs_arc_length(c, us[j - 1], us[e - 1]);

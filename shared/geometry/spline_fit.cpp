@@ -160,22 +160,104 @@ struct Deviation {
   double d;
 };
 
-// Distance from p to the polyline pts[lo..hi] (segments lo..hi-1).
-double to_polyline(const Vec3& p, const std::vector<Vec3>& pts, std::size_t lo, std::size_t hi) {
-  double best = norm(p - pts[lo]);
-  for (std::size_t i = lo; i < hi; ++i) best = std::min(best, point_segment_distance(p, pts[i], pts[i + 1]));
+// A polyline prepared for many distance queries: each segment's start, direction vector and
+// squared length (point_segment_distance's operations, done once), and a ball around it (its
+// midpoint and half length) that bounds the distance from below.
+struct SegmentChain {
+  std::vector<Vec3> a, ab, mid;
+  std::vector<double> len2, half;
+  explicit SegmentChain(const std::vector<Vec3>& pts) {
+    const std::size_t n = pts.size() > 0 ? pts.size() - 1 : 0;
+    a.resize(n);
+    ab.resize(n);
+    mid.resize(n);
+    len2.resize(n);
+    half.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      a[i] = pts[i];
+      ab[i] = pts[i + 1] - pts[i];
+      len2[i] = dot(ab[i], ab[i]);
+      mid[i] = pts[i] + 0.5 * ab[i];
+      half[i] = 0.5 * std::sqrt(len2[i]);
+    }
+    make_chunks(pts);
+  }
+  // Balls around kChunk consecutive segments (centre, radius): a whole chunk is skipped at once.
+  static constexpr std::size_t kChunk = 8;
+  std::vector<Vec3> chunk_mid;
+  std::vector<double> chunk_radius;
+  void make_chunks(const std::vector<Vec3>& pts) {
+    const std::size_t n = a.size();
+    for (std::size_t c = 0; c * kChunk < n; ++c) {
+      const std::size_t first = c * kChunk, last = std::min(n, first + kChunk);  // points first..last
+      const Vec3 centre = 0.5 * (pts[first] + pts[last]);
+      double r2 = 0.0;
+      for (std::size_t i = first; i <= last; ++i) r2 = std::max(r2, dot(pts[i] - centre, pts[i] - centre));
+      chunk_mid.push_back(centre);
+      chunk_radius.push_back(std::sqrt(r2));
+    }
+  }
+  // The square of point_segment_distance(p, pts[i], pts[i + 1]), the same operations.
+  double dist2(const Vec3& p, std::size_t i) const {
+    const double s = len2[i] > 0.0 ? std::clamp(dot(p - a[i], ab[i]) / len2[i], 0.0, 1.0) : 0.0;
+    const Vec3 d = a[i] + s * ab[i] - p;
+    return dot(d, d);
+  }
+};
+
+// A segment is skipped when its ball is farther than the best distance so far plus this
+// (mm): far above the rounding of the coordinates, so that a skipped segment is never the
+// nearest and the result is the full scan's, bit for bit.
+constexpr double kSkipMarginMm = 1e-9;
+
+// Distance from p to the polyline pts[lo..hi] (segments lo..hi-1 of `chain`), starting with
+// segment `near` (the one at p's parameter, usually the nearest); the others are skipped when
+// their ball is farther than the best so far. sqrt is monotonic, so the smallest of the
+// squares gives the smallest distance exactly.
+double to_polyline(const Vec3& p, const std::vector<Vec3>& pts, const SegmentChain& chain, std::size_t lo, std::size_t hi,
+                   std::size_t near) {
+  const Vec3 d0 = p - pts[lo];
+  double best2 = dot(d0, d0);
+  near = std::clamp(near, lo, hi > lo ? hi - 1 : lo);
+  if (near < hi) best2 = std::min(best2, chain.dist2(p, near));
+  double best = std::sqrt(best2);
+  for (std::size_t i = lo; i < hi; ++i) {
+    if (i == near) continue;
+    if (i % SegmentChain::kChunk == 0 && i + SegmentChain::kChunk <= hi) {  // a whole chunk inside the window
+      const std::size_t c = i / SegmentChain::kChunk;
+      const Vec3 m = chain.chunk_mid[c] - p;
+      const double reach = best + chain.chunk_radius[c] + kSkipMarginMm;
+      if (dot(m, m) > reach * reach && !(near >= i && near < i + SegmentChain::kChunk)) {
+        i += SegmentChain::kChunk - 1;
+        continue;
+      }
+    }
+    const Vec3 m = chain.mid[i] - p;
+    const double reach = best + chain.half[i] + kSkipMarginMm;
+    if (dot(m, m) > reach * reach) continue;
+    const double d2 = chain.dist2(p, i);
+    if (d2 < best2) {
+      best2 = d2;
+      best = std::sqrt(best2);
+    }
+  }
   return best;
 }
 
 // Window [lo, hi] of indices of the sorted `t` around parameter u: at least `min_count`
-// entries and `min_width` of parameter on each side.
-std::pair<std::size_t, std::size_t> window(const std::vector<double>& t, double u, std::size_t min_count, double min_width) {
+// entries and `min_width` of parameter on each side. `at` receives the index j with
+// t[j] <= u < t[j + 1] (0 before the first).
+std::pair<std::size_t, std::size_t> window(const std::vector<double>& t, double u, std::size_t min_count, double min_width,
+                                           std::size_t& at) {
   const std::size_t n = t.size();
   std::size_t j = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), u) - t.begin());
   j = j > 0 ? j - 1 : 0;
-  std::size_t lo = j, hi = std::min(j + 1, n - 1);
-  while (lo > 0 && (j - lo < min_count || u - t[lo] < min_width)) --lo;
-  while (hi + 1 < n && (hi - j < min_count || t[hi] - u < min_width)) ++hi;
+  at = j;
+  // first the count (one step), then the width one index at a time
+  std::size_t lo = j >= min_count ? j - min_count : 0;
+  std::size_t hi = std::min(std::max(j + 1, j + min_count), n - 1);
+  while (lo > 0 && u - t[lo] < min_width) --lo;
+  while (hi + 1 < n && t[hi] - u < min_width) ++hi;
   return {lo, hi};
 }
 
@@ -194,12 +276,14 @@ std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>&
   for (double u : su) sp.push_back(nurbs_point(v, u));
   const double span = t.back() / static_cast<double>(std::max<std::size_t>(1, su.size() - 1)) * samples_per_span;
   const double width = 0.05 + 2.0 * span / samples_per_span;
+  const SegmentChain programmed(pts), sampled(sp);
   std::vector<Deviation> out;
   out.reserve(su.size() + 4 * pts.size());
   // the curve against the programmed segments
   for (std::size_t k = 0; k < su.size(); ++k) {
-    const auto [lo, hi] = window(t, su[k], 4, width);
-    out.push_back({su[k], to_polyline(sp[k], pts, lo, hi)});
+    std::size_t at = 0;
+    const auto [lo, hi] = window(t, su[k], 4, width, at);
+    out.push_back({su[k], to_polyline(sp[k], pts, programmed, lo, hi, at)});
   }
   // the programmed points and segments (quarter points) against the sampled curve
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -207,8 +291,9 @@ std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>&
       const double f = q / 4.0;
       const Vec3 p = q == 0 ? pts[i] : pts[i] + f * (pts[i + 1] - pts[i]);
       const double u = q == 0 ? t[i] : t[i] + f * (t[i + 1] - t[i]);
-      const auto [lo, hi] = window(su, u, static_cast<std::size_t>(2 * samples_per_span), width);
-      out.push_back({u, to_polyline(p, sp, lo, hi)});
+      std::size_t at = 0;
+      const auto [lo, hi] = window(su, u, static_cast<std::size_t>(2 * samples_per_span), width, at);
+      out.push_back({u, to_polyline(p, sp, sampled, lo, hi, at)});
     }
   }
   return out;

@@ -53,11 +53,19 @@ double reachable_v2(double v2_from, double ds, const Vec3& t, const Vec3& k, con
 }
 
 CurveFrame nurbs_frame(const NurbsView& c, double u) {
-  NurbsEval e = nurbs_eval(c, u);
+  int span = c.degree;
+  return nurbs_frame(c, u, span);
+}
+
+CurveFrame nurbs_frame(const NurbsView& c, double u, int& span_hint) {
+  NurbsEval e = nurbs_eval(c, u, span_hint);
   CurveFrame f;
   f.p = e.p;
   const double scale = (c.u_max() - c.u_min()) * 1e-7;
-  if (!(norm(e.d1) > 1e-9 * (norm(e.d2) * scale + 1e-300))) e = nurbs_eval(c, u < c.u_max() ? u + scale : u - scale);
+  if (!(norm(e.d1) > 1e-9 * (norm(e.d2) * scale + 1e-300))) {
+    int beside = span_hint;
+    e = nurbs_eval(c, u < c.u_max() ? u + scale : u - scale, beside);
+  }
   const double sp = norm(e.d1);
   if (!(sp > 0.0)) return f;
   f.ok = true;

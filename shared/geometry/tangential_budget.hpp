@@ -48,5 +48,7 @@ struct CurveFrame {
   Vec3 k{};
 };
 CurveFrame nurbs_frame(const NurbsView& c, double u);
+/// The same, with the knot span tried first and updated (nurbs_eval's span hint).
+CurveFrame nurbs_frame(const NurbsView& c, double u, int& span_hint);
 
 }  // namespace pcnc
