@@ -13,13 +13,14 @@ const char* to_string(FeedResult r) {
   return "?";
 }
 
-RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_ns)
-    : link_(link), check_period_s_(check_period_s), spin_ns_(spin_ns) {}
+RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_ns, std::uint64_t yield_every_ns)
+    : link_(link), check_period_s_(check_period_s), spin_ns_(spin_ns), yield_every_ns_(yield_every_ns) {}
 
 FeedResult RingFeeder::wait_for_slot(const std::atomic<bool>* abort) {
   auto& shm = link_.shm();
   for (;;) {
-    if (shm.slot_freed.wait_until([&] { return shm.motion.begin_push() != nullptr; }, check_period_s_, spin_ns_)) {
+    if (shm.slot_freed.wait_until([&] { return shm.motion.begin_push() != nullptr; }, check_period_s_, spin_ns_,
+                                 yield_every_ns_)) {
       return FeedResult::kPushed;
     }
     if (abort && abort->load()) return FeedResult::kAborted;

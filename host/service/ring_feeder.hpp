@@ -27,8 +27,11 @@ class RingFeeder {
  public:
   /// `spin_ns`: how long to spin before sleeping when the ring is full. Under the virtual
   /// clock the rt frees slots every few microseconds and both processes race through the
-  /// program: a longer spin keeps the hand-off off the scheduler's path.
-  explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000);
+  /// program: a longer spin keeps the hand-off off the scheduler's path. `yield_every_ns` > 0:
+  /// the spin gives its core away that often (Wakeup::wait_until), so that on a busy machine
+  /// the rt (or its trace writer) sharing the host's core is not starved by the host's wait.
+  explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000,
+                      std::uint64_t yield_every_ns = 0);
 
   /// Puts the next block into the ring. `fill(Block&)` is a stream: each call writes the
   /// next block and returns true, or returns false when there are no more; the feeder may
@@ -97,6 +100,7 @@ class RingFeeder {
   RtLink& link_;
   double check_period_s_;
   std::uint64_t spin_ns_;
+  std::uint64_t yield_every_ns_;
   std::uint64_t seq_ = 0;
   bool staging_ = true;
   LatencyHistogram refill_;

@@ -14,6 +14,11 @@ namespace pcnc {
 namespace {
 constexpr std::uint64_t kNsPerS = 1000000000ull;
 constexpr int kVirtualPublishCycles = 8;  // 4 ms of machine time, a few µs of wall time
+// Virtual clock, waiting for the host's next block: spin up to 200 µs (the host is producing:
+// a staged block arrives within microseconds), giving the core away every 10 µs of it
+// (Wakeup::wait_until), so that on a busy machine a host sharing the rt's core gets to run.
+constexpr std::uint64_t kVirtualSpinNs = 200000;
+constexpr std::uint64_t kVirtualYieldEveryNs = 10000;
 
 timespec to_timespec(std::uint64_t ns) {
   timespec t{};
@@ -200,7 +205,7 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
             [&] {
               return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) || stop.level() > 0;
             },
-            0.01, 200000);  // the host is producing: spin up to 200 µs before sleeping
+            0.01, kVirtualSpinNs, kVirtualYieldEveryNs);
         last = monotonic_ns();
         // Still waiting for the host (and it is alive): do not advance time.
         if (machine_->wants_more_blocks(shm_.motion) && host_alive(last) && stop.level() == 0) continue;

@@ -154,7 +154,8 @@ void TraceWriter::run() {
       flush();
       last_flush = now;
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::unique_lock<std::mutex> lock(wake_mutex_);
+    wake_.wait_for(lock, std::chrono::milliseconds(2), [this] { return stop_.load(std::memory_order_acquire); });
   }
   drain();
   if (builder_) finish_compact();
@@ -163,7 +164,11 @@ void TraceWriter::run() {
 
 void TraceWriter::close() {
   if (thread_.joinable()) {
-    stop_.store(true, std::memory_order_release);
+    {
+      std::lock_guard<std::mutex> lock(wake_mutex_);
+      stop_.store(true, std::memory_order_release);
+    }
+    wake_.notify_all();
     thread_.join();
   }
   for (auto [f, path] : {std::pair{&file_, &files_.csv}, std::pair{&compact_, &files_.compact}}) {
