@@ -2,10 +2,16 @@
 // using the host's RingFeeder (sleeping on the rt's slot-freed semaphore) and a consumer in the
 // role of the rt pass 1,000,000 blocks with random delays on both sides. Every block arrives
 // once, in order, intact, and no slot is overwritten while the consumer still holds it.
+// Then the virtual clock's lock step on one core: the feeder with the virtual clock's spin
+// that gives its core away, and a consumer that, like the rt under --clock virtual, takes a
+// block only from a full ring and waits for the next with the same yielding spin; both
+// processes pinned to one CPU, where a spin that kept its core would starve the other.
 #include <gtest/gtest.h>
+#include <sched.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <random>
 
@@ -119,6 +125,80 @@ TEST(RingTwoProcess, MillionBlocksNoLossNoDuplicateNoReorderNoOverwrite) {
   EXPECT_EQ(shm.motion.pushed(), total);
   EXPECT_TRUE(shm.motion.empty());
   EXPECT_EQ(max_fill, kRingSlots) << "the producer filled the ring but never beyond";
+}
+
+TEST(RingTwoProcess, VirtualClockLockStepOnOneCoreFeedsEveryBlockIntoAFullRing) {
+  const std::uint64_t total = std::min<std::uint64_t>(block_count(), 20000);
+  MachineConfig config;
+  config.process.shm_name = "/pcnc-test-ring-vc-" + std::to_string(getpid());
+  config.process.rt_timeout_s = 60.0;
+  RtSegment rt(config.process.shm_name);
+  SharedSegment& shm = rt.shm();
+  shm.header.rt_heartbeat_ns.store(monotonic_ns());
+
+  // one CPU for both processes (the child inherits the mask); the old mask is put back at the end
+  cpu_set_t old_mask, one;
+  ASSERT_EQ(sched_getaffinity(0, sizeof old_mask, &old_mask), 0);
+  int cpu = 0;
+  while (cpu < CPU_SETSIZE && !CPU_ISSET(cpu, &old_mask)) ++cpu;
+  CPU_ZERO(&one);
+  CPU_SET(cpu, &one);
+  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+
+  const pid_t producer = fork();
+  ASSERT_GE(producer, 0);
+  if (producer == 0) {
+    int code = 0;
+    try {
+      RtLink link(config);
+      RingFeeder feeder(link, 0.02, 200000, 10000);  // the host's settings under the virtual clock (job_runner.cpp)
+      std::uint64_t made = 0;
+      auto fill = [&](Block& b) {
+        if (made >= total) return false;
+        fill_block(b, ++made);
+        return true;
+      };
+      for (;;) {
+        const FeedResult r = feeder.push(fill);
+        if (r == FeedResult::kEndOfInput) break;
+        if (r != FeedResult::kPushed) {
+          code = 3;
+          break;
+        }
+      }
+      if (code == 0 && feeder.pushed() != total) code = 5;
+    } catch (...) {
+      code = 4;
+    }
+    _exit(code);
+  }
+
+  std::uint64_t expected = 1, bad = 0, timeouts = 0;
+  while (expected <= total) {
+    shm.header.rt_heartbeat_ns.store(monotonic_ns());
+    // the rt's rule under the virtual clock: a full ring, or everything there is
+    const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(kRingSlots, total - expected + 1));
+    if (shm.motion.size() < want) {
+      if (!shm.block_published.wait_until([&] { return shm.motion.size() >= want; }, 5.0, 200000, 10000)) ++timeouts;
+      continue;
+    }
+    if (!block_matches(shm.motion.peek(0), expected) && ++bad < 5) {
+      ADD_FAILURE() << "block " << expected << " arrived as seq " << shm.motion.peek(0).seq;
+    }
+    shm.motion.pop();
+    shm.header.slot_freed_ns.store(monotonic_ns());
+    shm.slot_freed.notify();
+    ++expected;
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(producer, &status, 0), producer);
+  EXPECT_EQ(sched_setaffinity(0, sizeof old_mask, &old_mask), 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "producer failed (3: push refused, 4: exception, 5: count)";
+  EXPECT_EQ(bad, 0u) << "lost, duplicated or reordered blocks";
+  EXPECT_EQ(timeouts, 0u) << "a block published without waking the consumer (it waited out its 5 s)";
+  EXPECT_EQ(shm.motion.pushed(), total);
+  EXPECT_TRUE(shm.motion.empty());
 }
 
 }  // namespace
