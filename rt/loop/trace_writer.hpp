@@ -84,6 +84,7 @@ class TraceWriter {
  private:
   void run();
   void drain();
+  void take(const TraceEntry& e);  // one row into the files
   void flush();
   void fail(const std::string& path, const char* what, int err);
   void write_compact_run(const CompactRun& run);
