@@ -2,10 +2,11 @@
 // using the host's RingFeeder (sleeping on the rt's slot-freed semaphore) and a consumer in the
 // role of the rt pass 1,000,000 blocks with random delays on both sides. Every block arrives
 // once, in order, intact, and no slot is overwritten while the consumer still holds it.
-// Then the virtual clock's lock step on one core: the feeder with the virtual clock's spin
-// that gives its core away, and a consumer that, like the rt under --clock virtual, takes a
-// block only from a full ring and waits for the next with the same yielding spin; both
-// processes pinned to one CPU, where a spin that kept its core would starve the other.
+// Then the virtual clock's lock step on one core: the feeder with the virtual clock's wait
+// (spin while the consumer's heartbeat moves, then sleep), and a consumer that, like the rt
+// under --clock virtual, takes a block only from a full ring and waits for the next with the
+// rt's short spin; both processes pinned to one CPU, where a wait that kept spinning would
+// take the core from the side it waits for.
 #include <gtest/gtest.h>
 #include <sched.h>
 #include <sys/wait.h>
@@ -151,7 +152,7 @@ TEST(RingTwoProcess, VirtualClockLockStepOnOneCoreFeedsEveryBlockIntoAFullRing) 
     int code = 0;
     try {
       RtLink link(config);
-      RingFeeder feeder(link, 0.02, 200000, 10000);  // the host's settings under the virtual clock (job_runner.cpp)
+      RingFeeder feeder(link, 0.02, 20000, 50000);  // the host's settings under the virtual clock (job_runner.cpp)
       std::uint64_t made = 0;
       auto fill = [&](Block& b) {
         if (made >= total) return false;
@@ -179,7 +180,7 @@ TEST(RingTwoProcess, VirtualClockLockStepOnOneCoreFeedsEveryBlockIntoAFullRing) 
     // the rt's rule under the virtual clock: a full ring, or everything there is
     const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(kRingSlots, total - expected + 1));
     if (shm.motion.size() < want) {
-      if (!shm.block_published.wait_until([&] { return shm.motion.size() >= want; }, 5.0, 200000, 10000)) ++timeouts;
+      if (!shm.block_published.wait_until([&] { return shm.motion.size() >= want; }, 5.0, 20000)) ++timeouts;
       continue;
     }
     if (!block_matches(shm.motion.peek(0), expected) && ++bad < 5) {

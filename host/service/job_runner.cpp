@@ -76,10 +76,9 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     return finish(JobEnd::kFault, std::string("machine is ") + to_string(st.state) + ", not IDLE: cannot start a program");
   }
 
-  // Virtual clock: spin up to 200 µs for a free slot, giving the core away every 10 µs of it
-  // (see RingFeeder); real clock: 20 µs, never yielding.
-  const bool virtual_clock = st.clock_virtual != 0;
-  RingFeeder feeder(link_, 0.02, virtual_clock ? 200000 : 20000, virtual_clock ? 10000 : 0);
+  // Waiting for a free slot: spin 20 µs, then sleep; under the virtual clock spin first for as
+  // long as the rt keeps running (its heartbeat moved within the last 50 µs; see RingFeeder).
+  RingFeeder feeder(link_, 0.02, 20000, st.clock_virtual ? 50000 : 0);
   feeder.set_staging(staging_);
   Command start;
   start.kind = CommandKind::kProgramStart;

@@ -14,11 +14,13 @@ namespace pcnc {
 namespace {
 constexpr std::uint64_t kNsPerS = 1000000000ull;
 constexpr int kVirtualPublishCycles = 8;  // 4 ms of machine time, a few µs of wall time
-// Virtual clock, waiting for the host's next block: spin up to 200 µs (the host is producing:
-// a staged block arrives within microseconds), giving the core away every 10 µs of it
-// (Wakeup::wait_until), so that on a busy machine a host sharing the rt's core gets to run.
-constexpr std::uint64_t kVirtualSpinNs = 200000;
-constexpr std::uint64_t kVirtualYieldEveryNs = 10000;
+// Virtual clock, waiting for the host's next block: spin up to 20 µs, then sleep until the
+// host publishes it. A host with the block staged copies it in within 1-2 µs; one that is
+// still making it (a smoothed curve) or has no core (a busy machine) may take milliseconds,
+// and a longer spin would only take the core from it (or from the trace writer). With both
+// processes pinned to one CPU, LHchips4 at tolerance 0 replayed in 0.63 s with this spin,
+// 1.4 s with 50 µs, 5 s with the 200 µs it was (docs/replay.md).
+constexpr std::uint64_t kVirtualSpinNs = 20000;
 constexpr std::uint32_t kVirtualTimedCycles = 8;  // cycles timed with one clock read (run())
 
 timespec to_timespec(std::uint64_t ns) {
@@ -220,7 +222,7 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
             [&] {
               return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) || stop.level() > 0;
             },
-            0.01, kVirtualSpinNs, kVirtualYieldEveryNs);
+            0.01, kVirtualSpinNs);
         last = monotonic_ns();
         // Still waiting for the host (and it is alive): do not advance time.
         if (machine_->wants_more_blocks(shm_.motion) && host_alive(last) && stop.level() == 0) continue;

@@ -6,14 +6,8 @@
 // notify() from its cycle. Announce-then-recheck on one side and change-then-check on the
 // other (both sequentially consistent) mean no wake-up is lost; a stale post only causes one
 // spurious return, which callers handle by re-checking their condition.
-//
-// Under the virtual clock both processes hand blocks to each other in lock step and spin
-// while they wait; a spin that never lets go of its core starves the other process when the
-// two share one (a busy machine), so those waits yield the core every `yield_every_ns`
-// (sched_yield: returns at once when nothing else wants the core).
 #pragma once
 
-#include <sched.h>
 #include <semaphore.h>
 
 #include <atomic>
@@ -42,28 +36,16 @@ class Wakeup {
   /// Sleeper: blocks until `ready()` is true or `timeout_s` passes. Returns ready().
   /// It first spins for up to `spin_ns` (default 20 µs): when the other side is about to
   /// change the condition, that saves two system calls and a context switch; after that it
-  /// sleeps on the semaphore. With `yield_every_ns` > 0 the spin gives its core away
-  /// (sched_yield) each time that much of it has passed, so a spinner sharing a core with the
-  /// process it waits for lets that process run (0: never; the real clock's host).
+  /// sleeps on the semaphore.
   template <typename Ready>
-  bool wait_until(Ready&& ready, double timeout_s, std::uint64_t spin_ns = 20000, std::uint64_t yield_every_ns = 0) {
+  bool wait_until(Ready&& ready, double timeout_s, std::uint64_t spin_ns = 20000) {
     if (ready()) return true;
     if (spin_ns > 0) {
-      const std::uint64_t start = now_ns();
-      const std::uint64_t spin_end = start + spin_ns;
-      std::uint64_t next_yield = yield_every_ns > 0 ? start + yield_every_ns : spin_end;
+      const std::uint64_t spin_end = now_ns() + spin_ns;
       for (unsigned i = 1;; ++i) {
         cpu_relax();
         if (ready()) return true;
-        if ((i & 63) == 0) {
-          const std::uint64_t now = now_ns();
-          if (now >= spin_end) break;
-          if (now >= next_yield) {
-            sched_yield();
-            if (ready()) return true;
-            next_yield = now_ns() + yield_every_ns;
-          }
-        }
+        if ((i & 63) == 0 && now_ns() >= spin_end) break;
       }
     }
     timespec deadline{};
