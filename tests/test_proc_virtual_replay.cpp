@@ -1,10 +1,12 @@
 // test_proc_virtual_replay.cpp — `pcnc run --clock virtual` is a deterministic replay whatever
 // the scheduling. The rt takes a cycle only with a full ring (or the program's end queued), so
-// the host and the rt hand every block over in lock step, and both wait for each other with a
-// spin that gives its core away (docs/replay.md, "Replay speed with a report"). A program of
+// the host and the rt hand every block over in lock step, each waiting for the other with a
+// short spin and then the semaphore (docs/architecture.md, "The virtual clock's lock step";
+// docs/replay.md, "Replay speed with a report"). A program of
 // 1,200 short moves (one block each: tolerance 0) is run twice on whatever cores the machine
 // has, and once with both processes and the rt's trace writer pinned to one CPU, where a wait
-// that kept its core would leave the other side nothing to run on: the three traces hold the
+// that kept its core would leave the other side nothing to run on (the lock step's worst
+// schedule, and the most different from the first two): the three traces hold the
 // same rows from the program's first moving cycle to its last, the summaries the same machine
 // time, and every block the host sent was done, with no ring underrun.
 #include <gtest/gtest.h>
