@@ -10,7 +10,6 @@
 // same rows from the program's first moving cycle to its last, the summaries the same machine
 // time, and every block the host sent was done, with no ring underrun.
 #include <gtest/gtest.h>
-#include <sched.h>
 
 #include <cmath>
 #include <fstream>
@@ -18,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "one_cpu.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 
@@ -92,17 +92,14 @@ TEST(VirtualReplay, SameTraceOnTwoCoresAndOnOneEveryBlockDone) {
   const Replay first = replay(dir, config, program, "first");
   const Replay second = replay(dir, config, program, "second");
 
-  cpu_set_t old_mask, one;
-  ASSERT_EQ(sched_getaffinity(0, sizeof old_mask, &old_mask), 0);
-  int cpu = 0;
-  while (cpu < CPU_SETSIZE && !CPU_ISSET(cpu, &old_mask)) ++cpu;
-  CPU_ZERO(&one);
-  CPU_SET(cpu, &one);
-  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);  // pcnc and both processes inherit it
-  const Replay pinned = replay(dir, config, program, "pinned");
-  ASSERT_EQ(sched_setaffinity(0, sizeof old_mask, &old_mask), 0);
+  Replay pinned;
+  {
+    OneCpu one_cpu;  // pcnc and both processes inherit it
+    ASSERT_TRUE(one_cpu.pinned());
+    pinned = replay(dir, config, program, "pinned");
+  }
 
-  for (const Replay* r : {&first, &second, &pinned}) {
+  for (const Replay* r : {&first, &second, static_cast<const Replay*>(&pinned)}) {
     ASSERT_TRUE(r->summary.is_object());
     EXPECT_EQ(r->summary["job"]["end"], "completed");
     EXPECT_EQ(r->summary["job"]["blocks_sent"], r->summary["status"]["blocks_done"]) << "every block sent was done";
