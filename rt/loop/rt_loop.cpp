@@ -19,7 +19,7 @@ constexpr int kVirtualPublishCycles = 8;  // 4 ms of machine time, a few µs of 
 // still making it (a smoothed curve) or has no core (a busy machine) may take milliseconds,
 // and a longer spin would only take the core from it (or from the trace writer). With both
 // processes pinned to one CPU, LHchips4 at tolerance 0 replayed in 0.63 s with this spin,
-// 1.4 s with 50 µs, 5 s with the 200 µs it was (docs/replay.md).
+// 1.4 s with 50 µs (the host's wait as now), 5 s when both sides spun 200 µs (docs/replay.md).
 constexpr std::uint64_t kVirtualSpinNs = 20000;
 constexpr std::uint32_t kVirtualTimedCycles = 8;  // cycles timed with one clock read (run())
 
