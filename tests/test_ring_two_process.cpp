@@ -3,7 +3,7 @@
 // role of the rt pass 1,000,000 blocks with random delays on both sides. Every block arrives
 // once, in order, intact, and no slot is overwritten while the consumer still holds it.
 // Then the virtual clock's lock step on one core: the feeder with the virtual clock's wait
-// (spin while the consumer's heartbeat moves, then sleep), and a consumer that, like the rt
+// (spin while the consumer's cycles count up the scope ring, then sleep), and a consumer that, like the rt
 // under --clock virtual, takes a block only from a full ring and waits for the next with the
 // rt's short spin; both processes pinned to one CPU, where a wait that kept spinning would
 // take the core from the side it waits for.
@@ -166,16 +166,17 @@ TEST(RingTwoProcess, VirtualClockLockStepOnOneCoreFeedsEveryBlockIntoAFullRing) 
   ASSERT_GE(producer, 0);
   if (producer == 0) {
     // the host's settings under the virtual clock (job_runner.cpp)
-    produce(config, total, [](RtLink& link) { return RingFeeder(link, 0.02, 20000, 50000); }, false);
+    produce(config, total, [](RtLink& link) { return RingFeeder(link, 0.02, 20000, 20000); }, false);
   }
 
   std::uint64_t expected = 1, bad = 0, timeouts = 0;
   while (expected <= total) {
     shm.header.rt_heartbeat_ns.store(monotonic_ns());
+    shm.scope.publish(TraceSample{});  // a "cycle": the feeder spins while these count up
     // the rt's rule under the virtual clock: a full ring, or everything there is
     const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(kRingSlots, total - expected + 1));
     if (shm.motion.size() < want) {
-      if (!shm.block_published.wait_until([&] { return shm.motion.size() >= want; }, 5.0, 20000)) ++timeouts;
+      if (!shm.block_published.wait_until([&] { return shm.motion.size() >= want; }, 5.0, 10000)) ++timeouts;
       continue;
     }
     if (!block_matches(shm.motion.peek(0), expected) && ++bad < 5) {

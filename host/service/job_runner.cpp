@@ -77,8 +77,8 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
   }
 
   // Waiting for a free slot: spin 20 µs, then sleep; under the virtual clock spin first for as
-  // long as the rt keeps running (its heartbeat moved within the last 50 µs; see RingFeeder).
-  RingFeeder feeder(link_, 0.02, 20000, st.clock_virtual ? 50000 : 0);
+  // long as the rt keeps running (it ran a cycle within the last 20 µs; see RingFeeder).
+  RingFeeder feeder(link_, 0.02, 20000, st.clock_virtual ? 20000 : 0);
   feeder.set_staging(staging_);
   Command start;
   start.kind = CommandKind::kProgramStart;

@@ -28,9 +28,10 @@ class RingFeeder {
   /// `spin_ns`: how long to spin before sleeping when the ring is full. `follow_rt_ns` > 0
   /// (the virtual clock, where the rt frees a slot every few µs to ms of wall time and both
   /// processes race through the program): before that, spin for as long as the rt is running
-  /// (1 ms at most), i.e. its heartbeat (stamped at least every 8 cycles) moved within the
-  /// last `follow_rt_ns`; when it stands still that long the rt has no core (a busy machine)
-  /// or waits for its trace writer, and the host sleeps instead of taking the core from it.
+  /// (1 ms at most), i.e. it ran a cycle (the scope ring's count, one more every cycle) within
+  /// the last `follow_rt_ns`; when it stands still that long the rt has no core (a busy
+  /// machine) or waits for its trace writer, and the host sleeps instead of taking the core
+  /// from it.
   explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000,
                       std::uint64_t follow_rt_ns = 0);
 

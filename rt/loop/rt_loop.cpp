@@ -14,13 +14,13 @@ namespace pcnc {
 namespace {
 constexpr std::uint64_t kNsPerS = 1000000000ull;
 constexpr int kVirtualPublishCycles = 8;  // 4 ms of machine time, a few µs of wall time
-// Virtual clock, waiting for the host's next block: spin up to 20 µs, then sleep until the
+// Virtual clock, waiting for the host's next block: spin up to 10 µs, then sleep until the
 // host publishes it. A host with the block staged copies it in within 1-2 µs; one that is
 // still making it (a smoothed curve) or has no core (a busy machine) may take milliseconds,
 // and a longer spin would only take the core from it (or from the trace writer). With both
-// processes pinned to one CPU, LHchips4 at tolerance 0 replayed in 0.63 s with this spin,
-// 1.4 s with 50 µs (the host's wait as now), 5 s when both sides spun 200 µs (docs/replay.md).
-constexpr std::uint64_t kVirtualSpinNs = 20000;
+// processes pinned to one CPU, LHchips4 at tolerance 0 replayed in 0.46 s with this spin,
+// 0.62 s with 20 µs (the host's wait as now), 5 s when both sides spun 200 µs (docs/replay.md).
+constexpr std::uint64_t kVirtualSpinNs = 10000;
 constexpr std::uint32_t kVirtualTimedCycles = 8;  // cycles timed with one clock read (run())
 
 timespec to_timespec(std::uint64_t ns) {
