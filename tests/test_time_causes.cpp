@@ -277,5 +277,22 @@ TEST(LatencyQuantiles, NeverAboveTheMaxNorBelowTheMin) {
   EXPECT_EQ(h.quantile(1.0), h.max());
 }
 
+// The rt under the virtual clock times runs of cycles and adds each run's mean once per cycle
+// (add(us, n)): the same histogram as n single adds.
+TEST(LatencyQuantiles, NSamplesAtOnceAreNSingleSamples) {
+  LatencyHistogram once, each;
+  const std::pair<double, std::uint32_t> runs[] = {{0.62, 8}, {0.31, 3}, {12.5, 1}, {0.0, 5}, {2.75, 8}, {9.0, 0}};
+  for (const auto& [us, n] : runs) {
+    once.add(us, n);
+    for (std::uint32_t i = 0; i < n; ++i) each.add(us);
+  }
+  EXPECT_EQ(once.count(), 25u);
+  EXPECT_EQ(once.count(), each.count());
+  EXPECT_EQ(once.min(), 0.0);
+  EXPECT_EQ(once.max(), 12.5) << "a run of no cycles adds nothing";
+  EXPECT_NEAR(once.mean(), each.mean(), 1e-12);
+  for (double q : {0.1, 0.5, 0.9, 0.99}) EXPECT_EQ(once.quantile(q), each.quantile(q)) << q;
+}
+
 }  // namespace
 }  // namespace pcnc::test

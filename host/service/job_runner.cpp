@@ -30,11 +30,15 @@ JobRunner::JobRunner(RtLink& link, const MachineConfig& config) : link_(link), c
 bool JobRunner::wait_until_state(const std::function<bool(const Status&)>& done, const std::atomic<bool>& interrupt,
                                  double timeout_s, Status& last) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  // Status follow-up, not the ring path: every 2 ms; under the virtual clock every 100 µs,
+  // since the whole end of a replayed program (the ring's last blocks) takes a few ms of wall
+  // time and the host waits for it before it reports.
+  const auto period = last.clock_virtual ? std::chrono::microseconds(100) : std::chrono::microseconds(2000);
   for (;;) {
     last = link_.status();
     if (done(last)) return true;
     if (interrupt.load() || !link_.rt_alive() || std::chrono::steady_clock::now() >= deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // status follow-up, not the ring path
+    std::this_thread::sleep_for(period);
   }
 }
 
@@ -72,8 +76,9 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     return finish(JobEnd::kFault, std::string("machine is ") + to_string(st.state) + ", not IDLE: cannot start a program");
   }
 
-  // Virtual clock: spin up to 200 µs for a free slot (see RingFeeder); real clock: 20 µs.
-  RingFeeder feeder(link_, 0.02, link_.status().clock_virtual ? 200000 : 20000);
+  // Waiting for a free slot: spin 20 µs, then sleep; under the virtual clock spin first for as
+  // long as the rt keeps running (it ran a cycle within the last 20 µs; see RingFeeder).
+  RingFeeder feeder(link_, 0.02, 20000, st.clock_virtual ? 20000 : 0);
   feeder.set_staging(staging_);
   Command start;
   start.kind = CommandKind::kProgramStart;

@@ -13,11 +13,39 @@ const char* to_string(FeedResult r) {
   return "?";
 }
 
-RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_ns)
-    : link_(link), check_period_s_(check_period_s), spin_ns_(spin_ns) {}
+RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_ns, std::uint64_t follow_rt_ns)
+    : link_(link), check_period_s_(check_period_s), spin_ns_(spin_ns), follow_rt_ns_(follow_rt_ns) {}
+
+// Spins while the rt runs (its cycles count up the scope ring), for 1 ms at most: a block that lasts longer costs one wake-up
+// (tens of µs) at its end, a small part of it, and the host's core is not held meanwhile.
+bool RingFeeder::follow_rt() {
+  constexpr std::uint64_t kFollowAtMostNs = 1000000;
+  auto& shm = link_.shm();
+  std::uint64_t beat = shm.scope.written();  // one more every rt cycle
+  std::uint64_t moved = monotonic_ns();
+  const std::uint64_t give_up = moved + kFollowAtMostNs;
+  for (unsigned i = 1;; ++i) {
+    if (shm.motion.begin_push() != nullptr) return true;
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+    if ((i & 63) == 0) {
+      const std::uint64_t now = monotonic_ns();
+      const std::uint64_t b = shm.scope.written();
+      if (b != beat) {
+        beat = b;
+        moved = now;
+      } else if (now - moved >= follow_rt_ns_) {
+        return false;
+      }
+      if (now >= give_up) return false;
+    }
+  }
+}
 
 FeedResult RingFeeder::wait_for_slot(const std::atomic<bool>* abort) {
   auto& shm = link_.shm();
+  if (follow_rt_ns_ > 0 && follow_rt()) return FeedResult::kPushed;
   for (;;) {
     if (shm.slot_freed.wait_until([&] { return shm.motion.begin_push() != nullptr; }, check_period_s_, spin_ns_)) {
       return FeedResult::kPushed;

@@ -25,10 +25,15 @@ const char* to_string(FeedResult r);
 
 class RingFeeder {
  public:
-  /// `spin_ns`: how long to spin before sleeping when the ring is full. Under the virtual
-  /// clock the rt frees slots every few microseconds and both processes race through the
-  /// program: a longer spin keeps the hand-off off the scheduler's path.
-  explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000);
+  /// `spin_ns`: how long to spin before sleeping when the ring is full. `follow_rt_ns` > 0
+  /// (the virtual clock, where the rt frees a slot every few µs to ms of wall time and both
+  /// processes race through the program): before that, spin for as long as the rt is running
+  /// (1 ms at most), i.e. it ran a cycle (the scope ring's count, one more every cycle) within
+  /// the last `follow_rt_ns`; when it stands still that long the rt has no core (a busy
+  /// machine) or waits for its trace writer, and the host sleeps instead of taking the core
+  /// from it.
+  explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000,
+                      std::uint64_t follow_rt_ns = 0);
 
   /// Puts the next block into the ring. `fill(Block&)` is a stream: each call writes the
   /// next block and returns true, or returns false when there are no more; the feeder may
@@ -92,11 +97,13 @@ class RingFeeder {
 
  private:
   FeedResult wait_for_slot(const std::atomic<bool>* abort);
+  bool follow_rt();  // true when a slot came free while the rt kept running
   void record_refill_latency();
 
   RtLink& link_;
   double check_period_s_;
   std::uint64_t spin_ns_;
+  std::uint64_t follow_rt_ns_;
   std::uint64_t seq_ = 0;
   bool staging_ = true;
   LatencyHistogram refill_;

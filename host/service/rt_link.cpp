@@ -20,7 +20,11 @@ RtLink::RtLink(const MachineConfig& config) : config_(config), segment_(config.p
 }
 
 RtLink::~RtLink() {
-  stop_ = true;
+  {
+    std::lock_guard<std::mutex> lock(beat_mutex_);
+    stop_ = true;
+  }
+  beat_wake_.notify_all();  // the heartbeat thread wakes now, not at the end of its period (20 ms)
   if (heartbeat_.joinable()) heartbeat_.join();
   release_host(shm().header, getpid());
 }
@@ -54,9 +58,10 @@ bool RtLink::transient_failure(const std::string& why) {
 void RtLink::beat() {
   // The heartbeat period is a fifth of the rt's timeout, so one late beat never trips it.
   const auto period = std::chrono::duration<double>(config_.process.host_timeout_s / 5.0);
+  std::unique_lock<std::mutex> lock(beat_mutex_);
   while (!stop_.load()) {
     shm().header.host_heartbeat_ns.store(monotonic_ns(), std::memory_order_release);
-    std::this_thread::sleep_for(period);
+    beat_wake_.wait_for(lock, period, [this] { return stop_.load(); });
   }
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -63,6 +64,8 @@ class RtLink {
   const MachineConfig& config_;
   HostSegment segment_;
   std::atomic<bool> stop_{false};
+  std::mutex beat_mutex_;               // with beat_wake_: the destructor ends the heartbeat's sleep at once
+  std::condition_variable beat_wake_;
   std::thread heartbeat_;
   std::atomic<std::uint64_t> next_id_{1};
   std::mutex send_mutex_;

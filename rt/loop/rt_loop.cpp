@@ -14,6 +14,14 @@ namespace pcnc {
 namespace {
 constexpr std::uint64_t kNsPerS = 1000000000ull;
 constexpr int kVirtualPublishCycles = 8;  // 4 ms of machine time, a few µs of wall time
+// Virtual clock, waiting for the host's next block: spin up to 10 µs, then sleep until the
+// host publishes it. A host with the block staged copies it in within 1-2 µs; one that is
+// still making it (a smoothed curve) or has no core (a busy machine) may take milliseconds,
+// and a longer spin would only take the core from it (or from the trace writer). With both
+// processes pinned to one CPU, LHchips4 at tolerance 0 replayed in 0.46 s with this spin,
+// 0.62 s with 20 µs (the host's wait as now), 5 s when both sides spun 200 µs (docs/replay.md).
+constexpr std::uint64_t kVirtualSpinNs = 10000;
+constexpr std::uint32_t kVirtualTimedCycles = 8;  // cycles timed with one clock read (run())
 
 timespec to_timespec(std::uint64_t ns) {
   timespec t{};
@@ -129,7 +137,9 @@ void RtLoop::cycle(std::uint64_t now_ns) {
   const std::uint64_t popped_before = shm_.motion.popped();
   machine_->cycle(shm_.motion);
   if (shm_.motion.popped() != popped_before) {
-    shm_.header.slot_freed_ns.store(now_ns, std::memory_order_release);
+    // the virtual clock's now_ns is the start of a timed run (run()): read the clock here, the
+    // host's refill latency is measured from it
+    shm_.header.slot_freed_ns.store(options_.virtual_clock ? monotonic_ns() : now_ns, std::memory_order_release);
     shm_.slot_freed.notify();
   }
   shm_.scope.publish(machine_->trace_sample());  // the scope's flight recorder: never waits
@@ -182,9 +192,20 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
     // has not written yet, wait for the host instead of advancing time, so that replays are
     // deterministic. When the machine is at rest with nothing to do, wait too (10 ms steps)
     // instead of burning a core.
-    // Compute time is measured from the end of one cycle to the end of the next when no
-    // wait came between them: one clock read per cycle, loop overhead included.
+    // Compute time is measured over runs of up to kVirtualTimedCycles cycles with no wait
+    // between them, loop overhead included, and each cycle of a run counts with the run's
+    // mean: one clock read per run instead of one per cycle (the clock is a good part of a
+    // 0.5 µs cycle). `last` is the clock at the run's start; the cycles take it as their time
+    // (the heartbeat), a few µs old at most.
     std::uint64_t last = monotonic_ns();
+    std::uint32_t run_cycles = 0;
+    auto end_timed_run = [&] {
+      if (run_cycles == 0) return;
+      const std::uint64_t now = monotonic_ns();
+      timing_->compute.add(static_cast<double>(now - last) / 1000.0 / run_cycles, run_cycles);
+      last = now;
+      run_cycles = 0;
+    };
     while (!stop_now(stop)) {
       if (!shm_.commands.empty()) {
         take_commands(last);
@@ -195,18 +216,20 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
                             st != MachineState::kStopping && st != MachineState::kPaused && shm_.motion.empty()) ||
                            machine_->paused_at_rest();
       if (machine_->wants_more_blocks(shm_.motion)) {
+        end_timed_run();
         publish_status_virtual(true);
         shm_.block_published.wait_until(
             [&] {
               return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) || stop.level() > 0;
             },
-            0.01, 200000);  // the host is producing: spin up to 200 µs before sleeping
+            0.01, kVirtualSpinNs);
         last = monotonic_ns();
         // Still waiting for the host (and it is alive): do not advance time.
         if (machine_->wants_more_blocks(shm_.motion) && host_alive(last) && stop.level() == 0) continue;
       } else if (at_rest) {
         // Idle: sleep until something arrives, running a cycle now and then so that the
         // plant settles and status and heartbeat stay fresh.
+        end_timed_run();
         publish_status_virtual(true);
         const bool paused = st == MachineState::kPaused;
         shm_.block_published.wait_until(
@@ -218,11 +241,10 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
         if (!shm_.commands.empty()) continue;  // take them before stepping time
       }
       cycle(last);
-      const std::uint64_t now = monotonic_ns();
-      timing_->compute.add(static_cast<double>(now - last) / 1000.0);
-      last = now;
+      if (++run_cycles == kVirtualTimedCycles) end_timed_run();
       ++cycles;
     }
+    end_timed_run();
     publish_status_virtual(true);
     return cycles;
   }

@@ -19,10 +19,12 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -82,6 +84,7 @@ class TraceWriter {
  private:
   void run();
   void drain();
+  void take(const TraceEntry& e);  // one row into the files
   void flush();
   void fail(const std::string& path, const char* what, int err);
   void write_compact_run(const CompactRun& run);
@@ -94,6 +97,8 @@ class TraceWriter {
   std::unique_ptr<CompactTraceBuilder> builder_;
   std::unique_ptr<SpscRing<TraceEntry, kQueueSlots>> queue_;
   std::atomic<bool> stop_{false};
+  std::mutex wake_mutex_;  // with wake_: close() ends the writer's 2 ms sleep at once (never the rt thread)
+  std::condition_variable wake_;
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<std::uint64_t> written_{0};
   std::atomic<std::uint64_t> lost_{0};

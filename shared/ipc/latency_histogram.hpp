@@ -14,14 +14,19 @@ class LatencyHistogram {
   static constexpr double kBinUs = 0.25;
   static constexpr std::size_t kBins = 40000;  // 0 .. 10 ms in 0.25 µs bins; larger values go to the last
 
-  void add(double us) {
+  void add(double us) { add(us, 1); }
+  /// `n` samples of the same value (the rt under the virtual clock times runs of cycles and
+  /// counts each cycle of a run with the run's mean).
+  void add(double us, std::uint32_t n) {
+    if (n == 0) return;
     if (us < 0.0) us = 0.0;
     std::size_t bin = static_cast<std::size_t>(us / kBinUs);
     if (bin >= kBins) bin = kBins - 1;
-    ++bins_[bin];
-    ++count_;
-    sum_ += us;
-    if (count_ == 1 || us < min_) min_ = us;
+    bins_[bin] += n;
+    const bool first = count_ == 0;
+    count_ += n;
+    sum_ += us * static_cast<double>(n);
+    if (first || us < min_) min_ = us;
     if (us > max_) max_ = us;
   }
   std::uint64_t count() const { return count_; }

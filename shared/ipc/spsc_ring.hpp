@@ -49,6 +49,9 @@ class SpscRing {
   /// The i-th unconsumed value (0 = oldest); i < size().
   const T& peek(std::size_t i = 0) const { return slots_[(tail_.load(std::memory_order_relaxed) + i) % N]; }
   void pop() { tail_.store(tail_.load(std::memory_order_relaxed) + 1, std::memory_order_seq_cst); }
+  /// Consumer only: the n oldest values (n <= size()) at once, after reading them in place with
+  /// peek(0..n-1): one store for the batch, so the producer's core sees the index change once.
+  void pop_n(std::size_t n) { tail_.store(tail_.load(std::memory_order_relaxed) + n, std::memory_order_seq_cst); }
   bool try_pop(T& out) {
     if (empty()) return false;
     out = peek(0);
