@@ -29,8 +29,7 @@ std::vector<Move> bend(Vec3 from, double heading, int first_line, double tol = 0
   return v;
 }
 
-std::vector<Move> smooth(const std::vector<Move>& in) {
-  MachineConfig c = load_config(test::default_config());
+std::vector<Move> smooth(const std::vector<Move>& in, const MachineConfig& c) {
   Smoother s(c);
   std::size_t next = 0;
   auto pull = [&](Move& m) {
@@ -43,6 +42,8 @@ std::vector<Move> smooth(const std::vector<Move>& in) {
   while (s.next(pull, m)) out.push_back(m);
   return out;
 }
+
+std::vector<Move> smooth(const std::vector<Move>& in) { return smooth(in, load_config(test::default_config())); }
 
 TEST(Smoothing, ARealCornerStaysACornerBetweenTwoCurves) {
   std::vector<Move> in = bend({1, 1, 0}, 0.0, 1);
@@ -93,6 +94,43 @@ TEST(Smoothing, ARunNoCurveCanFollowComesBackAsItsLines) {
     EXPECT_EQ(out[i].start, in[i].start) << i;
     EXPECT_EQ(out[i].end, in[i].end) << i;
   }
+}
+
+// A run that touches the travel (as --fit makes a program touch both ends of an axis): the bend's
+// apex is the highest programmed point, and a curve's control polygon lies outside a convex
+// bend, so a curve over the apex would leave the travel the moves keep. The stage fits smaller
+// pieces (at worst the moves as programmed) until every curve's control points are inside; with
+// room above, the run is one curve as before.
+TEST(Smoothing, ACurveNeverLeavesTheTravelTheMovesKeep) {
+  MachineConfig c = load_config(test::default_config());
+  const std::vector<Move> run = bend({15.0, 10.0, 5.0}, 160.0 * M_PI / 180.0, 100);  // a hill: up, over, down
+  double top = 0.0;
+  for (const Move& m : run) top = std::max({top, m.start[1], m.end[1]});
+  c.axes[1].travel_max_mm = top + 1.0;
+  const auto roomy = smooth(run, c);
+  ASSERT_EQ(roomy.size(), 1u);
+  ASSERT_EQ(roomy[0].kind, MoveKind::kNurbs);
+  double cp_top = 0.0;
+  for (const Vec3& p : roomy[0].nurbs->points) cp_top = std::max(cp_top, p[1]);
+  ASSERT_GT(cp_top, top + 1e-7) << "the control polygon of the one curve rises above the apex by " << cp_top - top;
+
+  c.axes[1].travel_max_mm = top;
+  const auto tight = smooth(run, c);
+  ASSERT_GT(tight.size(), 1u);
+  EXPECT_EQ(tight.front().start, run.front().start);
+  EXPECT_EQ(tight.back().end, run.back().end);
+  int curves = 0;
+  for (std::size_t k = 0; k < tight.size(); ++k) {
+    if (k > 0) {
+      EXPECT_EQ(tight[k].start, tight[k - 1].end) << "the pieces join";
+    }
+    if (tight[k].kind != MoveKind::kNurbs) continue;
+    ++curves;
+    for (const Vec3& p : tight[k].nurbs->points) {
+      EXPECT_LE(p[1], top + 1e-7) << "piece " << k;
+    }
+  }
+  EXPECT_GT(curves, 0) << "the sides away from the apex are still curves";
 }
 
 TEST(Smoothing, WhatMustNotBeSmoothedPassesUnchanged) {

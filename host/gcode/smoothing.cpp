@@ -13,7 +13,26 @@
 namespace pcnc {
 
 Smoother::Smoother(const MachineConfig& config)
-    : cos_corner_(std::cos(config.motion.smoothing_angle_deg * std::numbers::pi / 180.0)) {}
+    : cos_corner_(std::cos(config.motion.smoothing_angle_deg * std::numbers::pi / 180.0)) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
+    travel_min_[i] = config.axes[i].travel_min_mm;
+    travel_max_[i] = config.axes[i].travel_max_mm;
+  }
+}
+
+// The curve lies in its control points' hull (weights 1): within the travel if they are, to a
+// tenth of the preflight's rounding allowance. A run that fills the travel (--fit scales a
+// program to touch both ends of an axis) may otherwise be smoothed a few µm beyond it, and the
+// preflight would refuse the program.
+bool Smoother::within_travel(const NurbsCurve& c) const {
+  constexpr double kSlack = 1e-7;  // mm
+  for (const Vec3& p : c.points) {
+    for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
+      if (p[i] < travel_min_[i] - kSlack || p[i] > travel_max_[i] + kSlack) return false;
+    }
+  }
+  return true;
+}
 
 bool Smoother::smoothable(const Move& m) const {
   return m.kind == MoveKind::kLine && m.contouring && m.path_tolerance_mm > 0.0 && m.probe_rule == 0 && !m.tcp &&
@@ -75,6 +94,14 @@ void Smoother::fit_range(std::size_t first, std::size_t last) {
                               points_.begin() + static_cast<std::ptrdiff_t>(last) + 1);
   const double tolerance = run_[first].path_tolerance_mm;
   SplineFit fit = fit_polyline_memo(pts, tolerance);  // the check's fit, when the stream asks again
+  if (fit.ok && validate(fit.curve) == "" && !within_travel(fit.curve)) {
+    // a fit that would leave the travel where the programmed moves stay inside: fit the two
+    // halves (at worst the moves as programmed)
+    const std::size_t mid = first + (last - first) / 2;
+    fit_range(first, mid);
+    fit_range(mid, last);
+    return;
+  }
   if (!fit.ok || validate(fit.curve) != "") {
     // a corner the angle did not see: keep it, fit both sides
     const std::size_t cut = first + std::clamp<std::size_t>(static_cast<std::size_t>(std::max(fit.worst_point, 0)), 1,

@@ -59,8 +59,10 @@ class Smoother {
   bool continues(const Move& last, const Move& m) const;
   void flush_run();
   void fit_range(std::size_t first, std::size_t last);  // points first..last of the run
+  bool within_travel(const NurbsCurve& c) const;
 
   double cos_corner_;
+  Vec3 travel_min_{}, travel_max_{};  // the axes' travel: a curve never leaves it
   std::size_t fit_work_left_ = 0;  // points the run's remaining fits may still take
   std::vector<Move> run_;      // the run's moves (null moves dropped)
   std::vector<Vec3> points_;   // the run's start and each move's end
