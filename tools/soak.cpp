@@ -212,7 +212,10 @@ void Soak::fault_host_kill() {
       lost = true;
       break;
     }
-    if (st.state == MachineState::kIdle && !st.program_active) break;  // the program had ended
+    if (st.state == MachineState::kIdle && !st.program_active) {  // the program had ended
+      ended_under_killed_host_ = st.program_done != 0;
+      break;
+    }
     sleep_s(0.001);
   }
   if (lost) f.to_lost_ms = 1000.0 * since(t0);
@@ -397,6 +400,7 @@ int Soak::run() {
     log("run " + std::to_string(attempts_.size() + 1) + " started (" + std::to_string(a.path.size()) + " blocks, " +
         std::to_string(a.total) + " mm)");
     attempt_aborted_ = false;
+    ended_under_killed_host_ = false;
     const auto started = Clock::now();
     while (true) {
       const double next = std::max(0.3, gap(rng_));
@@ -448,6 +452,10 @@ int Soak::run() {
       if (s["last_job"].is_object()) {
         a.end = s["last_job"].value("end", std::string("?"));
         a.program_time_s = s["last_job"].value("program_time_s", 0.0);
+      } else if (ended_under_killed_host_) {
+        a.end = "completed";  // the rt reached the End block; the host that ran it was killed after
+        log("run " + std::to_string(attempts_.size() + 1) +
+            ": the host was killed after the program's end; the rt's status says it completed");
       }
       if (a.end != "completed") failures_.push_back("run " + std::to_string(attempts_.size() + 1) + " ended " + a.end);
     } else {

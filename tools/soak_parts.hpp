@@ -103,6 +103,9 @@ class Soak {
   std::vector<std::string> failures_;
   Clock::time_point t0_ = Clock::now();
   bool attempt_aborted_ = false;
+  // A host kill landed after the program's End: the rt saw it done (program_done) but the new
+  // host has no record of the job, so the run's end comes from the rt's status.
+  bool ended_under_killed_host_ = false;
 };
 
 
