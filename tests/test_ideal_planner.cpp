@@ -4,6 +4,7 @@
 // chords, what its speeds ask of a finely drawn circle, and the floor that keeps the limits there.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
