@@ -227,6 +227,10 @@ double curve_tangential_accel(const NurbsEval& e, const MachineConfig& cfg, doub
   if (!(d1 > 0.0)) return 0.0;
   const Vec3 t = (1.0 / d1) * e.d1;
   const Vec3 k = (1.0 / (d1 * d1)) * (e.d2 - dot(e.d2, t) * t);
+  return point_tangential_accel(t, k, cfg, v);
+}
+
+double point_tangential_accel(const Vec3& t, const Vec3& k, const MachineConfig& cfg, double v) {
   double at = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
     const double room = kArcAccelMargin * cfg.axes[i].max_accel_mm_s2 - v * v * std::abs(k[i]);

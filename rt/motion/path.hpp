@@ -91,6 +91,9 @@ double arc_path_accel(const PreparedBlock& b, double v);
 /// a_t <= (m·A_i − v²·|κ_i|)/|T_i| (T the unit tangent, κ the curvature vector); 0 where the normal
 /// part alone takes an axis's share. The executor ramps NURBS blocks by it below their schedule.
 double curve_tangential_accel(const NurbsEval& e, const MachineConfig& config, double v);
+/// The same at a point given by its unit tangent `t` and curvature vector `k` (1/mm): an arc's
+/// point (evaluate) or a curve's.
+double point_tangential_accel(const Vec3& t, const Vec3& k, const MachineConfig& config, double v);
 
 /// Point, tangent and curvature at path length s (clamped to [0, length]).
 PathPoint evaluate(const PreparedBlock& b, double s);
