@@ -446,21 +446,11 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   }
   double a_brake = a_ramp;  // slowing down in this cycle
   if (b.kind == BlockKind::kArc) {
-    // An arc shares its plane's acceleration by speed (path.hpp arc_path_accel): braking may
-    // take the tangential part at the speed the machine has (the cycle's highest), speeding up
-    // the part left at the speed this cycle may reach; `a` (its value at the top speed) at least.
-    // Where the machine is and where this cycle lands, each axis may carry its own share
-    // (point_tangential_accel): on a G18/G19 arc the faster plane axis takes the centripetal part
-    // where the normal points along it, which the plane's smaller limit does not see.
-    const PathPoint here = evaluate(b, s_), land = evaluate(b, s_ + v_ * dt_);
-    const double f = b.arc_f;  // the parameter speed over the true speed on a spiral
-    auto by_axis = [&](double v) {
-      return f * std::min(point_tangential_accel(here.tangent, here.curvature, cfg_, v / f),
-                          point_tangential_accel(land.tangent, land.curvature, cfg_, v / f));
-    };
-    a_brake = std::max({a, arc_path_accel(b, v_), by_axis(v_)});
-    const double v_hi = v_ + a_brake * dt_;
-    a_ramp = std::max({a, arc_path_accel(b, v_hi), by_axis(v_hi)});
+    // An arc shares its acceleration by speed (path.hpp arc_stretch_accel): braking may take the
+    // tangential part at the speed the machine has (the cycle's highest), speeding up the part
+    // left at the speed this cycle may reach; `a` (its value at the top speed) at least.
+    a_brake = std::max(a, arc_stretch_accel(b, cfg_, s_, v_ * dt_, v_));
+    a_ramp = std::max(a, arc_stretch_accel(b, cfg_, s_, v_ * dt_, v_ + a_brake * dt_));
   }
   const bool stop_at_end = !flows_after(0);
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);

@@ -222,6 +222,14 @@ double arc_path_accel(const PreparedBlock& b, double v) {
   return f * arc_accel_at(b.arc_a_plane, b.arc_r, b.arc_q, b.arc_a_normal, kArcAccelMargin, v / f);
 }
 
+double arc_stretch_accel(const PreparedBlock& b, const MachineConfig& cfg, double s, double ds, double v) {
+  const PathPoint here = evaluate(b, s), land = evaluate(b, s + ds);
+  const double f = b.arc_f;  // the parameter speed over the true speed on a spiral
+  const double by_axis = f * std::min(point_tangential_accel(here.tangent, here.curvature, cfg, v / f),
+                                      point_tangential_accel(land.tangent, land.curvature, cfg, v / f));
+  return std::max(arc_path_accel(b, v), by_axis);
+}
+
 double curve_tangential_accel(const NurbsEval& e, const MachineConfig& cfg, double v) {
   const double d1 = norm(e.d1);
   if (!(d1 > 0.0)) return 0.0;

@@ -86,6 +86,13 @@ void tcp_end_rates(PreparedBlock& pb, const Block& block, const MachineConfig& c
 /// 0 for a block that is not an arc.
 double arc_path_accel(const PreparedBlock& b, double v);
 
+/// An arc's tangential path acceleration at path speed v over the stretch [s, s + ds] a cycle
+/// covers: the larger of arc_path_accel (the plane's smaller limit, the same everywhere on the
+/// arc: what the stop rules count on) and, at both ends of the stretch, each axis carrying its
+/// own share (point_tangential_accel): on a G18/G19 arc the faster plane axis takes the
+/// centripetal part where the normal points along it. Both keep every axis within its limit.
+double arc_stretch_accel(const PreparedBlock& b, const MachineConfig& config, double s, double ds, double v);
+
 /// What the axes leave for a curve's tangential acceleration at a point `e` (p, dp/du, d²p/du²)
 /// at path speed v: each axis keeps |a_t·T_i + v²·κ_i| within kArcAccelMargin of its limit, so
 /// a_t <= (m·A_i − v²·|κ_i|)/|T_i| (T the unit tangent, κ the curvature vector); 0 where the normal
