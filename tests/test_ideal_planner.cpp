@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "gcode_test_util.hpp"
 #include "report/ideal_planner.hpp"
 
 namespace pcnc {
@@ -24,15 +25,7 @@ MachineConfig mill() {
   return c;
 }
 
-Move line(const Vec3& a, const Vec3& b, double feed) {
-  Move m;
-  m.kind = MoveKind::kLine;
-  m.start = a;
-  m.end = b;
-  m.feed_mm_s = feed;
-  m.contouring = true;
-  return m;
-}
+Move line(const Vec3& a, const Vec3& b, double feed) { return test::line_move(a, b, 0, feed); }
 
 // Rest to rest over l at most at v, accelerating and braking at a.
 double trapezoid(double l, double v, double a) {

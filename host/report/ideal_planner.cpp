@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/axis_caps.hpp"
+#include "geometry/junction_deviation.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/plane.hpp"
 
@@ -26,17 +28,6 @@ struct Segment {
   double time = 0.0;        // planned: s
 };
 
-// The largest rate along unit vector u that keeps every axis within `limit` (grbl's
-// limit_value_by_axis_maximum).
-double along(const Vec3& u, const std::array<double, kAxes>& limit) {
-  double r = kInf;
-  for (int i = 0; i < kAxes; ++i) {
-    const double c = std::fabs(u[static_cast<std::size_t>(i)]);
-    if (c > 1e-12) r = std::min(r, limit[static_cast<std::size_t>(i)] / c);
-  }
-  return r;
-}
-
 class Cutter {
  public:
   Cutter(const MachineConfig& config, const IdealPlannerOptions& options) : options_(options) {
@@ -54,9 +45,9 @@ class Cutter {
     Segment s;
     s.u = (1.0 / l) * d;
     s.length = l;
-    s.v_max = along(s.u, velocity_);
+    s.v_max = axis_cap(s.u, velocity_);
     if (feed > 0.0) s.v_max = std::min(s.v_max, feed);
-    s.a_max = along(s.u, accel_);
+    s.a_max = axis_cap(s.u, accel_);
     s.line = line_;
     segments_.push_back(s);
   }
@@ -119,26 +110,20 @@ class Cutter {
 
   void set_line(int line) { line_ = line; }
   std::vector<Segment>& segments() { return segments_; }
-  const std::array<double, kAxes>& accel() const { return accel_; }
+  const AxisLimits& accel() const { return accel_; }
 
  private:
   IdealPlannerOptions options_;
-  std::array<double, kAxes> velocity_{};
-  std::array<double, kAxes> accel_{};
+  AxisLimits velocity_{};
+  AxisLimits accel_{};
   std::vector<Segment> segments_;
   int line_ = 0;
 };
 
-// The junction-deviation speed between two segments (grbl's planner).
-double junction_speed(const Segment& in, const Segment& out, const std::array<double, kAxes>& accel, double tol) {
-  const double cos_theta = -dot(in.u, out.u);  // the cosine of the angle enclosed at the junction
-  if (cos_theta > 0.999999) return 0.0;          // a reversal
-  const double cap = std::min(in.v_max, out.v_max);
-  if (cos_theta < -0.999999) return cap;         // straight on
-  const Vec3 change = normalized(out.u - in.u);
-  const double a = along(change, accel);
-  const double s = std::sqrt(0.5 * (1.0 - cos_theta));  // sin of half the enclosed angle
-  return std::min(cap, std::sqrt(a * tol * s / (1.0 - s)));
+// The junction-deviation speed between two segments (geometry/junction_deviation.hpp), within
+// both segments' speeds.
+double junction_speed(const Segment& in, const Segment& out, const AxisLimits& accel, double tol) {
+  return std::min({junction_deviation_speed(in.u, out.u, accel, tol), in.v_max, out.v_max});
 }
 
 // Time over a segment of length l from v0 to v1 with top speed vt and acceleration a.
@@ -161,15 +146,15 @@ double bend_radius(const Segment& in, const Segment& out) {
   return norm(b) * norm(c - b) * norm(c) / (2.0 * area2);
 }
 
-double bend_ratio(const Segment& in, const Segment& out, double v, const std::array<double, kAxes>& accel) {
+double bend_ratio(const Segment& in, const Segment& out, double v, const AxisLimits& accel) {
   const double rho = bend_radius(in, out);
   if (!std::isfinite(rho)) return 0.0;
-  return v * v / rho / along(normalized(out.u - in.u), accel);
+  return v * v / rho / axis_cap(normalized(out.u - in.u), accel);
 }
 
 // The time of one run of segments that starts and ends at rest.
 double run_time(std::vector<Segment>& s, std::size_t first, std::size_t last,
-                const std::array<double, kAxes>& accel, double tol, bool keep_bends, std::uint64_t* stops,
+                const AxisLimits& accel, double tol, bool keep_bends, std::uint64_t* stops,
                 std::vector<double>* bends) {
   const std::size_t n = last - first;
   std::vector<double> v(n + 1, 0.0);  // speeds at the junctions; v[0], v[n] = 0
@@ -178,7 +163,7 @@ double run_time(std::vector<Segment>& s, std::size_t first, std::size_t last,
     const Segment& out = s[first + k];
     v[k] = junction_speed(in, out, accel, tol);
     if (keep_bends && dot(in.u, out.u) >= kBendCos) {
-      v[k] = std::min(v[k], std::sqrt(along(normalized(out.u - in.u), accel) * bend_radius(in, out)));
+      v[k] = std::min(v[k], std::sqrt(axis_cap(normalized(out.u - in.u), accel) * bend_radius(in, out)));
     }
     if (v[k] <= 0.0) ++*stops;
   }

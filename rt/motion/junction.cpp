@@ -50,20 +50,6 @@ double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std:
   return axis_cap(dir_start - dir_end, step);
 }
 
-double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
-                                double tolerance_mm) {
-  if (!(tolerance_mm > 0.0)) return 0.0;
-  const double cos_theta = -dot(dir_end, dir_start);  // θ: the angle the corner encloses
-  if (cos_theta <= -1.0 + 1e-12) return std::numeric_limits<double>::infinity();  // straight on
-  if (cos_theta >= 1.0 - 1e-12) return 0.0;                                        // reversal
-  const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
-  const double radius = tolerance_mm * sin_half / (1.0 - sin_half);
-  const Vec3 change = dir_start - dir_end;
-  const double n = norm(change);
-  const double a = axis_cap({change[0] / n, change[1] / n, change[2] / n}, axis_accel);
-  return std::sqrt(a * radius);
-}
-
 double joint_junction_speed(const JointRate& rate_end, const JointRate& curv_end, const JointRate& rate_start,
                             const JointRate& curv_start, const JointRate& joint_accel, double dt, double fraction) {
   double v = std::numeric_limits<double>::infinity();

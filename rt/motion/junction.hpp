@@ -14,6 +14,7 @@
 
 #include <array>
 
+#include "geometry/junction_deviation.hpp"
 #include "geometry/vec3.hpp"
 #include "ipc/rotary_joints.hpp"
 
@@ -61,14 +62,7 @@ struct JunctionRules {
 /// larger cap applies.
 double corner_speed(bool contouring, const Vec3& dir_end, const Vec3& dir_start, const JunctionRules& rules);
 
-/// Junction-deviation speed (grbl, Klipper): the speed at which a virtual arc tangent to
-/// both directions, passing within `tolerance_mm` of the corner, would be run at the
-/// acceleration the axes allow along the direction of the velocity change:
-///   R = δ·sin(θ/2)/(1 − sin(θ/2)),  θ the angle between −dir_end and dir_start,
-///   a_j = min_i a_i/|u_i|,  u = normalized(dir_start − dir_end),  v = sqrt(a_j·R).
-/// +infinity for a straight junction, 0 for a reversal or a tolerance of 0.
-double junction_deviation_speed(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
-                                double tolerance_mm);
+// junction_deviation_speed: geometry/junction_deviation.hpp (shared with the host's ideal planner).
 
 /// A path's rate in the machine's joints: dq/ds for X Y Z (mm per unit of path) then A B C (rad
 /// per unit of path), or d²q/ds² in the same order.

@@ -239,13 +239,12 @@ double curve_tangential_accel(const NurbsEval& e, const MachineConfig& cfg, doub
 }
 
 double point_tangential_accel(const Vec3& t, const Vec3& k, const MachineConfig& cfg, double v) {
-  double at = std::numeric_limits<double>::infinity();
+  AxisLimits room{};  // what each axis keeps beside the normal part
   for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
-    const double room = kArcAccelMargin * cfg.axes[i].max_accel_mm_s2 - v * v * std::abs(k[i]);
-    if (room <= 0.0) return 0.0;
-    if (std::abs(t[i]) > 1e-12) at = std::min(at, room / std::abs(t[i]));
+    room[i] = kArcAccelMargin * cfg.axes[i].max_accel_mm_s2 - v * v * std::abs(k[i]);
+    if (room[i] <= 0.0) return 0.0;
   }
-  return at;
+  return axis_cap(t, room);
 }
 
 void tcp_end_rates(PreparedBlock& pb, const Block& b, const MachineConfig& cfg, const Vec3& start_xyz) {
