@@ -62,8 +62,8 @@ TEST(TraceFull, ASizeLimitedTraceStopsTheRunningProgramAlongThePath) {
   const std::string tag = "tfull-limit";
   ServicePair p(tag);
   const std::string trace = p.dir() + "/trace.csv";
-  // about 300 KB: some 2 s of rows at 2 kHz, the program runs ~8 s
-  const std::vector<std::string> rt = {"/usr/bin/prlimit", "--fsize=300000", rt_exe(), "--config", p.config(),
+  // 450 KB (the segment, also a file, is 342 KB): some 2 s of rows at 2 kHz, the program runs ~8 s
+  const std::vector<std::string> rt = {"/usr/bin/prlimit", "--fsize=450000", rt_exe(), "--config", p.config(),
                                        "--clock", "real", "--trace", trace};
   BackgroundProcess rtp = start_process(rt, p.dir() + "/rt-limited");
   Reaped guard{rtp};

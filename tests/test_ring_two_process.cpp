@@ -3,8 +3,9 @@
 // role of the rt pass 1,000,000 blocks with random delays on both sides. Every block arrives
 // once, in order, intact, and no slot is overwritten while the consumer still holds it.
 // Then the virtual clock's lock step on one core: the feeder with the virtual clock's wait
-// (spin while the consumer's cycles count up the scope ring, then sleep), and a consumer that, like the rt
-// under --clock virtual, takes a block only from a full ring and waits for the next with the
+// (spin while the consumer's cycles count up the scope ring, then sleep) writing into the
+// replay stage, and a consumer that, like the rt under --clock virtual, fills its ring from the
+// stage (take_staged), takes a block only from a full ring and waits for the next with the
 // rt's short spin; both processes pinned to one CPU, where a wait that kept spinning would
 // take the core from the side it waits for.
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <iostream>
 #include <cstdlib>
 #include <random>
 
@@ -165,18 +167,27 @@ TEST(RingTwoProcess, VirtualClockLockStepOnOneCoreFeedsEveryBlockIntoAFullRing) 
   const pid_t producer = fork();
   ASSERT_GE(producer, 0);
   if (producer == 0) {
-    // the host's settings under the virtual clock (job_runner.cpp)
-    produce(config, total, [](RtLink& link) { return RingFeeder(link, 0.02, 20000, 20000); }, false);
+    // the host's settings under the virtual clock (job_runner.cpp): into the replay stage
+    produce(config, total,
+            [](RtLink& link) {
+              RingFeeder f(link, 0.02, 20000, 20000);
+              f.set_via_stage(true);
+              return f;
+            },
+            false);
   }
 
-  std::uint64_t expected = 1, bad = 0, timeouts = 0;
+  std::uint64_t expected = 1, bad = 0, timeouts = 0, max_stage = 0;
   while (expected <= total) {
     shm.header.rt_heartbeat_ns.store(monotonic_ns());
     shm.scope.publish(TraceSample{});  // a "cycle": the feeder spins while these count up
-    // the rt's rule under the virtual clock: a full ring, or everything there is
+    // the rt's rule under the virtual clock: the ring filled from the stage before each
+    // cycle; a full ring, or everything there is
+    max_stage = std::max<std::uint64_t>(max_stage, shm.stage.size());
+    take_staged(shm);
     const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(kRingSlots, total - expected + 1));
     if (shm.motion.size() < want) {
-      if (!shm.block_published.wait_until([&] { return shm.motion.size() >= want; }, 5.0, 10000)) ++timeouts;
+      if (!shm.block_published.wait_until([&] { return !shm.stage.empty(); }, 5.0, 10000)) ++timeouts;
       continue;
     }
     if (!block_matches(shm.motion.peek(0), expected) && ++bad < 5) {
@@ -186,8 +197,11 @@ TEST(RingTwoProcess, VirtualClockLockStepOnOneCoreFeedsEveryBlockIntoAFullRing) 
     ++expected;
   }
   expect_all_through(producer, shm, total);
+  EXPECT_EQ(shm.stage.pushed(), total) << "every block came through the stage";
+  EXPECT_TRUE(shm.stage.empty());
   EXPECT_EQ(bad, 0u) << "lost, duplicated or reordered blocks";
   EXPECT_EQ(timeouts, 0u) << "a block published without waking the consumer (it waited out its 5 s)";
+  std::cout << "[ figures  ] the stage held at most " << max_stage << " of " << kStageSlots << " blocks\n";
 }
 
 }  // namespace

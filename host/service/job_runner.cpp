@@ -76,10 +76,22 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     return finish(JobEnd::kFault, std::string("machine is ") + to_string(st.state) + ", not IDLE: cannot start a program");
   }
 
+  if (st.clock_virtual) {
+    // Blocks a stopped program left in the replay stage go through the rt's ring, which drops
+    // them until the next start: start only once they are gone (microseconds), so that none
+    // can be taken for the new program's.
+    auto& shm = link_.shm();
+    for (int i = 0; i < 10000 && !(shm.stage.empty() && shm.motion.empty()); ++i) {
+      shm.block_published.notify();
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }
+  }
+
   // Waiting for a free slot: spin 20 µs, then sleep; under the virtual clock spin first for as
   // long as the rt keeps running (it ran a cycle within the last 20 µs; see RingFeeder).
   RingFeeder feeder(link_, 0.02, 20000, st.clock_virtual ? 20000 : 0);
   feeder.set_staging(staging_);
+  feeder.set_via_stage(st.clock_virtual);  // the rt fills its ring from the replay stage
   Command start;
   start.kind = CommandKind::kProgramStart;
   start.value = contouring ? 1.0 : 0.0;

@@ -18,6 +18,11 @@ RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_n
 
 // Spins while the rt runs (its cycles count up the scope ring), for 1 ms at most: a block that lasts longer costs one wake-up
 // (tens of µs) at its end, a small part of it, and the host's core is not held meanwhile.
+bool RingFeeder::slot_free() {
+  auto& shm = link_.shm();
+  return via_stage_ ? shm.stage.begin_push() != nullptr : shm.motion.begin_push() != nullptr;
+}
+
 bool RingFeeder::follow_rt() {
   constexpr std::uint64_t kFollowAtMostNs = 1000000;
   auto& shm = link_.shm();
@@ -25,7 +30,7 @@ bool RingFeeder::follow_rt() {
   std::uint64_t moved = monotonic_ns();
   const std::uint64_t give_up = moved + kFollowAtMostNs;
   for (unsigned i = 1;; ++i) {
-    if (shm.motion.begin_push() != nullptr) return true;
+    if (slot_free()) return true;
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
 #endif
@@ -47,7 +52,7 @@ FeedResult RingFeeder::wait_for_slot(const std::atomic<bool>* abort) {
   auto& shm = link_.shm();
   if (follow_rt_ns_ > 0 && follow_rt()) return FeedResult::kPushed;
   for (;;) {
-    if (shm.slot_freed.wait_until([&] { return shm.motion.begin_push() != nullptr; }, check_period_s_, spin_ns_)) {
+    if (shm.slot_freed.wait_until([&] { return slot_free(); }, check_period_s_, spin_ns_)) {
       return FeedResult::kPushed;
     }
     if (abort && abort->load()) return FeedResult::kAborted;

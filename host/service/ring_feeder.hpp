@@ -1,6 +1,8 @@
 // ring_feeder.hpp — puts preprocessed blocks into the 4-slot motion ring, in order, with
 // sequence numbers. When the ring is full it sleeps on the rt's slot-freed wake-up (no
 // polling), waking at most every `check_period_s` to notice a dead rt or an abort request.
+// Under the virtual clock it writes into the replay stage instead (set_via_stage), which the
+// rt empties into its ring.
 //
 // May include: rt_link.hpp, shared/ipc.
 #pragma once
@@ -35,18 +37,43 @@ class RingFeeder {
   explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000,
                       std::uint64_t follow_rt_ns = 0);
 
-  /// Puts the next block into the ring. `fill(Block&)` is a stream: each call writes the
-  /// next block and returns true, or returns false when there are no more; the feeder may
-  /// call it several times in one push (staging) and never again after it returned false.
-  /// With a slot free and nothing staged, the block is filled in place. While the ring is
-  /// full, the feeder fills up to kStageDepth blocks ahead
+  /// Under the virtual clock: write into the replay stage (SharedSegment::stage), from which
+  /// the rt fills its ring before each cycle, instead of into the ring itself. The ring the
+  /// rt sees is the same; the host waits when the stage (8 blocks) is full, not the ring.
+  void set_via_stage(bool on) { via_stage_ = on; }
+
+  /// Puts the next block into the ring (or the stage). `fill(Block&)` is a stream: each call
+  /// writes the next block and returns true, or returns false when there are no more; the
+  /// feeder may call it several times in one push (staging) and never again after it returned
+  /// false. With a slot free and nothing staged, the block is filled in place. While the ring
+  /// is full, the feeder fills up to kStageDepth blocks ahead
   /// into a local staging queue and copies them in as slots free: a slot is then refilled
   /// by one copy, not by parsing and preprocessing, and short blocks (which the rt finishes
   /// faster than the host prepares them) draw on the blocks prepared during long ones.
   /// The feeder assigns seq = 1, 2, 3, ...
   template <typename Fill>
   FeedResult push(Fill&& fill, const std::atomic<bool>* abort = nullptr) {
-    auto& ring = link_.shm().motion;
+    return via_stage_ ? push_into(link_.shm().stage, fill, abort) : push_into(link_.shm().motion, fill, abort);
+  }
+
+  /// Staging off: fill is called only with a free slot in hand. For a source that may wait
+  /// for its input (a streamed program): blocks it made are never held back in staging while
+  /// it waits for lines, so the machine runs everything received.
+  void set_staging(bool on) { staging_ = on; }
+
+  /// Restart numbering for a new program (the rt expects seq 1 after kProgramStart).
+  void reset_sequence() { seq_ = 0; }
+  /// The fill stream has more after all (a probing move's result arrived, docs/probe.md):
+  /// push() calls it again.
+  void resume_input() { input_ended_ = false; }
+  std::uint64_t pushed() const { return seq_; }
+  /// Host refill latency: from the rt freeing a slot of a full ring to the next block
+  /// being published, microseconds.
+  const LatencyHistogram& refill_latency() const { return refill_; }
+
+ private:
+  template <typename Ring, typename Fill>
+  FeedResult push_into(Ring& ring, Fill& fill, const std::atomic<bool>* abort) {
     Block* slot = ring.begin_push();
     const bool waited = slot == nullptr;
     if (waited) {
@@ -80,24 +107,9 @@ class RingFeeder {
     return FeedResult::kPushed;
   }
 
-  /// Staging off: fill is called only with a free slot in hand. For a source that may wait
-  /// for its input (a streamed program): blocks it made are never held back in staging while
-  /// it waits for lines, so the machine runs everything received.
-  void set_staging(bool on) { staging_ = on; }
-
-  /// Restart numbering for a new program (the rt expects seq 1 after kProgramStart).
-  void reset_sequence() { seq_ = 0; }
-  /// The fill stream has more after all (a probing move's result arrived, docs/probe.md):
-  /// push() calls it again.
-  void resume_input() { input_ended_ = false; }
-  std::uint64_t pushed() const { return seq_; }
-  /// Host refill latency: from the rt freeing a slot of a full ring to the next block
-  /// being published, microseconds.
-  const LatencyHistogram& refill_latency() const { return refill_; }
-
- private:
   FeedResult wait_for_slot(const std::atomic<bool>* abort);
   bool follow_rt();  // true when a slot came free while the rt kept running
+  bool slot_free();  // a free slot in the ring (or the stage) the feeder writes to
   void record_refill_latency();
 
   RtLink& link_;
@@ -106,6 +118,7 @@ class RingFeeder {
   std::uint64_t follow_rt_ns_;
   std::uint64_t seq_ = 0;
   bool staging_ = true;
+  bool via_stage_ = false;
   LatencyHistogram refill_;
   static constexpr std::size_t kStageDepth = 16;
   std::vector<Block> staged_;  // blocks prepared while the ring was full, oldest at staged_head_

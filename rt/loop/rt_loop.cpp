@@ -188,9 +188,10 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
   std::uint64_t cycles = 0;
 
   if (options_.virtual_clock) {
-    // Same cycle, no sleeping: time is simulated. While a program needs blocks that the host
-    // has not written yet, wait for the host instead of advancing time, so that replays are
-    // deterministic. When the machine is at rest with nothing to do, wait too (10 ms steps)
+    // Same cycle, no sleeping: time is simulated. Before every cycle the ring is filled from
+    // the replay stage the host writes into (take_staged, ipc/segment.hpp). While a program
+    // needs blocks that the host has not written yet, wait for the host instead of advancing
+    // time, so that replays are deterministic. When the machine is at rest with nothing to do, wait too (10 ms steps)
     // instead of burning a core.
     // Compute time is measured over runs of up to kVirtualTimedCycles cycles with no wait
     // between them, loop overhead included, and each cycle of a run counts with the run's
@@ -211,6 +212,7 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
         take_commands(last);
         publish_status();  // the host sees its commands taken even before time advances
       }
+      take_staged(shm_);
       const MachineState st = machine_->status().state;
       const bool at_rest = (st != MachineState::kRunning && st != MachineState::kJogging &&
                             st != MachineState::kStopping && st != MachineState::kPaused && shm_.motion.empty()) ||
@@ -220,9 +222,11 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
         publish_status_virtual(true);
         shm_.block_published.wait_until(
             [&] {
-              return !shm_.commands.empty() || !machine_->wants_more_blocks(shm_.motion) || stop.level() > 0;
+              return !shm_.commands.empty() || !shm_.stage.empty() || !machine_->wants_more_blocks(shm_.motion) ||
+                     stop.level() > 0;
             },
             0.01, kVirtualSpinNs);
+        take_staged(shm_);
         last = monotonic_ns();
         // Still waiting for the host (and it is alive): do not advance time.
         if (machine_->wants_more_blocks(shm_.motion) && host_alive(last) && stop.level() == 0) continue;
@@ -234,9 +238,11 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
         const bool paused = st == MachineState::kPaused;
         shm_.block_published.wait_until(
             [&] {
-              return !shm_.commands.empty() || (!paused && !shm_.motion.empty()) || stop.level() > 0;
+              return !shm_.commands.empty() || (!paused && !(shm_.motion.empty() && shm_.stage.empty())) ||
+                     stop.level() > 0;
             },
             0.01);
+        take_staged(shm_);
         last = monotonic_ns();
         if (!shm_.commands.empty()) continue;  // take them before stepping time
       }

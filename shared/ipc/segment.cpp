@@ -43,6 +43,20 @@ bool process_alive(int pid) {
   return paren[2] != 'Z' && paren[2] != 'X';
 }
 
+std::size_t take_staged(SharedSegment& shm) {
+  std::size_t moved = 0;
+  while (!shm.stage.empty()) {
+    Block* slot = shm.motion.begin_push();
+    if (slot == nullptr) break;
+    *slot = shm.stage.peek(0);
+    shm.motion.commit_push();
+    shm.stage.pop();
+    ++moved;
+  }
+  if (moved > 0) shm.slot_freed.notify();
+  return moved;
+}
+
 int claim_host(SegmentHeader& h, int pid) {
   for (;;) {
     std::int32_t holder = h.host_pid.load();

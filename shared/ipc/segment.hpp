@@ -27,15 +27,23 @@
 namespace pcnc {
 
 constexpr std::uint64_t kSegmentMagic = 0x314D48534E434350ull;  // "PCCNSHM1" little-endian
-constexpr std::uint32_t kLayoutVersion = 9;  // bump on any change of the types below (9: the ruled block: BlockKind::kRuled, Block::ruled; 8: rotary joints: Block::rotary, Status::rot_*; 4: the scope ring; 5: Block::path_tolerance_mm; 6: NurbsGeometry::schedule_accel and schedule_s; 7: the probe: Block::probe_rule, Status::probe_*)
+constexpr std::uint32_t kLayoutVersion = 10;  // bump on any change of the types below (10: the replay stage, SharedSegment::stage; 9: the ruled block: BlockKind::kRuled, Block::ruled; 8: rotary joints: Block::rotary, Status::rot_*; 4: the scope ring; 5: Block::path_tolerance_mm; 6: NurbsGeometry::schedule_accel and schedule_s; 7: the probe: Block::probe_rule, Status::probe_*)
 constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
 constexpr std::size_t kMailboxSlots = 64;
+// The replay stage (virtual clock only): 8 blocks the host has prepared ahead of the ring.
+constexpr std::size_t kStageSlots = 8;
 // 1.02 s of cycles at 2 kHz: how far a capture may lag (it reads every 5 ms). 2048 x 104 bytes
-// keeps the whole segment at 224 KB (it is a file: RLIMIT_FSIZE applies to its creation).
+// is 213 KB of the segment's 342 KB (it is a file: RLIMIT_FSIZE applies to its creation).
 constexpr std::size_t kScopeSlots = 2048;
 
 /// The motion ring: host -> rt, preprocessed blocks (the executor consumes it).
 using MotionRing = SpscRing<Block, kRingSlots>;
+/// The replay stage: under the virtual clock the host writes its blocks here and the rt moves
+/// them into the motion ring itself, before each cycle, as slots free (rt/loop/rt_loop.cpp).
+/// The ring the executor sees is the same as with a host that refills it at once, but the two
+/// processes no longer meet once per block: the host runs up to kStageSlots blocks ahead.
+/// Unused under the real clock, where the host writes into the ring as the seed's host did.
+using StageRing = SpscRing<Block, kStageSlots>;
 
 struct SegmentHeader {
   std::uint64_t magic = 0;
@@ -53,7 +61,8 @@ struct SegmentHeader {
 struct SharedSegment {
   SegmentHeader header;
   MotionRing motion;                         // host -> rt, preprocessed blocks
-  Wakeup slot_freed;                         // rt -> host: a ring slot was freed
+  StageRing stage;                           // host -> rt under the virtual clock: blocks ahead of the ring
+  Wakeup slot_freed;                         // rt -> host: a ring slot (a stage slot, virtual clock) was freed
   Wakeup block_published;                    // host -> rt: a block was published (virtual clock)
   SpscRing<Command, kMailboxSlots> commands; // host -> rt
   Seqlock<Status> status;                    // rt -> host
@@ -72,6 +81,11 @@ struct SegmentError : std::runtime_error {
 std::uint64_t monotonic_ns();
 /// True when a process with this pid runs (kill(pid, 0), and not a zombie in /proc).
 bool process_alive(int pid);
+
+/// The rt's side under the virtual clock: moves the blocks the host staged (stage) into the
+/// motion ring while it has a free slot, oldest first, and wakes a host waiting for a stage
+/// slot. Returns how many moved.
+std::size_t take_staged(SharedSegment& shm);
 
 /// The rt serves one host at a time: header.host_pid is a claim. claim_host takes it for
 /// `pid` when it is free or its holder no longer runs, and returns 0; when another running
