@@ -3,9 +3,12 @@
 // the grbl status report).
 //
 // The digits are printf's "%.*f" in the C locale (the exact binary value, ties to even), made
-// by std::to_chars (chars_format::fixed, precision), which gives the same digits without
-// printf's format parsing and locale: the report writes some 300 000 coordinates per page, and
+// without printf's format parsing and locale: a report writes some 190 000 coordinates, and
 // snprintf was a third of the report's time (docs/replay.md, "Replay speed with a report").
+// Small values far from a tie are rounded as integers (v times 10^decimals, under 1e9: its
+// rounding error cannot cross a rounding step); the rest goes through std::to_chars
+// (chars_format::fixed, precision), which gives printf's digits. test_fixed_text compares
+// both paths with snprintf over a broad sweep.
 // One difference from printf: a value that prints as zero has no minus sign ("-0.000" is
 // written "0.000"), so a tiny negative error does not show as "-0.00". NaN and infinities
 // read as printf writes them: "nan", "-nan", "inf", "-inf".
