@@ -24,11 +24,9 @@ SHARED=$(cd .. && pwd)/shared
 command -v strace >/dev/null || { echo "bench_report_phase: needs strace"; exit 2; }
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-# a private segment, socket and state directory (as bench_report_speed.sh)
-sed -e "s#^shm_name = .*#shm_name = \"/pcnc-benchphase-$$\"#" -e "s#^\# socket_path = .*#socket_path = \"$TMP/s.sock\"#" \
-    -e "s#^\# state_dir = .*#state_dir = \"$TMP/state\"#" \
-    -e "s#^host_timeout_s = .*#host_timeout_s = 2.0#" -e "s#^rt_timeout_s = .*#rt_timeout_s = 2.0#" \
-    configs/desktop-mill.toml >"$TMP/mill.toml"
+# a private segment, socket and state directory, 2 s heartbeat timeouts (tools/private_config.sh)
+source tools/private_config.sh
+private_config configs/desktop-mill.toml benchphase "$TMP" >"$TMP/mill.toml"
 
 echo "== report phase of pcnc run --report ($PCNC, $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg) at the start; $RUNS runs)"
 printf "   %-28s %10s %10s %10s\n" program fastest median report
