@@ -8,7 +8,10 @@
 // gzip level 6: about 40 ms) was the largest single cost of writing a report, the same bytes
 // every time: `pcnc run --report` packs it on a second thread (pack_three_js, given to the
 // view through PathView3dOptions::library) while the trace is read and the rest of the page
-// drawn; both processes have ended by then, so the run's cores are free. The static isometric SVG
+// drawn; both processes have ended by then, so the run's cores are free. Still at level 6, so
+// the page keeps its bytes: level 4 would take half the time for 10 kB more, but on its own
+// thread three.js finishes within the report's critical path (the trace's loading, then this
+// view's own record, which render_report_html also builds on a second thread). The static isometric SVG
 // stays in the page for printing and for browsers without scripts; CSS shows one or the other.
 //
 // The binary record (little-endian), in planar arrays so that gzip finds the repeats:
@@ -50,7 +53,7 @@ struct PathView3dOptions {
   std::string three_dir = "";       // empty: the libjs-three directory pcnc was built with
   /// three.js already being packed (pack_three_js, on another thread); not valid: the view
   /// packs it from three_dir itself
-  std::shared_future<PackedLibrary> library;
+  std::shared_future<PackedLibrary> library = {};
 };
 
 /// The points the view draws: `path` thinned to at most `max_points` (a point is dropped when
