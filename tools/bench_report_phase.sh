@@ -37,6 +37,7 @@ for p in "${PROGRAMS[@]}"; do
     strace -tt -e trace=wait4,exit_group -o "$TMP/st.txt" "$PCNC" run "$SHARED/gcode/cam/$p" --fit --clock virtual \
       --contouring on --tolerance 0.005 -q --config "$TMP/mill.toml" --report "$TMP/r.html" >/dev/null 2>"$TMP/err" ||
       { echo "bench_report_phase: run failed: $p"; tail -3 "$TMP/err"; continue; }
+    size=$(python3 -c "import os,sys; print(f'{os.path.getsize(sys.argv[1])/1e6:.2f} MB')" "$TMP/r.html")
     # the last wait4 that reaped a child, to exit_group
     phases+=("$(python3 - "$TMP/st.txt" <<'EOF'
 import re, sys
@@ -55,6 +56,5 @@ EOF
   done
   [ ${#phases[@]} -gt 0 ] || continue
   read -r fastest median < <(printf "%s\n" "${phases[@]}" | sort -g | awk '{v[NR]=$1} END {print v[1], v[int((NR+1)/2)]}')
-  size=$(python3 -c "import os,sys; print(f'{os.path.getsize(sys.argv[1])/1e6:.2f} MB')" "$TMP/r.html")
   printf "   %-28s %8s ms %7s ms %10s\n" "$p" "$fastest" "$median" "$size"
 done
