@@ -174,12 +174,18 @@ TEST(PathView3dChromium, DrawsThePathAndTheSliderReadsOutThePointAtThatTime) {
   fs::remove_all(dir);
 }
 
-TEST(ReportHtml, CarriesTheInteractiveViewAndKeepsTheStaticOne) {
+// A page of the helix, with the part's box around it.
+ReportPage helix_page() {
   ReportPage page;
   page.has_trace = true;
   page.trace = helix_digest();
   page.summary.max_point = {5, 5, 8};
   page.summary.min_point = {-5, -5, 0};
+  return page;
+}
+
+TEST(ReportHtml, CarriesTheInteractiveViewAndKeepsTheStaticOne) {
+  ReportPage page = helix_page();
   const std::string html = render_report_html(page);
   std::string why;
   if (render_path_view_3d(page.trace.path, PathView3dOptions{}, &why).empty()) {
@@ -196,11 +202,7 @@ TEST(ReportHtml, CarriesTheInteractiveViewAndKeepsTheStaticOne) {
 // view packs itself: the same bytes, the library unpacking to three.min.js and OrbitControls;
 // and a library that could not be read gives the same reason and no view.
 TEST(ReportHtml, ThreeJsPackedOnAnotherThreadGivesTheSamePage) {
-  ReportPage page;
-  page.has_trace = true;
-  page.trace = helix_digest();
-  page.summary.max_point = {5, 5, 8};
-  page.summary.min_point = {-5, -5, 0};
+  ReportPage page = helix_page();
   const std::string in_place = render_report_html(page);
   page.view3d_options.library = std::async(std::launch::async, pack_three_js, std::string()).share();
   EXPECT_EQ(render_report_html(page), in_place);
