@@ -1,4 +1,4 @@
-// test_fixed_text.cpp — the reports' fixed-decimal formatter (report/fixed_text.hpp) against
+// test_fixed_text.cpp — the reports' fixed-decimal formatter (config/fixed_text.hpp) against
 // printf: chosen values (ties to even, negatives, -0.0, large values, NaN and infinities) and a
 // broad sweep of values and decimal counts, each compared with snprintf("%.*f") under the
 // formatter's one rule ("-0.00" written "0.00").
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "report/fixed_text.hpp"
+#include "config/fixed_text.hpp"
 
 namespace pcnc {
 namespace {

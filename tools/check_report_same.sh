@@ -91,8 +91,8 @@ status=0
 printf "   %-28s %-10s %22s %22s\n" program page "A: wall / cpu ms" "B: wall / cpu ms"
 for p in "${PROGRAMS[@]}"; do
   KEEP_TRACE="$TMP/trace.pcct" "$TMP/bin/pcnc" run "$SHARED/gcode/cam/$p" --fit --clock virtual --contouring on \
-    --tolerance 0.005 -q --config "$TMP/mill.toml" --summary "$TMP/summary.json" --report "$TMP/run.html" >/dev/null 2>&1 ||
-    { echo "check_report_same: the run of $p failed"; status=1; continue; }
+    --tolerance 0.005 -q --config "$TMP/mill.toml" --summary "$TMP/summary.json" --report "$TMP/run.html" >/dev/null 2>"$TMP/err" ||
+    { echo "check_report_same: the run of $p failed:"; tail -3 "$TMP/err"; status=1; continue; }
   read -r wa ca < <("$TMP/report_a" "$TMP/summary.json" "$TMP/trace.pcct" "$TMP/a.html" 5)
   read -r wb cb < <("$TMP/report_b" "$TMP/summary.json" "$TMP/trace.pcct" "$TMP/b.html" 5)
   if cmp -s "$TMP/a.html" "$TMP/b.html" && cmp -s "$TMP/a.html" "$TMP/run.html"; then

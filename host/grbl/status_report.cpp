@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "report/fixed_text.hpp"  // fixed(): printf digits, no "-0.000"
+#include "config/fixed_text.hpp"  // fixed(): printf digits, no "-0.000"
 
 namespace pcnc::grbl {
 

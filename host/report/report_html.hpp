@@ -18,7 +18,7 @@
 #include <string>
 
 #include "config/config.hpp"
-#include "report/fixed_text.hpp"  // fixed(): the page's numbers, shared with the tests
+#include "config/fixed_text.hpp"  // fixed(): the page's numbers, shared with the tests
 #include "report/path_view_3d.hpp"
 #include "report/run_summary.hpp"
 #include "report/time_causes.hpp"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <string>
 
-#include "report/fixed_text.hpp"
+#include "config/fixed_text.hpp"
 
 namespace pcnc::svg {
 

@@ -1,5 +1,5 @@
 // fixed_text.cpp — fixed-decimal text by std::to_chars (see fixed_text.hpp).
-#include "report/fixed_text.hpp"
+#include "config/fixed_text.hpp"
 
 #include <algorithm>
 #include <charconv>

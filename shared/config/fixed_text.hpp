@@ -1,6 +1,7 @@
-// fixed_text.hpp — numbers as fixed-decimal text, the one formatter of the reports' figures and
-// SVG coordinates (report_html, report_plots, the tool-axis view, the scope and surface pages,
-// the grbl status report).
+// fixed_text.hpp — numbers as fixed-decimal text: the one formatter of the report pages'
+// figures and SVG coordinates (host/report: report_html, report_plots, the tool-axis view, the
+// scope and surface pages) and of the grbl status report (host/grbl), which both may include
+// shared/config.
 //
 // The digits are printf's "%.*f" in the C locale (the exact binary value, ties to even), made
 // without printf's format parsing and locale: a report writes some 190 000 coordinates, and
