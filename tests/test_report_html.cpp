@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -447,6 +448,53 @@ TEST(ReportChromium, RendersAScreenshotThatIsNotBlank) {
 }
 
 // The report draws rapids from the lines the run's check recorded (no front end of its own).
+// The check's plan in the summary: each entry written as text ("%.9g" speeds, "%.4g" angles)
+// and read back field by field (std::from_chars) to the values written, every junction kind
+// and cause key; an entry with a field missing, one too many, or a word for a number is refused.
+TEST(RunSummary, PlanEntriesRoundTripAndMalformedOnesAreRefused) {
+  RunSummary a = sample_summary();
+  a.plan.clear();
+  for (int k = 0; k < kTimeCauseCount; ++k) {
+    LinePlan p;
+    p.first = 10u * static_cast<std::uint32_t>(k) + 1u;
+    p.last = p.first + static_cast<std::uint32_t>(k % 3);
+    p.cruise = static_cast<TimeCause>(k);
+    p.accel = static_cast<TimeCause>((k + 3) % kTimeCauseCount);
+    p.speed = 12.345678912 * (k + 1);
+    p.before = static_cast<JunctionKind>(k % 6);
+    p.after = static_cast<JunctionKind>((k + 1) % 6);
+    p.angle_before_deg = k == 0 ? -1.0 : 0.125 * k;
+    p.angle_after_deg = 179.5 - k;
+    a.plan.push_back(p);
+  }
+  const nlohmann::json j = to_json(a);
+  const RunSummary b = run_summary_from_json(nlohmann::json::parse(j.dump()));
+  ASSERT_EQ(b.plan.size(), a.plan.size());
+  for (std::size_t i = 0; i < a.plan.size(); ++i) {
+    const LinePlan &x = a.plan[i], &y = b.plan[i];
+    EXPECT_EQ(y.first, x.first);
+    EXPECT_EQ(y.last, x.last);
+    EXPECT_EQ(y.cruise, x.cruise);
+    EXPECT_EQ(y.accel, x.accel);
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.9g", x.speed);
+    EXPECT_EQ(y.speed, std::strtod(buf, nullptr)) << i;  // what sscanf's %lf read before
+    EXPECT_EQ(y.before, x.before);
+    EXPECT_EQ(y.after, x.after);
+    std::snprintf(buf, sizeof buf, "%.4g", x.angle_before_deg);
+    EXPECT_EQ(y.angle_before_deg, std::strtod(buf, nullptr)) << i;
+    std::snprintf(buf, sizeof buf, "%.4g", x.angle_after_deg);
+    EXPECT_EQ(y.angle_after_deg, std::strtod(buf, nullptr)) << i;
+  }
+  const std::string good = j["check"]["plan"][0].get<std::string>();
+  for (const std::string& bad : {good.substr(0, good.rfind(',')), good + ",1", "x" + good, std::string("1,2,feed,nokey,3,0,0,0,0"),
+                                std::string("1,2,feed,feed,3,0,9,0,0"), std::string("1,2,feed,feed,fast,0,0,0,0")}) {
+    nlohmann::json broken = j;
+    broken["check"]["plan"][0] = bad;
+    EXPECT_THROW(run_summary_from_json(broken), std::runtime_error) << bad;
+  }
+}
+
 TEST(RunSummary, RapidLinesRoundTripAndOlderSummariesHaveNone) {
   RunSummary a = sample_summary();
   a.rapid_lines = {{1, 1}, {7, 9}};

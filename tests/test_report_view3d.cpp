@@ -1,12 +1,14 @@
 // The run report's interactive 3D tool path (host/report/path_view_3d, inline_blob): the
 // packing round trips, the thinning keeps what it promises, and in headless Chromium the view
-// draws the path and the red dot, and its time slider reads out the point the test computes.
+// draws the path and the red dot, and its time slider reads out the point the test computes;
+// three.js packed on another thread gives the same page.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <regex>
 
 #include "headless_chromium.hpp"
@@ -172,12 +174,18 @@ TEST(PathView3dChromium, DrawsThePathAndTheSliderReadsOutThePointAtThatTime) {
   fs::remove_all(dir);
 }
 
-TEST(ReportHtml, CarriesTheInteractiveViewAndKeepsTheStaticOne) {
+// A page of the helix, with the part's box around it.
+ReportPage helix_page() {
   ReportPage page;
   page.has_trace = true;
   page.trace = helix_digest();
   page.summary.max_point = {5, 5, 8};
   page.summary.min_point = {-5, -5, 0};
+  return page;
+}
+
+TEST(ReportHtml, CarriesTheInteractiveViewAndKeepsTheStaticOne) {
+  ReportPage page = helix_page();
   const std::string html = render_report_html(page);
   std::string why;
   if (render_path_view_3d(page.trace.path, PathView3dOptions{}, &why).empty()) {
@@ -188,6 +196,28 @@ TEST(ReportHtml, CarriesTheInteractiveViewAndKeepsTheStaticOne) {
   EXPECT_NE(html.find("<div class=\"toolpath-static\"><svg class=\"toolpath\""), std::string::npos);
   page.view3d = false;
   EXPECT_EQ(render_report_html(page).find("id=\"view3d\""), std::string::npos);
+}
+
+// three.js packed beforehand on another thread (as `pcnc run --report` does) gives the page the
+// view packs itself: the same bytes, the library unpacking to three.min.js and OrbitControls;
+// and a library that could not be read gives the same reason and no view.
+TEST(ReportHtml, ThreeJsPackedOnAnotherThreadGivesTheSamePage) {
+  ReportPage page = helix_page();
+  const std::string in_place = render_report_html(page);
+  page.view3d_options.library = std::async(std::launch::async, pack_three_js, std::string()).share();
+  EXPECT_EQ(render_report_html(page), in_place);
+  const PackedLibrary& lib = page.view3d_options.library.get();
+  if (!lib.base64.empty()) {
+    const std::string js = gunzip_bytes(base64_decode(lib.base64));
+    EXPECT_NE(js.find("OrbitControls"), std::string::npos);
+    EXPECT_NE(in_place.find(lib.base64), std::string::npos) << "the page inlines the packed library";
+  }
+  page.view3d_options = PathView3dOptions{.three_dir = "/nonexistent/three"};
+  const std::string without = render_report_html(page);
+  page.view3d_options.library = std::async(std::launch::async, pack_three_js, std::string("/nonexistent/three")).share();
+  EXPECT_EQ(render_report_html(page), without);
+  EXPECT_NE(without.find("No interactive view: three.js was not found in /nonexistent/three"), std::string::npos);
+  EXPECT_EQ(without.find("id=\"view3d\""), std::string::npos);
 }
 
 }  // namespace

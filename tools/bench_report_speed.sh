@@ -24,13 +24,10 @@ SHARED=$(cd .. && pwd)/shared
 [ -x "$PCNC" ] || { echo "bench_report_speed: $PCNC not built (cmake --build $BUILD --target pcnc pcnc-rt pcnc-host)"; exit 2; }
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-# a private segment, socket and state directory, so a running pcnc elsewhere is not disturbed
-sed -e "s#^shm_name = .*#shm_name = \"/pcnc-benchrep-$$\"#" -e "s#^\# socket_path = .*#socket_path = \"$TMP/s.sock\"#" \
-    -e "s#^\# state_dir = .*#state_dir = \"$TMP/state\"#" \
-    -e "s#^host_timeout_s = .*#host_timeout_s = 2.0#" -e "s#^rt_timeout_s = .*#rt_timeout_s = 2.0#" \
-    configs/desktop-mill.toml >"$TMP/mill.toml"
-# (heartbeat timeouts of 2 s instead of 0.1 s: on a busy machine a starved process would end
-# a run as "pcnc-rt lost"; they change no figure of a run that completes)
+# a private segment, socket and state directory, so a running pcnc elsewhere is not disturbed,
+# and 2 s heartbeat timeouts (tools/private_config.sh)
+source tools/private_config.sh
+private_config configs/desktop-mill.toml benchrep "$TMP" >"$TMP/mill.toml"
 
 # timed OUT ARGS... : runs pcnc run ARGS RUNS times; prints "WALL CPU" of the fastest run
 timed() {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "config/fixed_text.hpp"  // fixed(): printf digits, no "-0.000"
+
 namespace pcnc::grbl {
 
 using nlohmann::json;
@@ -12,13 +14,6 @@ namespace {
 double num(const json& j, const char* key, double fallback = 0.0) {
   const auto it = j.find(key);
   return it != j.end() && it->is_number() ? it->get<double>() : fallback;
-}
-
-std::string fixed(double v, int decimals) {
-  char buf[48];
-  if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;  // no "-0.000"
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
 }
 }  // namespace
 

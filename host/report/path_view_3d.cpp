@@ -288,13 +288,21 @@ std::vector<ToolPathPoint> decode_path_record(const std::string& record) {
   return pts;
 }
 
-std::string render_path_view_3d(const std::vector<ToolPathPoint>& path, const PathView3dOptions& options,
-                                std::string* why_not) {
-  const std::string dir = options.three_dir.empty() ? PCNC_THREE_JS_DIR : options.three_dir;
+PackedLibrary pack_three_js(const std::string& three_dir) {
+  const std::string dir = three_dir.empty() ? PCNC_THREE_JS_DIR : three_dir;
   const std::string three = read_file(dir + "/three.min.js");
   const std::string orbit = read_file(dir + "/examples/js/controls/OrbitControls.js");
-  if (three.empty() || orbit.empty()) {
-    if (why_not) *why_not = "three.js was not found in " + dir + " (Debian package libjs-three)";
+  if (three.empty() || orbit.empty()) return {{}, "three.js was not found in " + dir + " (Debian package libjs-three)"};
+  return {base64_encode(gzip_bytes(three + "\n" + orbit)), {}};
+}
+
+std::string render_path_view_3d(const std::vector<ToolPathPoint>& path, const PathView3dOptions& options,
+                                std::string* why_not) {
+  PackedLibrary own;
+  if (!options.library.valid()) own = pack_three_js(options.three_dir);
+  const PackedLibrary& library = options.library.valid() ? options.library.get() : own;
+  if (library.base64.empty()) {
+    if (why_not) *why_not = library.why_not;
     return {};
   }
   const std::vector<ToolPathPoint> points = thin_for_view(path, options.max_points);
@@ -308,8 +316,7 @@ std::string render_path_view_3d(const std::vector<ToolPathPoint>& path, const Pa
     << "<p class=\"v3-msg\">Drag to rotate, scroll to zoom, right-drag to pan. The slider moves the red dot through "
        "program time; "
     << points.size() << " points of the measured path.</p>\n</div>\n";
-  o << "<script type=\"application/octet-stream\" id=\"v3-lib\">" << base64_encode(gzip_bytes(three + "\n" + orbit))
-    << "</script>\n";
+  o << "<script type=\"application/octet-stream\" id=\"v3-lib\">" << library.base64 << "</script>\n";
   o << "<script type=\"application/octet-stream\" id=\"v3-data\">"
     << base64_encode(gzip_bytes(encode_path_record(points, options))) << "</script>\n";
   o << "<script>\n" << kScript << "</script>\n";

@@ -4,7 +4,14 @@
 //
 // The page stays one file: three.js (r111, from Debian's libjs-three, read when the report is
 // written) and its OrbitControls are inlined gzip+base64 and unpacked by the browser; the path
-// goes in as a compact binary record (below), packed the same way. The static isometric SVG
+// goes in as a compact binary record (below), packed the same way. Packing three.js (0.9 MB,
+// gzip level 6: about 40 ms) was the largest single cost of writing a report, the same bytes
+// every time: `pcnc run --report` packs it on a second thread (pack_three_js, given to the
+// view through PathView3dOptions::library) while the trace is read and the rest of the page
+// drawn; both processes have ended by then, so the run's cores are free. Still at level 6, so
+// the page keeps its bytes: level 4 would take half the time for 10 kB more, but on its own
+// thread three.js finishes within the report's critical path (the trace's loading, then this
+// view's own record, which render_report_html also builds on a second thread). The static isometric SVG
 // stays in the page for printing and for browsers without scripts; CSS shows one or the other.
 //
 // The binary record (little-endian), in planar arrays so that gzip finds the repeats:
@@ -20,6 +27,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <future>
 #include <string>
 #include <vector>
 
@@ -27,11 +35,25 @@
 
 namespace pcnc {
 
+/// three.js and its OrbitControls as the page inlines them (gzip + base64), or an empty
+/// `base64` and `why_not` when they cannot be read.
+struct PackedLibrary {
+  std::string base64;
+  std::string why_not;
+};
+
+/// Reads and packs three.js from `three_dir` (empty: the libjs-three directory pcnc was built
+/// with). The same for every report: it may run on another thread while the page is drawn.
+PackedLibrary pack_three_js(const std::string& three_dir);
+
 struct PathView3dOptions {
   std::size_t max_points = 20000;   // the path is thinned (by distance, doubling) to at most this
   double quantum_mm = 0.0005;       // position resolution of the record
   double tick_s = 0.0005;           // time resolution (one rt cycle)
   std::string three_dir = "";       // empty: the libjs-three directory pcnc was built with
+  /// three.js already being packed (pack_three_js, on another thread); not valid: the view
+  /// packs it from three_dir itself
+  std::shared_future<PackedLibrary> library = {};
 };
 
 /// The points the view draws: `path` thinned to at most `max_points` (a point is dropped when

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
@@ -18,14 +19,6 @@
 
 
 namespace pcnc {
-
-std::string fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s(buf);
-  if (s.size() > 1 && s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
-  return s;
-}
 
 namespace {
 using namespace svg;
@@ -86,8 +79,6 @@ struct Frame2 {
   }
 };
 
-std::string pt(const P2& p) { return f1(p.x) + "," + f1(p.y); }
-
 }  // namespace
 
 // ---- the tool path ----
@@ -141,25 +132,35 @@ std::string path_strokes(const std::vector<ToolPathPoint>& path, double vmax, Pr
     const bool next_same = i + 1 < path.size() && (path[i + 1].rapid ? kBins : bin_of(path[i + 1])) == cls;
     if (cls == run && next_same && std::hypot(q.x - last.x, q.y - last.y) < min_px) continue;
     Stroke& st = strokes[static_cast<std::size_t>(cls)];
-    if (cls != run || st.pen.x != last.x || st.pen.y != last.y) st.d += (st.d.empty() ? "M" : " M") + pt(last);
-    st.d += " " + pt(q);
+    if (cls != run || st.pen.x != last.x || st.pen.y != last.y) {
+      st.d += st.d.empty() ? "M" : " M";
+      append_xy(st.d, last.x, last.y);
+    }
+    st.d += ' ';
+    append_xy(st.d, q.x, q.y);
     st.pen = q;
     last = q;
     run = cls;
     if (cls != kBins) ++n_feed;
   }
-  std::ostringstream o;
+  std::size_t size = 0;
+  for (const Stroke& st : strokes) size += st.d.size() + 160;
+  std::string o;
+  o.reserve(size);
   if (!strokes[kBins].d.empty()) {
-    o << "<path class=\"rapid\" stroke=\"#aab3c5\" stroke-opacity=\"0.55\" stroke-width=\"" << fixed(width * 0.6, 2)
-      << "\" stroke-dasharray=\"4 3\" d=\"" << strokes[kBins].d << "\"/>\n";
+    o += "<path class=\"rapid\" stroke=\"#aab3c5\" stroke-opacity=\"0.55\" stroke-width=\"" + fixed(width * 0.6, 2) +
+         "\" stroke-dasharray=\"4 3\" d=\"";
+    o += strokes[kBins].d;
+    o += "\"/>\n";
   }
   for (int b = 0; b < kBins; ++b) {
     if (strokes[static_cast<std::size_t>(b)].d.empty()) continue;
-    o << "<path class=\"feed\" stroke=\"" << colour_at((b + 0.5) / kBins) << "\" stroke-width=\"" << fixed(width, 2) << "\" d=\""
-      << strokes[static_cast<std::size_t>(b)].d << "\"/>\n";
+    o += "<path class=\"feed\" stroke=\"" + colour_at((b + 0.5) / kBins) + "\" stroke-width=\"" + fixed(width, 2) + "\" d=\"";
+    o += strokes[static_cast<std::size_t>(b)].d;
+    o += "\"/>\n";
   }
   if (feeds) *feeds = n_feed;
-  return o.str();
+  return o;
 }
 
 std::string end_markers(const P2& last, const P2& tool, const std::string& id) {
@@ -303,12 +304,13 @@ std::string render_top_view_svg(const ReportPage& page) {
          "stroke-width=\"1\" stroke-dasharray=\"5 3\">\n";
     for (const std::vector<Vec3>& line : s.comp_contour) {
       if (line.size() < 2) continue;
-      o << "<polyline points=\"";
+      std::string points;
       for (const Vec3& p : line) {
         const P2 q = project(p);
-        o << f1(q.x) << "," << f1(q.y) << " ";
+        append_xy(points, q.x, q.y);
+        points += ' ';
       }
-      o << "\"/>\n";
+      o << "<polyline points=\"" << points << "\"/>\n";
     }
     o << "</g>\n";
     o << "<text class=\"comp-legend\" x=\"" << L << "\" y=\"" << f1(H - 4) << "\" font-size=\"11\" fill=\"#c9d0de\">"
@@ -419,6 +421,16 @@ std::string render_report_html(const ReportPage& page) {
   const Status& st = s.final_status;
   const bool ok = s.end == "completed";
   const std::string name = std::filesystem::path(s.program).filename().string();
+  // the interactive 3D view (the path thinned, packed as a binary record, gzipped: about a third
+  // of the page's time) is built on a second thread while the rest of the page is drawn; the
+  // page is the same, put together in its fixed order
+  std::string no_view;
+  std::future<std::string> view3d;
+  if (page.has_trace && page.view3d) {
+    view3d = std::async(std::launch::async, [&page, &no_view] {
+      return render_path_view_3d(page.trace.path, page.view3d_options, &no_view);
+    });
+  }
 
   std::vector<std::pair<std::string, std::vector<Row>>> groups;
   // time
@@ -539,11 +551,7 @@ std::string render_report_html(const ReportPage& page) {
       << " µm apart or more.";
   }
   o << "</p>\n";
-  std::string no_view;
-  if (page.has_trace && page.view3d) {
-    o << render_path_view_3d(page.trace.path, PathView3dOptions{}, &no_view);
-    if (!no_view.empty()) o << "<p>No interactive view: " << escape(no_view) << ".</p>\n";
-  }
+  const auto view3d_at = o.tellp();  // the 3D view goes here when its thread is done (below)
   o << "<div class=\"toolpath-static\">" << render_toolpath_svg(page) << "</div></section>\n";
   o << "<section class=\"card dark\"><h2>Top view (X–Y)</h2>\n<p>Looking down Z, same colours; grid in machine millimetres.</p>\n"
     << render_top_view_svg(page) << "</section>\n</div>\n";
@@ -590,6 +598,11 @@ std::string render_report_html(const ReportPage& page) {
     o << ".</p></section>\n";
   }
 
+  std::string view3d_text;
+  if (view3d.valid()) {
+    view3d_text = view3d.get();
+    if (!no_view.empty()) view3d_text += "<p>No interactive view: " + escape(no_view) + ".</p>\n";
+  }
   o << "<footer>Written by pcnc after both processes ended, from the host's run summary";
   if (page.has_trace) o << " and " << page.trace.rows << " trace rows (" << page.trace.program_rows << " in the program)";
   else if (!page.trace_note.empty()) o << "; no trace: " << escape(page.trace_note);
@@ -597,7 +610,9 @@ std::string render_report_html(const ReportPage& page) {
     << (page.has_trace && page.view3d && no_view.empty() ? "; the 3D view runs three.js (Debian's libjs-three), inlined" : "")
     << ".</footer>\n";
   o << "</main>\n</body>\n</html>\n";
-  return o.str();
+  std::string html = o.str();
+  html.insert(static_cast<std::size_t>(view3d_at), view3d_text);
+  return html;
 }
 
 }  // namespace pcnc

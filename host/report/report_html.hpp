@@ -18,6 +18,8 @@
 #include <string>
 
 #include "config/config.hpp"
+#include "config/fixed_text.hpp"  // fixed(): the page's numbers, shared with the tests
+#include "report/path_view_3d.hpp"
 #include "report/run_summary.hpp"
 #include "report/time_causes.hpp"
 #include "report/trace_reader.hpp"
@@ -31,6 +33,7 @@ struct ReportPage {
   std::string trace_note;   // e.g. why there is no trace
   std::vector<SlowStretch> slowest;  // the lines that lost most time, with their cause
   bool view3d = true;       // the interactive 3D tool path (path_view_3d.hpp) when three.js is there
+  PathView3dOptions view3d_options;  // its settings (and three.js, when packed on another thread)
 };
 
 /// The whole page.
@@ -41,8 +44,5 @@ std::string render_toolpath_svg(const ReportPage& page);
 /// The tool path seen from above (X right, Y up, equal scales).
 std::string render_top_view_svg(const ReportPage& page);
 
-
-/// Formatting shared with the tests: fixed decimals, "-0.000" printed as "0.000".
-std::string fixed(double v, int decimals);
 
 }  // namespace pcnc

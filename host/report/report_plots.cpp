@@ -15,20 +15,31 @@ using namespace svg;
 
 const char* kAxisColours[3] = {"#d1495b", "#2a9d58", "#2f6fd0"};
 
-// The polyline pieces of one edge of a series: split where a bucket is not valid.
-template <typename X, typename Y>
-std::vector<std::string> pieces(const std::vector<double>& t, const std::vector<double>& v, const std::vector<bool>& valid, X x, Y y) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (std::size_t i = 0; i < t.size(); ++i) {
+// The pieces of a series, [first, last) bucket index ranges: split where a bucket is not valid.
+std::vector<std::pair<std::size_t, std::size_t>> pieces(std::size_t n, const std::vector<bool>& valid) {
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (std::size_t i = 0; i < n;) {
     if (!valid.empty() && !valid[i]) {
-      if (!cur.empty()) out.push_back(std::move(cur)), cur.clear();
+      ++i;
       continue;
     }
-    cur += (cur.empty() ? "" : " ") + f1(x(t[i])) + "," + f1(y(v[i]));
+    std::size_t j = i + 1;
+    while (j < n && (valid.empty() || valid[j])) ++j;
+    out.push_back({i, j});
+    i = j;
   }
-  if (!cur.empty()) out.push_back(std::move(cur));
   return out;
+}
+
+// The points "x,y x,y ..." of buckets [first, last) of one edge, forwards or backwards.
+template <typename X, typename Y>
+void append_points(std::string& out, const std::vector<double>& t, const std::vector<double>& v, std::size_t first,
+                   std::size_t last, bool backwards, X x, Y y) {
+  for (std::size_t k = first; k < last; ++k) {
+    const std::size_t i = backwards ? last - 1 - (k - first) : k;
+    if (k > first) out += ' ';
+    append_xy(out, x(t[i]), y(v[i]));
+  }
 }
 
 }  // namespace
@@ -101,20 +112,18 @@ std::string render_time_plot(const TimePlot& p) {
   // envelopes: a filled band from min to max and its two edges
   for (const PlotSeries& s : p.series) {
     if (t.empty()) break;
-    const auto upper = pieces(t, s.hi, s.valid, X, Y), lower = pieces(t, s.lo, s.valid, X, Y);
-    o << "<g class=\"series\" data-name=\"" << escape(s.name) << "\">";
-    for (std::size_t k = 0; k < upper.size() && k < lower.size(); ++k) {
+    std::string g = "<g class=\"series\" data-name=\"" + escape(s.name) + "\">";
+    for (const auto& [first, last] : pieces(t.size(), s.valid)) {
+      std::string upper, lower, back;
+      append_points(upper, t, s.hi, first, last, false, X, Y);
+      append_points(lower, t, s.lo, first, last, false, X, Y);
+      append_points(back, t, s.lo, first, last, true, X, Y);
       // the band: the upper edge forwards, the lower edge backwards
-      std::string back;
-      std::istringstream in(lower[k]);
-      std::vector<std::string> pts;
-      for (std::string q; in >> q;) pts.push_back(q);
-      for (auto it = pts.rbegin(); it != pts.rend(); ++it) back += " " + *it;
-      o << "<polygon points=\"" << upper[k] << back << "\" fill=\"" << s.colour << "\" fill-opacity=\"0.22\" stroke=\"none\"/>";
-      o << "<polyline points=\"" << upper[k] << "\" fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.1\"/>";
-      o << "<polyline points=\"" << lower[k] << "\" fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.1\"/>";
+      g += "<polygon points=\"" + upper + " " + back + "\" fill=\"" + s.colour + "\" fill-opacity=\"0.22\" stroke=\"none\"/>";
+      g += "<polyline points=\"" + upper + "\" fill=\"none\" stroke=\"" + s.colour + "\" stroke-width=\"1.1\"/>";
+      g += "<polyline points=\"" + lower + "\" fill=\"none\" stroke=\"" + s.colour + "\" stroke-width=\"1.1\"/>";
     }
-    o << "</g>\n";
+    o << g << "</g>\n";
   }
   // the reference: a dashed step line
   if (!p.reference.empty() && !t.empty()) {
@@ -126,7 +135,10 @@ std::string render_time_plot(const TimePlot& p) {
         continue;
       }
       const double x0 = X(t[i]) - col / 2, x1 = X(t[i]) + col / 2, y = Y(p.reference[i]);
-      d += (pen ? " L" : " M") + f1(x0) + "," + f1(y) + " L" + f1(x1) + "," + f1(y);
+      d += pen ? " L" : " M";
+      append_xy(d, x0, y);
+      d += " L";
+      append_xy(d, x1, y);
       pen = true;
     }
     o << "<path class=\"reference\" d=\"" << d << "\" fill=\"none\" stroke=\"#1d2330\" stroke-width=\"1\" stroke-dasharray=\"5 3\"/>\n";

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <future>
 #include <iterator>
 #include <stdexcept>
 
@@ -65,7 +66,12 @@ ReportPage load_report_page(const std::string& summary_path, const std::string& 
 
 void finish_run_outputs(const std::string& summary_path, const std::string& trace_path, const std::string& html_path,
                         bool rewrite_summary) {
-  const ReportPage page = load_report_page(summary_path, trace_path);
+  // three.js, the same in every report and the largest cost of packing the page, is packed on
+  // a second thread while the trace is read and the page drawn (path_view_3d.hpp)
+  std::shared_future<PackedLibrary> three;
+  if (!html_path.empty() && !trace_path.empty()) three = std::async(std::launch::async, pack_three_js, std::string()).share();
+  ReportPage page = load_report_page(summary_path, trace_path);
+  page.view3d_options.library = three;
   if (!html_path.empty()) {
     const std::string html = render_report_html(page);
     std::ofstream f(html_path);

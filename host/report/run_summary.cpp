@@ -1,10 +1,12 @@
 // run_summary.cpp — RunSummary from a finished run, and its JSON form (see run_summary.hpp).
 #include "report/run_summary.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace pcnc {
 
@@ -125,14 +127,33 @@ std::string plan_entry(const LinePlan& p) {
   return buf;
 }
 
+// One comma-separated field of a plan entry, as a number (std::from_chars: the same values
+// as sscanf's %u, %d and %lf give, without its format parsing: a summary holds one entry per
+// block, and reading them was a seventh of the report's loading).
+template <typename T>
+bool plan_field(std::string_view& rest, T& out) {
+  const std::size_t comma = rest.find(',');
+  const std::string_view field = rest.substr(0, comma);
+  const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), out);
+  rest.remove_prefix(comma == std::string_view::npos ? rest.size() : comma + 1);
+  return ec == std::errc() && end == field.data() + field.size();
+}
+
+bool plan_field(std::string_view& rest, TimeCause& out) {
+  const std::size_t comma = rest.find(',');
+  const std::string field(rest.substr(0, comma));
+  rest.remove_prefix(comma == std::string_view::npos ? rest.size() : comma + 1);
+  return parse_time_cause(field, out);
+}
+
 LinePlan plan_entry_from(const std::string& text) {
   LinePlan p;
-  char cruise[40] = {0}, accel[40] = {0};
   int before = 0, after = 0;
-  if (std::sscanf(text.c_str(), "%u,%u,%39[^,],%39[^,],%lf,%d,%d,%lf,%lf", &p.first, &p.last, cruise, accel, &p.speed, &before,
-                  &after, &p.angle_before_deg, &p.angle_after_deg) != 9 ||
-      !parse_time_cause(cruise, p.cruise) || !parse_time_cause(accel, p.accel) || before < 0 || before > 5 || after < 0 ||
-      after > 5) {
+  std::string_view rest = text;
+  if (!plan_field(rest, p.first) || !plan_field(rest, p.last) || !plan_field(rest, p.cruise) || !plan_field(rest, p.accel) ||
+      !plan_field(rest, p.speed) || !plan_field(rest, before) || !plan_field(rest, after) ||
+      !plan_field(rest, p.angle_before_deg) || !plan_field(rest, p.angle_after_deg) || !rest.empty() || before < 0 ||
+      before > 5 || after < 0 || after > 5) {
     throw std::runtime_error("malformed plan entry '" + text + "'");
   }
   p.before = static_cast<JunctionKind>(before);

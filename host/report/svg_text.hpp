@@ -1,12 +1,13 @@
 // svg_text.hpp — small text helpers the report's SVG and HTML share: escaping, axis tick
-// steps and their decimals, one-decimal coordinates.
+// steps and their decimals, one-decimal coordinates (appended to the markup being built: the
+// path strokes and plot lines hold most of a page's numbers).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "report/report_html.hpp"  // fixed()
+#include "config/fixed_text.hpp"
 
 namespace pcnc::svg {
 
@@ -38,5 +39,12 @@ inline double nice_step(double range, int target) {
 inline int decimals_for(double step) { return std::max(0, static_cast<int>(std::ceil(-std::log10(step) - 1e-9))); }
 
 inline std::string f1(double v) { return fixed(v, 1); }
+
+/// "x,y" with one decimal each, appended.
+inline void append_xy(std::string& out, double x, double y) {
+  append_fixed(out, x, 1);
+  out += ',';
+  append_fixed(out, y, 1);
+}
 
 }  // namespace pcnc::svg

@@ -102,17 +102,23 @@ void add_runs(std::FILE* f, const std::string& path, const Contents& c, const Di
               std::vector<TraceBucket>& slices, TraceDigest& d) {
   std::vector<CompactRun> buf(4096);
   std::uint64_t left = c.totals.runs;
-  std::size_t j = 0;  // slice of the current run
+  std::size_t j = 0;  // slice of the current run, and its bucket index
+  std::size_t slice_at = slices.empty() ? 0 : bucket_index(slices[0].t0, c.totals.slice_width_s);
   double prev_speed = 0.0;
   const double w = c.totals.slice_width_s;
+  // runs follow the program: most are on the line of the run before (one lookup per line)
+  std::uint32_t last_line = 0;
+  bool have_line = false, rapid = false;
+  LineTime* lt = nullptr;
   while (left > 0) {
     const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left, buf.size()));
     read_exact(f, buf.data(), n, path, "runs");
     left -= n;
     for (std::size_t i = 0; i < n; ++i) {
       const CompactRun& r = buf[i];
-      while (j + 1 < slices.size() && bucket_index(slices[j].t0, w) < bucket_index(r.t, w)) ++j;
-      if (slices.empty() || bucket_index(slices[j].t0, w) != bucket_index(r.t, w)) {
+      const std::size_t at = bucket_index(r.t, w);
+      while (j + 1 < slices.size() && slice_at < at) slice_at = bucket_index(slices[++j].t0, w);
+      if (slices.empty() || slice_at != at) {
         throw std::runtime_error("compact trace '" + path + "' is damaged (a run outside every slice)");
       }
       TraceBucket& k = slices[j];
@@ -122,24 +128,29 @@ void add_runs(std::FILE* f, const std::string& path, const Contents& c, const Di
       row.state = r.state();
       row.speed = static_cast<double>(r.speed_e5) / 1e5;  // as strtod reads the CSV's %.5f
       const std::uint32_t count = r.count();
+      if (!have_line || row.line != last_line) {
+        have_line = true;
+        last_line = row.line;
+        rapid = o.is_rapid_line && o.is_rapid_line(row.line);
+        lt = o.cause_of ? &d.line_time[row.line] : nullptr;
+      }
       RowCause first, rest;
       if (o.cause_of) {
         first = o.cause_of(row, prev_speed);
         if (count > 1) rest = o.cause_of(row, row.speed);
         const auto c1 = static_cast<std::size_t>(first.cause), cn = static_cast<std::size_t>(rest.cause);
-        LineTime& lt = d.line_time[row.line];
-        lt.rows += count;
+        lt->rows += count;
         ++d.cause_rows[c1];
-        ++lt.cause_rows[c1];
+        ++lt->cause_rows[c1];
         ++k.cause_rows[c1];
         if (count > 1) {
           d.cause_rows[cn] += count - 1;
-          lt.cause_rows[cn] += count - 1;
+          lt->cause_rows[cn] += count - 1;
           k.cause_rows[cn] += count - 1;
         }
       }
       prev_speed = row.speed;
-      if (o.is_rapid_line && o.is_rapid_line(row.line)) {
+      if (rapid) {
         k.rapid_rows += count;
       } else {
         k.feed_speed_min = k.feed_rows ? std::min(k.feed_speed_min, row.speed) : row.speed;
@@ -186,18 +197,25 @@ std::vector<Bucket> rebuild_buckets(const std::vector<Bucket>& slices, double sl
 // or it lies the tolerance from the last kept one; past max_path_points the tolerance doubles.
 std::vector<ToolPathPoint> decimate_path(const std::vector<CompactPoint>& points, const DigestOptions& o, double& tol) {
   std::vector<ToolPathPoint> path;
+  path.reserve(std::min(points.size(), o.max_path_points) + 1);
   auto thin = [&] {
     tol *= 2.0;
     std::vector<ToolPathPoint> kept;
-    kept.reserve(path.size() / 2 + 1);
+    kept.reserve(path.capacity());
     for (const ToolPathPoint& p : path) {
       if (!kept.empty() && p.rapid == kept.back().rapid && norm(p.p - kept.back().p) < tol) continue;
       kept.push_back(p);
     }
     path.swap(kept);
   };
+  std::uint32_t last_line = 0;
+  bool have_line = false, rapid = false;
   for (const CompactPoint& c : points) {
-    const bool rapid = o.is_rapid_line && o.is_rapid_line(c.line);
+    if (!have_line || c.line != last_line) {  // one lookup per run of points on a line
+      have_line = true;
+      last_line = c.line;
+      rapid = o.is_rapid_line && o.is_rapid_line(c.line);
+    }
     const Vec3 p = point_position(c);
     if (!path.empty() && rapid == path.back().rapid && norm(p - path.back().p) < tol) continue;
     path.push_back(ToolPathPoint{p, static_cast<double>(c.speed), rapid, c.t, c.line, point_ferr(c)});
