@@ -8,8 +8,9 @@
 
 namespace pcnc {
 
-/// The bytes gzip-compressed (RFC 1952, zlib's default level 6: on the 3D view's path record
-/// level 9 took 133 ms for 5 % less, three.js 31 ms for 0.3 % less; bench/bench_report).
+/// The bytes gzip-compressed (RFC 1952, zlib level 4: half of the default level 6's time for
+/// 1.3 % more page; on the 3D view's path record level 9 took 133 ms for 5 % less than 6,
+/// three.js 31 ms for 0.3 % less; bench/bench_report).
 /// Throws std::runtime_error when zlib fails (out of memory).
 std::string gzip_bytes(std::string_view bytes);
 /// The gzip stream back to its bytes (tests, and reading a report's data). Throws on a

@@ -5,13 +5,11 @@
 // The page stays one file: three.js (r111, from Debian's libjs-three, read when the report is
 // written) and its OrbitControls are inlined gzip+base64 and unpacked by the browser; the path
 // goes in as a compact binary record (below), packed the same way. Packing three.js (0.9 MB,
-// gzip level 6: about 40 ms) was the largest single cost of writing a report, the same bytes
+// gzip level 6: about 40 ms, level 4 about 17 ms) was the largest single cost of writing a report, the same bytes
 // every time: `pcnc run --report` packs it on a second thread (pack_three_js, given to the
 // view through PathView3dOptions::library) while the trace is read and the rest of the page
-// drawn; both processes have ended by then, so the run's cores are free. Still at level 6, so
-// the page keeps its bytes: level 4 would take half the time for 10 kB more, but on its own
-// thread three.js finishes within the report's critical path (the trace's loading, then this
-// view's own record, which render_report_html also builds on a second thread). The static isometric SVG
+// drawn; both processes have ended by then, so the run's cores are free. Both blobs are
+// packed at zlib level 4 (inline_blob.cpp): half of level 6's time for 17-21 kB more page. The static isometric SVG
 // stays in the page for printing and for browsers without scripts; CSS shows one or the other.
 //
 // The binary record (little-endian), in planar arrays so that gzip finds the repeats:

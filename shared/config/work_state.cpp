@@ -23,7 +23,7 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
-constexpr std::size_t kMaxFileBytes = 64 * 1024;  // the file is well under 2 KiB
+constexpr std::size_t kMaxWorkStateFileBytes = 64 * 1024;  // the file is well under 2 KiB
 const char* const kAxisKeys[3] = {"x", "y", "z"};
 
 json vec_json(const Vec3& v) { return json{{"x", v[0]}, {"y", v[1]}, {"z", v[2]}}; }
@@ -163,7 +163,7 @@ WorkState load_work_state(const MachineConfig& config, const std::string& path) 
     ::close(fd);
     refuse(path, "is not a regular file");
   }
-  if (static_cast<std::size_t>(st.st_size) > kMaxFileBytes) {
+  if (static_cast<std::size_t>(st.st_size) > kMaxWorkStateFileBytes) {
     ::close(fd);
     refuse(path, "is " + std::to_string(st.st_size) + " bytes, more than a work-coordinate state can be");
   }
@@ -179,7 +179,7 @@ WorkState load_work_state(const MachineConfig& config, const std::string& path) 
     }
     if (n == 0) break;
     text.append(buf, static_cast<std::size_t>(n));
-    if (text.size() > kMaxFileBytes) break;
+    if (text.size() > kMaxWorkStateFileBytes) break;
   }
   ::close(fd);
   return parse_work_state(text, path);
