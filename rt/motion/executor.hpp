@@ -151,7 +151,6 @@ class Executor {
   double cap_of(const PreparedBlock& b, const ExecInput& in) const;
   double exit_speed_of_current(const ExecInput& in);
   double compute_exit_speed(const ExecInput& in) const;
-  double arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap) const;
   bool flows_after(std::size_t i) const;                      // geometric: junction i|i+1 flows
   double junction_cap(std::size_t i, const ExecInput& in) const;  // speed cap there (0: stop)
   void hold_still();
