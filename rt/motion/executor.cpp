@@ -62,6 +62,7 @@ void Executor::set_position(const Vec3& p) {
   entered_ = CornerBlend{};
   path_base_ = 0.0;
   blended_ = false;
+  here_valid_ = false;
 }
 
 void Executor::flush(MotionRing& ring) {
@@ -138,6 +139,7 @@ void Executor::pop(MotionRing& ring, ExecResult& out) {
   blend_[prepared_] = CornerBlend{};
   entered_ = CornerBlend{};
   exit_valid_ = false;
+  here_valid_ = false;
   ++out.blocks_done;
   s_ = 0.0;
   dwell_ = 0.0;
@@ -185,6 +187,7 @@ double Executor::compute_exit_speed(const ExecInput& in) const {
 
 void Executor::begin_block(const Block& blk, bool from_rest) {
   s_ = 0.0;
+  here_valid_ = false;
   if (prep_[0].tcp) {
     kin_ = kinematics_with_tool(cfg_, blk.rotary.tool_length);
     slerp_ = make_axis_slerp(blk.rotary.axis_start, blk.rotary.axis_end);
@@ -238,6 +241,9 @@ bool Executor::advance(const Block& blk, double ds, double& leftover) {
     s_ = b.length;
   }
   const PathPoint pp = evaluate(b, s_);
+  here_ = pp;
+  here_s_ = s_;
+  here_valid_ = true;
   pos_ = pp.p;
   tangent_ = pp.tangent;
   curvature_ = pp.curvature;
@@ -417,11 +423,14 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     {
       // By speed, as arcs (path.hpp curve_tangential_accel): below the schedule's speed the axes
       // leave more than its accelerations (each taken at the schedule's speed) where the machine
-      // is and where this cycle lands, at the fastest speed the cycle may reach.
-      const NurbsEval at_next = nurbs_eval(view_of(g), u_next);
+      // is and where this cycle lands, at the fastest speed the cycle may reach (where it lands
+      // evaluated only when where it is leaves more: else the smaller cannot raise a_ramp).
       const double a_here = curve_tangential_accel(nurbs_at_, cfg_, v_);
       const double v_hi = v_ + std::max(a_ramp, a_here) * dt_;
-      a_ramp = std::max(a_ramp, std::min(curve_tangential_accel(nurbs_at_, cfg_, v_hi), curve_tangential_accel(at_next, cfg_, v_hi)));
+      const double here_hi = curve_tangential_accel(nurbs_at_, cfg_, v_hi);
+      if (here_hi > a_ramp) {
+        a_ramp = std::max(a_ramp, std::min(here_hi, curve_tangential_accel(nurbs_eval(view_of(g), u_next), cfg_, v_hi)));
+      }
     }
   }
   double a_brake = a_ramp;  // slowing down in this cycle
@@ -429,7 +438,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     // An arc shares its acceleration by speed (path.hpp arc_stretch_accel): braking may take the
     // tangential part at the speed the machine has (the cycle's highest), speeding up the part
     // left at the speed this cycle may reach; `a` (its value at the top speed) at least.
-    const ArcStretch stretch = arc_stretch(b, s_, v_ * dt_);
+    const ArcStretch stretch{here_valid_ && here_s_ == s_ ? here_ : evaluate(b, s_), evaluate(b, s_ + v_ * dt_)};
     a_brake = std::max(a, arc_stretch_accel(b, stretch, cfg_, v_));
     a_ramp = std::max(a, arc_stretch_accel(b, stretch, cfg_, v_ + a_brake * dt_));
   }

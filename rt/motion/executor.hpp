@@ -231,6 +231,11 @@ class Executor {
   NurbsEval nurbs_at_{};
   int nurbs_hint_ = 0;
   Vec3 tangent_{}, curvature_{};
+  // A line or arc in execution: the block's own path at s_ as advance() evaluated it (the next
+  // cycle's arc ramp starts there); valid until the block or s_ changes.
+  PathPoint here_{};
+  double here_s_ = 0.0;
+  bool here_valid_ = false;
 
   // ruled block in execution: the follower, and what a flowing join hands to the next block
   RuledFollower ruled_{};

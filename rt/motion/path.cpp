@@ -222,8 +222,6 @@ double arc_path_accel(const PreparedBlock& b, double v) {
   return f * arc_accel_at(b.arc_a_plane, b.arc_r, b.arc_q, b.arc_a_normal, kArcAccelMargin, v / f);
 }
 
-ArcStretch arc_stretch(const PreparedBlock& b, double s, double ds) { return {evaluate(b, s), evaluate(b, s + ds)}; }
-
 double arc_stretch_accel(const PreparedBlock& b, const ArcStretch& st, const MachineConfig& cfg, double v) {
   const double f = b.arc_f;  // the parameter speed over the true speed on a spiral
   const double by_axis = f * std::min(point_tangential_accel(st.here.tangent, st.here.curvature, cfg, v / f),

@@ -86,12 +86,12 @@ void tcp_end_rates(PreparedBlock& pb, const Block& block, const MachineConfig& c
 /// 0 for a block that is not an arc.
 double arc_path_accel(const PreparedBlock& b, double v);
 
-/// The stretch [s, s + ds] a cycle covers on an arc: its two ends (evaluate), evaluated once
-/// for arc_stretch_accel at any number of speeds (the executor asks at two each cycle).
+/// The stretch [s, s + ds] a cycle covers on an arc: its two ends, evaluate(b, s) and
+/// evaluate(b, s + ds), evaluated once for arc_stretch_accel at any number of speeds (the
+/// executor asks at two each cycle, and has `here` from its last cycle's step).
 struct ArcStretch {
   PathPoint here, land;
 };
-ArcStretch arc_stretch(const PreparedBlock& b, double s, double ds);
 
 /// An arc's tangential path acceleration at path speed v over a stretch a cycle covers: the
 /// larger of arc_path_accel (the plane's smaller limit, the same everywhere on the arc: what the
