@@ -182,14 +182,34 @@ struct CycleTimes {
   bool done = false;
 };
 
-// Compute time of each cycle of `program` on a fresh machine.
-CycleTimes time_cycles(const MachineConfig& cfg, const std::vector<Block>& program, std::size_t max_cycles) {
-  Machine m(cfg);
-  MotionRing ring;
+// A fresh machine's program start, as the host's run command gives it.
+void start_program(Machine& m) {
   Command start;
   start.id = 1;
   start.kind = CommandKind::kProgramStart;
   m.command(start);
+}
+
+// Runs `program` on `m` to its end (or a fault, or max_cycles), the ring refilled before each
+// cycle as the virtual-clock loop does; returns the cycles run.
+std::uint64_t run_to_end(Machine& m, const std::vector<Block>& program, std::uint64_t max_cycles) {
+  MotionRing ring;
+  std::size_t next = 0;
+  std::uint64_t cycles = 0;
+  while (!m.status().program_done && cycles < max_cycles && m.status().state != MachineState::kFault) {
+    while (next < program.size() && ring.try_push(program[next])) ++next;
+    m.set_host_alive(true);
+    m.cycle(ring);
+    ++cycles;
+  }
+  return cycles;
+}
+
+// Compute time of each cycle of `program` on a fresh machine.
+CycleTimes time_cycles(const MachineConfig& cfg, const std::vector<Block>& program, std::size_t max_cycles) {
+  Machine m(cfg);
+  MotionRing ring;
+  start_program(m);
   std::vector<double> us;
   us.reserve(1 << 20);
   std::size_t next = 0;
@@ -241,20 +261,9 @@ int time_program(MachineConfig cfg, const std::string& file, bool fit, double to
   std::uint64_t cycles = 0;
   for (int r = 0; r < runs; ++r) {
     Machine m(cfg);
-    MotionRing ring;
-    Command start;
-    start.id = 1;
-    start.kind = CommandKind::kProgramStart;
-    m.command(start);
-    std::size_t next = 0;
-    cycles = 0;
+    start_program(m);
     const double c0 = cpu_s();
-    while (!m.status().program_done && m.status().state != MachineState::kFault) {
-      while (next < blocks.size() && ring.try_push(blocks[next])) ++next;
-      m.set_host_alive(true);
-      m.cycle(ring);
-      ++cycles;
-    }
+    cycles = run_to_end(m, blocks, std::numeric_limits<std::uint64_t>::max());
     best = std::min(best, cpu_s() - c0);
     if (!m.status().program_done) {
       std::fprintf(stderr, "program did not finish: state %s, %s\n", to_string(m.status().state), m.fault_reason());
@@ -301,19 +310,9 @@ int main(int argc, char** argv) {
   std::uint64_t cycles = 0;
   {
     Machine m(cfg);
-    MotionRing ring;
-    Command start;
-    start.id = 1;
-    start.kind = CommandKind::kProgramStart;
-    m.command(start);
-    std::size_t next = 0;
+    start_program(m);
     const double t0 = now_s(), c0 = cpu_s();
-    while (!m.status().program_done && cycles < max_cycles && m.status().state != MachineState::kFault) {
-      while (next < program.size() && ring.try_push(program[next])) ++next;
-      m.set_host_alive(true);
-      m.cycle(ring);
-      ++cycles;
-    }
+    cycles = run_to_end(m, program, max_cycles);
     wall_s = now_s() - t0;
     const double cpu = cpu_s() - c0;
     sim_s = static_cast<double>(cycles) * cfg.cycle_period_s();

@@ -318,8 +318,12 @@ void Executor::joint_rates(double v_new, double v_old) {
 
 void Executor::remember_cycle() { last_pos_ = pos_; }
 
+// Copied in, not built on the stack: GCC zeroes a temporary this size with `rep stos` and
+// then reads it back, a store-forwarding stall in every cycle.
+constexpr ExecResult kNoResult{};
+
 void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
-  out = ExecResult{};
+  out = kNoResult;
   if (!prepare_visible(ring, out)) {
     hold_still();
     return;
