@@ -203,6 +203,7 @@ void Executor::begin_block(const Block& blk, bool from_rest) {
     nurbs_u_ = view.u_min();
     nurbs_at_ = nurbs_eval(view, nurbs_u_);
     nurbs_hint_ = 0;
+    nurbs_brake_.start(blk.nurbs);
   }
 }
 
@@ -467,7 +468,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     // A NURBS block may also brake at its schedule's accelerations along the rest of the block:
     // what it can shed from the point k cycles ahead (at the fastest speed this cycle may take).
     const double ahead = k_ * (v_ + a_ramp * dt_) * dt_;
-    v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * block_brake_capacity(blk.nurbs, s_ + ahead)));
+    v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * nurbs_brake_.at(blk.nurbs, s_ + ahead)));
   }
   // Corner windows: inside one dp/ds mixes the two tangents, so each axis's share of the path
   // speed is |(1 − w)·t_a,i + w·t_b,i| (+ κ·h as the tangents turn): the speed keeps every axis

@@ -58,6 +58,7 @@
 #include "geometry/nurbs.hpp"
 #include "geometry/axis_slerp.hpp"
 #include "geometry/kinematics.hpp"
+#include "motion/nurbs_follower.hpp"
 #include "motion/path.hpp"
 #include "motion/ruled_follower.hpp"
 #include "ipc/segment.hpp"
@@ -230,6 +231,7 @@ class Executor {
   double nurbs_u_ = 0.0;
   NurbsEval nurbs_at_{};
   int nurbs_hint_ = 0;
+  BrakeCapacity nurbs_brake_{};
   Vec3 tangent_{}, curvature_{};
   // A line or arc in execution: the block's own path at s_ as advance() evaluated it (the next
   // cycle's arc ramp starts there); valid until the block or s_ changes.
