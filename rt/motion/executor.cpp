@@ -202,7 +202,7 @@ void Executor::begin_block(const Block& blk, bool from_rest) {
     const NurbsView view = view_of(blk.nurbs);
     nurbs_u_ = view.u_min();
     nurbs_at_ = nurbs_eval(view, nurbs_u_);
-    nurbs_hint_ = 0;
+    nurbs_hint_ = nurbs_span_ = 0;
     nurbs_brake_.start(blk.nurbs);
   }
 }
@@ -213,7 +213,7 @@ bool Executor::advance(const Block& blk, double ds, double& leftover) {
   bool at_end = false;
   if (blk.kind == BlockKind::kNurbs) {
     if (ds > 0.0) {
-      const NurbsStep st = nurbs_parameter_step(view_of(blk.nurbs), nurbs_u_, nurbs_at_, ds);
+      const NurbsStep st = nurbs_parameter_step(view_of(blk.nurbs), nurbs_u_, nurbs_at_, ds, nurbs_span_);
       nurbs_u_ = st.u;
       nurbs_at_ = st.eval;
       s_ = std::min(s_ + st.chord, b.length);
@@ -434,7 +434,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
       const double v_hi = v_ + std::max(a_ramp, a_here) * dt_;
       const double here_hi = curve_tangential_accel(nurbs_at_, cfg_, v_hi);
       if (here_hi > a_ramp) {
-        a_ramp = std::max(a_ramp, std::min(here_hi, curve_tangential_accel(nurbs_eval(view_of(g), u_next), cfg_, v_hi)));
+        a_ramp = std::max(a_ramp, std::min(here_hi, curve_tangential_accel(nurbs_eval(view_of(g), u_next, nurbs_span_), cfg_, v_hi)));
       }
     }
   }

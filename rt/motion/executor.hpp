@@ -231,6 +231,7 @@ class Executor {
   double nurbs_u_ = 0.0;
   NurbsEval nurbs_at_{};
   int nurbs_hint_ = 0;
+  int nurbs_span_ = 0;  // knot-span hint of its evaluations
   BrakeCapacity nurbs_brake_{};
   Vec3 tangent_{}, curvature_{};
   // A line or arc in execution: the block's own path at s_ as advance() evaluated it (the next
