@@ -9,6 +9,11 @@
 // (M428), made by the real front end on configs/desktop-5axis.toml (the rt runs the inverse
 // kinematics every cycle and steps the A and C drives too).
 //   bench_cycle [--config F] [--repeats N] [--five-config F]
+// With --program FILE instead: that program's blocks, made by the real front end as `pcnc run FILE
+// --contouring on [--fit] [--tolerance MM]` makes them, run through Machine::cycle alone (no trace,
+// no second process), RUNS times: the fastest run's thread CPU time, per cycle and per program (the
+// rt's own share of a virtual-clock replay, docs/replay.md).
+//   bench_cycle --program FILE [--fit] [--tolerance MM] [--runs N] [--config F]
 #include <time.h>
 
 #include <algorithm>
@@ -27,6 +32,7 @@
 #include "config/config.hpp"
 #include "gcode/program.hpp"
 #include "loop/machine.hpp"
+#include "run_job_options.hpp"
 
 using namespace pcnc;
 
@@ -176,14 +182,34 @@ struct CycleTimes {
   bool done = false;
 };
 
-// Compute time of each cycle of `program` on a fresh machine.
-CycleTimes time_cycles(const MachineConfig& cfg, const std::vector<Block>& program, std::size_t max_cycles) {
-  Machine m(cfg);
-  MotionRing ring;
+// A fresh machine's program start, as the host's run command gives it.
+void start_program(Machine& m) {
   Command start;
   start.id = 1;
   start.kind = CommandKind::kProgramStart;
   m.command(start);
+}
+
+// Runs `program` on `m` to its end (or a fault, or max_cycles), the ring refilled before each
+// cycle as the virtual-clock loop does; returns the cycles run.
+std::uint64_t run_to_end(Machine& m, const std::vector<Block>& program, std::uint64_t max_cycles) {
+  MotionRing ring;
+  std::size_t next = 0;
+  std::uint64_t cycles = 0;
+  while (!m.status().program_done && cycles < max_cycles && m.status().state != MachineState::kFault) {
+    while (next < program.size() && ring.try_push(program[next])) ++next;
+    m.set_host_alive(true);
+    m.cycle(ring);
+    ++cycles;
+  }
+  return cycles;
+}
+
+// Compute time of each cycle of `program` on a fresh machine.
+CycleTimes time_cycles(const MachineConfig& cfg, const std::vector<Block>& program, std::size_t max_cycles) {
+  Machine m(cfg);
+  MotionRing ring;
+  start_program(m);
   std::vector<double> us;
   us.reserve(1 << 20);
   std::size_t next = 0;
@@ -218,6 +244,40 @@ double clock_s(clockid_t id) {
 double now_s() { return clock_s(CLOCK_MONOTONIC); }
 double cpu_s() { return clock_s(CLOCK_THREAD_CPUTIME_ID); }
 
+// `pcnc run FILE --clock virtual` without its processes: the blocks of FILE, then the cycles
+// until the program is done, fastest of `runs` by thread CPU time.
+int time_program(MachineConfig cfg, const std::string& file, bool fit, double tolerance, int runs) {
+  if (tolerance >= 0.0) set_operator_tolerance(cfg.motion, tolerance);
+  const JobOptions opts = run_job_options(cfg, fit, true);
+  const CheckResult check = check_program(file, cfg, opts);
+  if (!check.ok) {
+    for (const Diagnostic& d : check.diagnostics) std::fprintf(stderr, "%s\n", format_diagnostic(d).c_str());
+    return 1;
+  }
+  std::vector<Block> blocks;
+  BlockStream s(file, cfg, opts, check.transform);
+  for (Block b; s.next(b);) blocks.push_back(b);
+  double best = std::numeric_limits<double>::infinity();
+  std::uint64_t cycles = 0;
+  for (int r = 0; r < runs; ++r) {
+    Machine m(cfg);
+    start_program(m);
+    const double c0 = cpu_s();
+    cycles = run_to_end(m, blocks, std::numeric_limits<std::uint64_t>::max());
+    best = std::min(best, cpu_s() - c0);
+    if (!m.status().program_done) {
+      std::fprintf(stderr, "program did not finish: state %s, %s\n", to_string(m.status().state), m.fault_reason());
+      return 1;
+    }
+  }
+  const double sim = static_cast<double>(cycles) * cfg.cycle_period_s();
+  std::printf("%s: %zu blocks, %llu cycles (%.3f s machine time); Machine::cycle thread CPU %.1f ms (fastest of %d) = "
+              "%.3f us/cycle, %.0fx real time\n",
+              file.c_str(), blocks.size(), static_cast<unsigned long long>(cycles), sim, best * 1e3, runs,
+              best * 1e6 / static_cast<double>(cycles), sim / best);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -230,8 +290,17 @@ int main(int argc, char** argv) {
   int turns = 40;
   app.add_option("--five-config", five_path, "the 5-axis machine config for the TCP pass")->capture_default_str();
   app.add_option("--turns", turns, "turns of the TCP helix")->capture_default_str();
+  std::string program_path;
+  bool fit = false;
+  double tolerance = -1.0;
+  int runs = 5;
+  app.add_option("--program", program_path, "time this G-code program's cycles instead (as pcnc run --contouring on)");
+  app.add_flag("--fit", fit, "with --program: as pcnc run --fit");
+  app.add_option("--tolerance", tolerance, "with --program: as pcnc run --tolerance MM (default: the config's)");
+  app.add_option("--runs", runs, "with --program: runs, the fastest counts")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
+  if (!program_path.empty()) return time_program(load_config(config_path), program_path, fit, tolerance, std::max(1, runs));
   const MachineConfig cfg = load_config(config_path);
   const std::vector<Block> program = long_program(cfg, repeats);
   const std::size_t max_cycles = 50'000'000;
@@ -241,19 +310,9 @@ int main(int argc, char** argv) {
   std::uint64_t cycles = 0;
   {
     Machine m(cfg);
-    MotionRing ring;
-    Command start;
-    start.id = 1;
-    start.kind = CommandKind::kProgramStart;
-    m.command(start);
-    std::size_t next = 0;
+    start_program(m);
     const double t0 = now_s(), c0 = cpu_s();
-    while (!m.status().program_done && cycles < max_cycles && m.status().state != MachineState::kFault) {
-      while (next < program.size() && ring.try_push(program[next])) ++next;
-      m.set_host_alive(true);
-      m.cycle(ring);
-      ++cycles;
-    }
+    cycles = run_to_end(m, program, max_cycles);
     wall_s = now_s() - t0;
     const double cpu = cpu_s() - c0;
     sim_s = static_cast<double>(cycles) * cfg.cycle_period_s();

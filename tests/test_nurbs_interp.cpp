@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -104,6 +105,35 @@ TEST(NurbsStep, TaylorStepWithCorrectionHitsTheStepLength) {
         ++steps;
       }
       EXPECT_GT(steps, 0);
+    }
+  }
+}
+
+// The rt steps with a knot-span hint kept between cycles: the same span, so the same step to
+// the last bit (u, the curve's point and derivatives, the chord), also from a stale hint (set
+// to the last span midway) and across repeated knots (the circle's).
+TEST(NurbsStep, TheSpanHintGivesTheSameStepBitForBit) {
+  auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (const NurbsCurve& c : {nurbs_xy(), trident_xy(), full_circle(3, {0, 0, 0})}) {
+    const NurbsView v = c.view();
+    for (double ds : {1e-4, 0.005, 0.05}) {
+      int hint = 0, stepped = 0;
+      double u = v.u_min();
+      NurbsEval at = nurbs_eval(v, u);
+      for (int k = 0; k < 100000; ++k) {
+        if (k == 50) hint = static_cast<int>(c.points.size()) - 1;  // a stale hint: the last span
+        const NurbsStep a = nurbs_parameter_step(v, u, at, ds);
+        const NurbsStep b = nurbs_parameter_step(v, u, at, ds, hint);
+        ASSERT_TRUE(same(a.u, b.u) && same(a.chord, b.chord) && a.at_end == b.at_end) << "u=" << u;
+        for (int i = 0; i < 3; ++i) {
+          ASSERT_TRUE(same(a.eval.p[i], b.eval.p[i]) && same(a.eval.d1[i], b.eval.d1[i]) && same(a.eval.d2[i], b.eval.d2[i]));
+        }
+        ++stepped;
+        if (a.at_end) break;
+        u = a.u;
+        at = a.eval;
+      }
+      EXPECT_GT(stepped, 2);
     }
   }
 }

@@ -142,12 +142,13 @@ void RtLoop::cycle(std::uint64_t now_ns) {
     shm_.header.slot_freed_ns.store(options_.virtual_clock ? monotonic_ns() : now_ns, std::memory_order_release);
     shm_.slot_freed.notify();
   }
-  shm_.scope.publish(machine_->trace_sample());  // the scope's flight recorder: never waits
+  const TraceSample& sample = machine_->trace_sample();
+  shm_.scope.publish(sample);  // the scope's flight recorder: never waits
   if (trace_) {
     if (options_.virtual_clock) {
-      trace_->push_wait(TraceEntry{machine_->trace_sample(), machine_->trace_joints()});
+      trace_->push_wait(sample, machine_->trace_joints());
     } else {
-      trace_->push(TraceEntry{machine_->trace_sample(), machine_->trace_joints()});
+      trace_->push(sample, machine_->trace_joints());
     }
   }
 

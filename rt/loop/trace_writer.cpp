@@ -43,16 +43,36 @@ TraceWriter::TraceWriter(const TraceFiles& files, std::function<void(const std::
 
 TraceWriter::~TraceWriter() { close(); }
 
-bool TraceWriter::push(const TraceEntry& sample) {
-  if (!queue_->try_push(sample)) {
+// The row goes into the slot in place, published with a release store (the writer polls the
+// queue; no wake-up is ordered after it): a seq_cst store would stall the rt's core until the
+// row's stores reached the cache. With no joints on the machine and none in the row, the
+// slot's joints are left as they are (their mask 0: neither file reads the rest), half the
+// bytes of a row.
+void TraceWriter::put(TraceEntry& slot, const TraceSample& sample, const TraceJoints& joints) const {
+  slot.sample = sample;
+  if (joints.mask != 0 || files_.rotary != 0) {
+    slot.joints = joints;
+  } else {
+    slot.joints.mask = 0;
+  }
+}
+
+bool TraceWriter::push(const TraceSample& sample, const TraceJoints& joints) {
+  TraceEntry* slot = queue_->begin_push();
+  if (!slot) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
+  put(*slot, sample, joints);
+  queue_->commit_push(std::memory_order_release);
   return true;
 }
 
-void TraceWriter::push_wait(const TraceEntry& sample) {
-  while (!queue_->try_push(sample)) std::this_thread::sleep_for(std::chrono::microseconds(50));
+void TraceWriter::push_wait(const TraceSample& sample, const TraceJoints& joints) {
+  TraceEntry* slot = nullptr;
+  while (!(slot = queue_->begin_push())) std::this_thread::sleep_for(std::chrono::microseconds(50));
+  put(*slot, sample, joints);
+  queue_->commit_push(std::memory_order_release);
 }
 
 std::string TraceWriter::failure() const { return failed() ? failure_ : std::string(); }

@@ -56,13 +56,16 @@ class TraceWriter {
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
 
-  /// rt thread: non-blocking. Returns false (and counts a drop) when the queue is full.
-  bool push(const TraceEntry& sample);
-  bool push(const TraceSample& sample) { return push(TraceEntry{sample, {}}); }
+  /// rt thread: non-blocking. Returns false (and counts a drop) when the queue is full. The row
+  /// is written into the queue's slot in place (a 3-axis machine's slot keeps its empty joints).
+  bool push(const TraceSample& sample, const TraceJoints& joints);
+  bool push(const TraceEntry& e) { return push(e.sample, e.joints); }
+  bool push(const TraceSample& sample) { return push(sample, TraceJoints{}); }
   /// Virtual clock only (not real time): waits for room instead of dropping, so a replayed
   /// program's trace is complete and deterministic.
-  void push_wait(const TraceEntry& sample);
-  void push_wait(const TraceSample& sample) { push_wait(TraceEntry{sample, {}}); }
+  void push_wait(const TraceSample& sample, const TraceJoints& joints);
+  void push_wait(const TraceEntry& e) { push_wait(e.sample, e.joints); }
+  void push_wait(const TraceSample& sample) { push_wait(sample, TraceJoints{}); }
 
   /// Drains the queue, flushes and closes the file, joins the thread. Idempotent.
   void close();
@@ -83,6 +86,7 @@ class TraceWriter {
 
  private:
   void run();
+  void put(TraceEntry& slot, const TraceSample& sample, const TraceJoints& joints) const;
   void drain();
   void take(const TraceEntry& e);  // one row into the files
   void flush();

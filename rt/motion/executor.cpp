@@ -62,6 +62,7 @@ void Executor::set_position(const Vec3& p) {
   entered_ = CornerBlend{};
   path_base_ = 0.0;
   blended_ = false;
+  here_valid_ = false;
 }
 
 void Executor::flush(MotionRing& ring) {
@@ -138,6 +139,7 @@ void Executor::pop(MotionRing& ring, ExecResult& out) {
   blend_[prepared_] = CornerBlend{};
   entered_ = CornerBlend{};
   exit_valid_ = false;
+  here_valid_ = false;
   ++out.blocks_done;
   s_ = 0.0;
   dwell_ = 0.0;
@@ -176,35 +178,16 @@ double Executor::compute_exit_speed(const ExecInput& in) const {
     // brake at its schedule's accelerations (their mean over the block)
     const double cap = std::min(cap_of(prep_[j], in), prep_[j].v_first);
     double stop = stop_speed(prep_[j].length, v_out, prep_[j].brake_accel, dt_, k_);
-    if (prep_[j].kind == BlockKind::kArc && stop < cap) stop = std::max(stop, arc_stop_speed(prep_[j], prep_[j].length, v_out, false, cap));
+    if (prep_[j].kind == BlockKind::kArc && stop < cap) stop = std::max(stop, arc_stop_speed(prep_[j], prep_[j].length, v_out, false, cap, dt_, k_));
     const double v_in = std::min(cap, stop);
     v_out = std::min(v_in, junction_cap(j - 1, in));
   }
   return v_out;
 }
 
-// The stop rule on an arc whose tangential acceleration falls as its speed rises
-// (arc_path_accel): the largest V up to `cap` from which the rule brakes within `distance` to
-// `v_exit` at the acceleration the arc keeps at every speed up to V (bisection: the rule's speed
-// rises with the acceleration, which falls with V). `exact`: stop_speed_exact's rule (a stop at
-// rest with no junction-restricted cycle left), else stop_speed's with its margin.
-double Executor::arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap) const {
-  auto rule = [&](double v) {
-    const double acc = std::max(b.accel, arc_path_accel(b, v));
-    return exact ? stop_speed_exact(distance, acc, dt_) : stop_speed(distance, v_exit, acc, dt_, k_);
-  };
-  if (!std::isfinite(cap)) cap = b.v_machine;
-  if (rule(cap) >= cap) return cap;
-  double lo = 0.0, hi = cap;
-  for (int i = 0; i < 24; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (rule(mid) >= mid ? lo : hi) = mid;
-  }
-  return lo;
-}
-
 void Executor::begin_block(const Block& blk, bool from_rest) {
   s_ = 0.0;
+  here_valid_ = false;
   if (prep_[0].tcp) {
     kin_ = kinematics_with_tool(cfg_, blk.rotary.tool_length);
     slerp_ = make_axis_slerp(blk.rotary.axis_start, blk.rotary.axis_end);
@@ -219,7 +202,8 @@ void Executor::begin_block(const Block& blk, bool from_rest) {
     const NurbsView view = view_of(blk.nurbs);
     nurbs_u_ = view.u_min();
     nurbs_at_ = nurbs_eval(view, nurbs_u_);
-    nurbs_hint_ = 0;
+    nurbs_hint_ = nurbs_span_ = 0;
+    nurbs_brake_.start(blk.nurbs);
   }
 }
 
@@ -229,7 +213,7 @@ bool Executor::advance(const Block& blk, double ds, double& leftover) {
   bool at_end = false;
   if (blk.kind == BlockKind::kNurbs) {
     if (ds > 0.0) {
-      const NurbsStep st = nurbs_parameter_step(view_of(blk.nurbs), nurbs_u_, nurbs_at_, ds);
+      const NurbsStep st = nurbs_parameter_step(view_of(blk.nurbs), nurbs_u_, nurbs_at_, ds, nurbs_span_);
       nurbs_u_ = st.u;
       nurbs_at_ = st.eval;
       s_ = std::min(s_ + st.chord, b.length);
@@ -258,6 +242,9 @@ bool Executor::advance(const Block& blk, double ds, double& leftover) {
     s_ = b.length;
   }
   const PathPoint pp = evaluate(b, s_);
+  here_ = pp;
+  here_s_ = s_;
+  here_valid_ = true;
   pos_ = pp.p;
   tangent_ = pp.tangent;
   curvature_ = pp.curvature;
@@ -332,8 +319,12 @@ void Executor::joint_rates(double v_new, double v_old) {
 
 void Executor::remember_cycle() { last_pos_ = pos_; }
 
+// Copied in, not built on the stack: GCC zeroes a temporary this size with `rep stos` and
+// then reads it back, a store-forwarding stall in every cycle.
+constexpr ExecResult kNoResult{};
+
 void Executor::step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
-  out = ExecResult{};
+  out = kNoResult;
   if (!prepare_visible(ring, out)) {
     hold_still();
     return;
@@ -437,11 +428,14 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     {
       // By speed, as arcs (path.hpp curve_tangential_accel): below the schedule's speed the axes
       // leave more than its accelerations (each taken at the schedule's speed) where the machine
-      // is and where this cycle lands, at the fastest speed the cycle may reach.
-      const NurbsEval at_next = nurbs_eval(view_of(g), u_next);
+      // is and where this cycle lands, at the fastest speed the cycle may reach (where it lands
+      // evaluated only when where it is leaves more: else the smaller cannot raise a_ramp).
       const double a_here = curve_tangential_accel(nurbs_at_, cfg_, v_);
       const double v_hi = v_ + std::max(a_ramp, a_here) * dt_;
-      a_ramp = std::max(a_ramp, std::min(curve_tangential_accel(nurbs_at_, cfg_, v_hi), curve_tangential_accel(at_next, cfg_, v_hi)));
+      const double here_hi = curve_tangential_accel(nurbs_at_, cfg_, v_hi);
+      if (here_hi > a_ramp) {
+        a_ramp = std::max(a_ramp, std::min(here_hi, curve_tangential_accel(nurbs_eval(view_of(g), u_next, nurbs_span_), cfg_, v_hi)));
+      }
     }
   }
   double a_brake = a_ramp;  // slowing down in this cycle
@@ -449,26 +443,32 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     // An arc shares its acceleration by speed (path.hpp arc_stretch_accel): braking may take the
     // tangential part at the speed the machine has (the cycle's highest), speeding up the part
     // left at the speed this cycle may reach; `a` (its value at the top speed) at least.
-    a_brake = std::max(a, arc_stretch_accel(b, cfg_, s_, v_ * dt_, v_));
-    a_ramp = std::max(a, arc_stretch_accel(b, cfg_, s_, v_ * dt_, v_ + a_brake * dt_));
+    const ArcStretch stretch{here_valid_ && here_s_ == s_ ? here_ : evaluate(b, s_), evaluate(b, s_ + v_ * dt_)};
+    a_brake = std::max(a, arc_stretch_accel(b, stretch, cfg_, v_));
+    a_ramp = std::max(a, arc_stretch_accel(b, stretch, cfg_, v_ + a_brake * dt_));
   }
   const bool stop_at_end = !flows_after(0);
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
   const double remaining = b.length - s_;
+  const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
+  const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
+  const double a_step_down = near_junction ? (1.0 - f_) * a_brake : a_brake;
+  const double v_up = v_ + a_step * dt_;  // the fastest this cycle may go
 
   // A stop at the end of this block, with no junction-restricted cycle left: the exact
   // discrete braking rule. Otherwise the rule with the margin k for the restricted cycles.
   double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
                                                : stop_speed(remaining, v_exit, a, dt_, k_);
-  if (b.kind == BlockKind::kArc && v_stop < cap) {
-    // An arc may also brake at what it keeps at every speed up to the one it brakes from.
-    v_stop = std::max(v_stop, arc_stop_speed(b, remaining, v_exit, stop_at_end && crossed_ == 0, cap));
+  if (b.kind == BlockKind::kArc && v_stop < cap && v_stop < v_up) {
+    // An arc may also brake at what it keeps at every speed up to the one it brakes from (not
+    // asked when v_stop reaches v_up already: the larger speed it gives could not bind).
+    v_stop = std::max(v_stop, arc_stop_speed(b, remaining, v_exit, stop_at_end && crossed_ == 0, cap, dt_, k_));
   }
   if (b.kind == BlockKind::kNurbs) {
     // A NURBS block may also brake at its schedule's accelerations along the rest of the block:
     // what it can shed from the point k cycles ahead (at the fastest speed this cycle may take).
     const double ahead = k_ * (v_ + a_ramp * dt_) * dt_;
-    v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * block_brake_capacity(blk.nurbs, s_ + ahead)));
+    v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * nurbs_brake_.at(blk.nurbs, s_ + ahead)));
   }
   // Corner windows: inside one dp/ds mixes the two tangents, so each axis's share of the path
   // speed is |(1 − w)·t_a,i + w·t_b,i| (+ κ·h as the tangents turn): the speed keeps every axis
@@ -490,10 +490,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     for (std::size_t i = 0; i + 1 < prepared_ && flows_after(i); ++i) window_cap(blend_[i]);
   }
   const double v_allow = std::min(cap, v_stop);
-  const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
-  const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
-  const double a_step_down = near_junction ? (1.0 - f_) * a_brake : a_brake;
-  double v_new = std::min(v_allow, v_ + a_step * dt_);
+  double v_new = std::min(v_allow, v_up);
   v_new = std::max({v_new, v_ - a_step_down * dt_, 0.0});
   if (probing && probe_tripped_ && v_new <= 0.0) {  // came to rest after the contact
     hold_still();

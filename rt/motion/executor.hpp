@@ -58,6 +58,7 @@
 #include "geometry/nurbs.hpp"
 #include "geometry/axis_slerp.hpp"
 #include "geometry/kinematics.hpp"
+#include "motion/nurbs_follower.hpp"
 #include "motion/path.hpp"
 #include "motion/ruled_follower.hpp"
 #include "ipc/segment.hpp"
@@ -151,7 +152,6 @@ class Executor {
   double cap_of(const PreparedBlock& b, const ExecInput& in) const;
   double exit_speed_of_current(const ExecInput& in);
   double compute_exit_speed(const ExecInput& in) const;
-  double arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap) const;
   bool flows_after(std::size_t i) const;                      // geometric: junction i|i+1 flows
   double junction_cap(std::size_t i, const ExecInput& in) const;  // speed cap there (0: stop)
   void hold_still();
@@ -231,7 +231,14 @@ class Executor {
   double nurbs_u_ = 0.0;
   NurbsEval nurbs_at_{};
   int nurbs_hint_ = 0;
+  int nurbs_span_ = 0;  // knot-span hint of its evaluations
+  BrakeCapacity nurbs_brake_{};
   Vec3 tangent_{}, curvature_{};
+  // A line or arc in execution: the block's own path at s_ as advance() evaluated it (the next
+  // cycle's arc ramp starts there); valid until the block or s_ changes.
+  PathPoint here_{};
+  double here_s_ = 0.0;
+  bool here_valid_ = false;
 
   // ruled block in execution: the follower, and what a flowing join hands to the next block
   RuledFollower ruled_{};

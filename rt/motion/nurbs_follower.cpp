@@ -57,6 +57,32 @@ double block_brake_capacity(const NurbsGeometry& g, double s) {
   return c;
 }
 
+void BrakeCapacity::start(const NurbsGeometry& g) {
+  const int n = std::min<int>(g.schedule_count, kMaxFeedSchedule);
+  interval_ = 0;
+  rising_ = true;
+  for (int i = 1; i < n; ++i) rising_ = rising_ && g.schedule_s[i - 1] <= g.schedule_s[i];
+  tail_[std::max(n, 1)] = 0.0;
+  for (int i = n - 1; i > 0; --i) {
+    tail_[i] = tail_[i + 1] + std::min(g.schedule_accel[i - 1], g.schedule_accel[i]) * (g.schedule_s[i] - g.schedule_s[i - 1]);
+  }
+}
+
+double BrakeCapacity::at(const NurbsGeometry& g, double s) {
+  const int n = g.schedule_count;
+  if (!rising_ || n > kMaxFeedSchedule) return block_brake_capacity(g, s);
+  if (n < 2) return 0.0;
+  // the last interval whose start is at or before s (block_brake_capacity's loop stops there)
+  int j = std::clamp(interval_, 0, n - 1);
+  while (j < n - 1 && g.schedule_s[j] <= s) ++j;
+  while (j > 0 && !(g.schedule_s[j - 1] <= s)) --j;
+  interval_ = j;
+  if (j == 0) return tail_[1];
+  const double s0 = g.schedule_s[j - 1], s1 = g.schedule_s[j];
+  if (s1 <= s) return tail_[j + 1];
+  return tail_[j + 1] + std::min(g.schedule_accel[j - 1], g.schedule_accel[j]) * (s1 - std::max(s0, s));
+}
+
 void NurbsFollower::start(const Block& block, double v_start) {
   const NurbsView c = view_of(block.nurbs);
   u_ = c.u_min();

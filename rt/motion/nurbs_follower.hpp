@@ -31,6 +31,22 @@ double block_schedule_speed(const NurbsGeometry& g, double u, int& hint);
 /// accelerations (the block check verifies them against the axes).
 double block_brake_capacity(const NurbsGeometry& g, double s);
 
+/// block_brake_capacity along one block in execution, each cycle's answer the same bit for bit:
+/// the schedule's whole intervals summed once at start() (from the end, as that function adds
+/// them), so that a cycle adds only the part of the interval it is in, found from the last
+/// one's (a walk along the block costs O(1) a cycle instead of O(intervals left)). A schedule
+/// whose arc lengths do not rise (never sent by the host) is left to block_brake_capacity.
+class BrakeCapacity {
+ public:
+  void start(const NurbsGeometry& g);
+  double at(const NurbsGeometry& g, double s);
+
+ private:
+  double tail_[kMaxFeedSchedule + 1]{};  // tail_[i]: the whole intervals i .. n−1 (interval i: s[i−1] .. s[i])
+  int interval_ = 0;                     // the last answer's interval (0: before the first point)
+  bool rising_ = false;
+};
+
 /// The tangential acceleration the block schedule allows at u: the smaller of the two points
 /// around u (the point itself at or beyond the ends). `hint` as for block_schedule_speed.
 double block_schedule_accel(const NurbsGeometry& g, double u, int& hint);

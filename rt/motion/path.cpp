@@ -222,12 +222,49 @@ double arc_path_accel(const PreparedBlock& b, double v) {
   return f * arc_accel_at(b.arc_a_plane, b.arc_r, b.arc_q, b.arc_a_normal, kArcAccelMargin, v / f);
 }
 
-double arc_stretch_accel(const PreparedBlock& b, const MachineConfig& cfg, double s, double ds, double v) {
-  const PathPoint here = evaluate(b, s), land = evaluate(b, s + ds);
+double arc_stretch_accel(const PreparedBlock& b, const ArcStretch& st, const MachineConfig& cfg, double v) {
   const double f = b.arc_f;  // the parameter speed over the true speed on a spiral
-  const double by_axis = f * std::min(point_tangential_accel(here.tangent, here.curvature, cfg, v / f),
-                                      point_tangential_accel(land.tangent, land.curvature, cfg, v / f));
+  const double by_axis = f * std::min(point_tangential_accel(st.here.tangent, st.here.curvature, cfg, v / f),
+                                      point_tangential_accel(st.land.tangent, st.land.curvature, cfg, v / f));
   return std::max(arc_path_accel(b, v), by_axis);
+}
+
+double arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap, double dt, double k) {
+  auto rule = [&](double v) {
+    const double acc = std::max(b.accel, arc_path_accel(b, v));
+    return exact ? stop_speed_exact(distance, acc, dt) : stop_speed(distance, v_exit, acc, dt, k);
+  };
+  if (!std::isfinite(cap)) cap = b.v_machine;
+  const double r_cap = rule(cap);
+  if (r_cap >= cap) return cap;
+  // The bisection's decisions, rule(mid) >= mid, many taken without the rule. The acceleration
+  // falls with V in floating point too (arc_accel_at: every step rounds monotonically), and the
+  // stop rule is monotone in the acceleration (stop_speed rises with it when distance > k·dt·v_exit,
+  // else falls; stop_speed_exact rises), so between two speeds the rule was evaluated at it
+  // lies between their two values, give or take its own rounding (a few ulps of its speeds;
+  // `slack` is a thousand times that). A mid clear of that band is decided as the rule would
+  // decide it: the same steps, the same result bit for bit, with fewer evaluations.
+  const double r_zero = rule(0.0);
+  const bool bounded = std::isfinite(r_zero) && std::isfinite(r_cap);
+  const double acc0 = std::max(b.accel, arc_path_accel(b, 0.0));  // the largest acceleration
+  const double slack = 1e-12 * (std::abs(r_zero) + std::abs(r_cap) + k * dt * acc0 + 1.0);
+  double lo = 0.0, hi = cap;
+  double r_lo = r_zero, r_hi = r_cap;  // the rule at the last speeds evaluated at/below lo, at/above hi
+  for (int i = 0; i < 24; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    bool below;  // rule(mid) >= mid: the answer is at mid or above
+    if (bounded && std::max(r_lo, r_hi) + slack < mid) {
+      below = false;
+    } else if (bounded && std::min(r_lo, r_hi) - slack >= mid) {
+      below = true;
+    } else {
+      const double r = rule(mid);
+      below = r >= mid;
+      (below ? r_lo : r_hi) = r;
+    }
+    (below ? lo : hi) = mid;
+  }
+  return lo;
 }
 
 double curve_tangential_accel(const NurbsEval& e, const MachineConfig& cfg, double v) {

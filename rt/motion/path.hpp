@@ -86,12 +86,27 @@ void tcp_end_rates(PreparedBlock& pb, const Block& block, const MachineConfig& c
 /// 0 for a block that is not an arc.
 double arc_path_accel(const PreparedBlock& b, double v);
 
-/// An arc's tangential path acceleration at path speed v over the stretch [s, s + ds] a cycle
-/// covers: the larger of arc_path_accel (the plane's smaller limit, the same everywhere on the
-/// arc: what the stop rules count on) and, at both ends of the stretch, each axis carrying its
-/// own share (point_tangential_accel): on a G18/G19 arc the faster plane axis takes the
-/// centripetal part where the normal points along it. Both keep every axis within its limit.
-double arc_stretch_accel(const PreparedBlock& b, const MachineConfig& config, double s, double ds, double v);
+/// The stretch [s, s + ds] a cycle covers on an arc: its two ends, evaluate(b, s) and
+/// evaluate(b, s + ds), evaluated once for arc_stretch_accel at any number of speeds (the
+/// executor asks at two each cycle, and has `here` from its last cycle's step).
+struct ArcStretch {
+  PathPoint here, land;
+};
+
+/// An arc's tangential path acceleration at path speed v over a stretch a cycle covers: the
+/// larger of arc_path_accel (the plane's smaller limit, the same everywhere on the arc: what the
+/// stop rules count on) and, at both ends of the stretch, each axis carrying its own share
+/// (point_tangential_accel): on a G18/G19 arc the faster plane axis takes the centripetal part
+/// where the normal points along it. Both keep every axis within its limit.
+double arc_stretch_accel(const PreparedBlock& b, const ArcStretch& stretch, const MachineConfig& config, double v);
+
+/// The stop rule on an arc whose tangential acceleration falls as its speed rises
+/// (arc_path_accel): the largest V up to `cap` (infinite: the arc's v_machine) from which the
+/// rule brakes within `distance` to `v_exit` at the acceleration the arc keeps at every speed up
+/// to V, by a 24-step bisection on [0, cap] (the rule's speed rises with the acceleration, which
+/// falls with V). `exact`: stop_speed_exact's rule (a stop at rest with no junction-restricted
+/// cycle left), else stop_speed's with its margin `k`; `dt` the cycle. Pure.
+double arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap, double dt, double k);
 
 /// What the axes leave for a curve's tangential acceleration at a point `e` (p, dp/du, d²p/du²)
 /// at path speed v: each axis keeps |a_t·T_i + v²·κ_i| within kArcAccelMargin of its limit, so

@@ -6,7 +6,11 @@
 
 namespace pcnc {
 
-NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at, double ds) {
+namespace {
+
+// The step, the curve evaluated by `eval` (nurbs_eval with or without a span hint).
+template <typename Eval>
+NurbsStep parameter_step(const NurbsView& c, double u, const NurbsEval& at, double ds, Eval&& eval) {
   NurbsStep out;
   const double u_end = c.u_max();
   if (!(ds > 0.0) || u >= u_end) {
@@ -36,7 +40,7 @@ NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at
   double hi = u_end - u;     // bracket end
   for (int iter = 0; iter < 8; ++iter) {
     out.u = u + h;
-    out.eval = nurbs_eval(c, out.u);
+    out.eval = eval(out.u);
     const Vec3 chord = out.eval.p - at.p;
     out.chord = norm(chord);
     const double f = out.chord - ds;
@@ -57,6 +61,16 @@ NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at
     h = next;
   }
   return out;
+}
+
+}  // namespace
+
+NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at, double ds) {
+  return parameter_step(c, u, at, ds, [&](double x) { return nurbs_eval(c, x); });
+}
+
+NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at, double ds, int& span_hint) {
+  return parameter_step(c, u, at, ds, [&](double x) { return nurbs_eval(c, x, span_hint); });
 }
 
 }  // namespace pcnc

@@ -24,5 +24,8 @@ struct NurbsStep {
 /// Advances from parameter u (where the curve is `at`) by a chord of length ds > 0. If the
 /// end of the curve is closer than ds, returns the end with at_end set.
 NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at, double ds);
+/// The same with a knot-span hint the caller keeps between steps (nurbs_eval's hinted form: the
+/// same span, so the same step bit for bit, without a search while u stays in one span).
+NurbsStep nurbs_parameter_step(const NurbsView& c, double u, const NurbsEval& at, double ds, int& span_hint);
 
 }  // namespace pcnc

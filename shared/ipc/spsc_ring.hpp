@@ -31,7 +31,13 @@ class SpscRing {
     if (h - tail_.load(std::memory_order_acquire) >= N) return nullptr;
     return &slots_[h % N];
   }
-  void commit_push() { head_.store(head_.load(std::memory_order_relaxed) + 1, std::memory_order_seq_cst); }
+  /// Publishes the slot begin_push() gave. Sequentially consistent by default: a producer that
+  /// then checks a sleeper's flag (wakeup.hpp) needs this store ordered before that load. A queue
+  /// whose consumer only polls (the rt's trace queue) may pass release: on x86 a plain store, where
+  /// seq_cst is a locked exchange that stalls the producer until the slot's own stores drain.
+  void commit_push(std::memory_order order = std::memory_order_seq_cst) {
+    head_.store(head_.load(std::memory_order_relaxed) + 1, order);
+  }
   bool try_push(const T& value) {
     T* slot = begin_push();
     if (!slot) return false;

@@ -1,0 +1,98 @@
+// test_arc_stop_speed.cpp — the arc's stop rule (rt/motion/path.hpp arc_stop_speed) decides
+// its bisection's steps from bounds where it can, to run in a fraction of the evaluations: its
+// answer must be the plain 24-step bisection's, bit for bit, on every kind of arc (flat ones in
+// each plane, helices, tight and wide radii, spirals) and every kind of question (far from the
+// end and at its last cycles, exits above and below the rule's turning point k·dt·v_exit =
+// distance, the exact rule and the one with the margin, finite and infinite caps).
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <random>
+
+#include "gcode/preprocessor.hpp"
+#include "machine_runner.hpp"
+#include "motion/junction.hpp"
+#include "motion/path.hpp"
+
+using namespace pcnc;
+
+namespace {
+
+// The bisection as it ran before the bounds: every mid evaluated.
+double plain_arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap, double dt,
+                            double k) {
+  auto rule = [&](double v) {
+    const double acc = std::max(b.accel, arc_path_accel(b, v));
+    return exact ? stop_speed_exact(distance, acc, dt) : stop_speed(distance, v_exit, acc, dt, k);
+  };
+  if (!std::isfinite(cap)) cap = b.v_machine;
+  if (rule(cap) >= cap) return cap;
+  double lo = 0.0, hi = cap;
+  for (int i = 0; i < 24; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (rule(mid) >= mid ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+PreparedBlock arc(const MachineConfig& c, double r, double sweep, int normal, double rise, double r_end, double feed) {
+  const Vec3 center{12.5, 12.5, 12.5};
+  const std::array<int, 2> ax = normal == 2 ? std::array<int, 2>{0, 1} : normal == 1 ? std::array<int, 2>{2, 0}
+                                                                                      : std::array<int, 2>{1, 2};
+  Move m;
+  m.kind = MoveKind::kArc;
+  m.start = center;
+  m.start[ax[0]] += r;
+  m.end = center;
+  m.end[ax[0]] += r_end * std::cos(sweep);
+  m.end[ax[1]] += r_end * std::sin(sweep);
+  m.end[normal] += rise;
+  m.center = center;
+  m.radius = r;
+  m.sweep = sweep;
+  m.normal_axis = normal;
+  m.feed_mm_s = feed;
+  return prepare_block(make_block(m, c), c);
+}
+
+}  // namespace
+
+TEST(ArcStopSpeed, TheBoundedBisectionIsThePlainOneBitForBit) {
+  const MachineConfig c = test::default_machine_config();
+  const double dt = c.cycle_period_s();
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int asked = 0, binding = 0, falling = 0;
+  for (int n = 0; n < 300; ++n) {
+    const double r = std::exp(std::log(0.05) + unit(rng) * std::log(400.0));  // 0.05 .. 20 mm
+    const double sweep = (unit(rng) < 0.5 ? -1.0 : 1.0) * (0.05 + unit(rng) * 2.0 * std::numbers::pi);
+    const int normal = n % 3;
+    const double rise = n % 4 == 0 ? (unit(rng) - 0.5) * 2.0 : 0.0;                 // helices
+    const double r_end = n % 5 == 0 ? r * (1.0 + 0.01 * (unit(rng) - 0.5)) : r;     // spirals
+    const PreparedBlock b = arc(c, r, sweep, normal, rise, r_end, 5.0 + 200.0 * unit(rng));
+    ASSERT_EQ(b.kind, BlockKind::kArc);
+    for (int q = 0; q < 40; ++q) {
+      // distances from a part of one cycle's travel to the whole block, exits up to the cap
+      const double distance = q % 4 == 0 ? b.length * unit(rng) : b.v_machine * dt * 20.0 * unit(rng) * unit(rng);
+      const double v_exit = q % 3 == 0 ? 0.0 : b.v_machine * unit(rng);
+      const double f = q % 2 == 0 ? 0.1 : 0.5;
+      const double k = 1.0 + 2.0 * f;
+      const bool exact = q % 5 == 0;
+      const double cap = q % 7 == 0 ? std::numeric_limits<double>::infinity() : b.v_machine * (0.2 + unit(rng));
+      const double want = plain_arc_stop_speed(b, distance, v_exit, exact, cap, dt, k);
+      const double got = arc_stop_speed(b, distance, v_exit, exact, cap, dt, k);
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(want))
+          << "r " << r << " sweep " << sweep << " normal " << normal << " distance " << distance << " v_exit "
+          << v_exit << " exact " << exact << " cap " << cap << ": " << got << " vs " << want;
+      ++asked;
+      binding += want < (std::isfinite(cap) ? cap : b.v_machine);
+      falling += !exact && distance < k * dt * v_exit;
+    }
+  }
+  // the questions reached the bisection itself, on both sides of the rule's turning point
+  EXPECT_GT(binding, asked / 4);
+  EXPECT_GT(falling, asked / 20);
+}
