@@ -3,19 +3,15 @@
 // blocks are byte for byte those planning makes; any difference in the curve or the limits is
 // a miss; an entry is handed out once; and a whole program checked twice in one process (what
 // pcnc-host does: the check, then the stream) gives the same blocks both times, the second
-// time from the memo. The same for fit_polyline's fits. And the check pass's plans made ahead on
-// a worker (gcode/nurbs_plan_prefetch.hpp) are the plans planning makes, each handed out once.
+// time from the memo. The same for fit_polyline's fits.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
-#include <optional>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "gcode/nurbs_plan_memo.hpp"
-#include "gcode/nurbs_plan_prefetch.hpp"
 #include "gcode/spline_fit_memo.hpp"
 #include "gcode_test_util.hpp"
 #include "nurbs_circles.hpp"
@@ -125,84 +121,6 @@ TEST(SplineFitMemo, SecondRequestIsAnExactHitOnceAndAnyDifferenceAMiss) {
   EXPECT_TRUE(same(fit_polyline_memo(moved, 0.005), fit_polyline(moved, 0.005)));
   EXPECT_EQ(spline_fit_memo_stats().hits, 1u);
   EXPECT_EQ(spline_fit_memo_stats().misses, 4u);
-}
-
-// A prefetched plan: the worker's blocks are planning's, byte for byte; asked for once it is
-// gone; a plan never prefetched, or of other limits, is not there. (Whether the worker has
-// started it when it is asked for is the scheduler's: a plan not started yet is handed back to
-// the caller to make, which the statistics count.)
-TEST(NurbsPlanPrefetch, AWorkersPlanIsPlanningsPlanHandedOutOnce) {
-  const NurbsCurve c = quarter_circle(3.0, Vec3{10, 10, 5});
-  const NurbsBlocks fresh = plan_nurbs_blocks(c, limits(20.0));
-  ASSERT_TRUE(fresh.error.empty()) << fresh.error;
-  EXPECT_FALSE(take_prefetched(c, limits(20.0)).has_value()) << "never prefetched";
-  const PrefetchStats before = prefetch_stats();
-  prefetch_plan(c, limits(20.0));
-  EXPECT_FALSE(take_prefetched(c, limits(21.0)).has_value()) << "other limits";
-  const std::optional<NurbsBlocks> got = take_prefetched(c, limits(20.0));
-  const PrefetchStats after = prefetch_stats();
-  if (got) {
-    EXPECT_EQ(bytes_of(got->blocks), bytes_of(fresh.blocks));
-    EXPECT_EQ(got->corner_after, fresh.corner_after);
-    EXPECT_EQ(after.taken, before.taken + 1);
-  } else {
-    EXPECT_EQ(after.reclaimed, before.reclaimed + 1) << "not there although prefetched, and not reclaimed";
-  }
-  EXPECT_FALSE(take_prefetched(c, limits(20.0)).has_value()) << "handed out once";
-}
-
-// Many curves prefetched at once, more than the registry keeps: every plan the pipeline asks for
-// is planning's, whoever made it; the oldest never asked for were dropped, never a wrong one.
-TEST(NurbsPlanPrefetch, ManyCurvesEachGetTheirOwnPlan) {
-  std::vector<NurbsCurve> curves;
-  for (int i = 0; i < static_cast<int>(kPrefetchEntries) + 16; ++i) {
-    curves.push_back(quarter_circle(1.0 + 0.05 * i, Vec3{10.0 + 0.01 * i, 10, 5}));
-  }
-  for (const NurbsCurve& c : curves) prefetch_plan(c, limits(20.0));
-  int found = 0;
-  for (std::size_t i = 0; i < curves.size(); i += 3) {
-    const std::optional<NurbsBlocks> got = take_prefetched(curves[i], limits(20.0));
-    if (!got) continue;
-    ++found;
-    const NurbsBlocks fresh = plan_nurbs_blocks(curves[i], limits(20.0));
-    EXPECT_EQ(bytes_of(got->blocks), bytes_of(fresh.blocks)) << "curve " << i;
-  }
-  EXPECT_GT(found, 0) << "the worker planned none of them";
-}
-
-// The check pass prefetches (program.cpp): the same program gives the same blocks with the
-// smoothing stage's look-ahead and worker as a stream pass without them.
-TEST(NurbsPlanPrefetch, TheCheckPassesBlocksAreTheStreamsBlocks) {
-  nurbs_plan_memo_clear();
-  spline_fit_memo_clear();
-  // runs of short G1 moves on gentle arcs with real corners between them: several curves
-  std::string text = "G21 G90 M21 G64 P0.005\nG0 X0 Y0 Z0\nG1 X0.05 Y0 F1200\n";
-  double x = 0.05, y = 0.0;
-  for (int run = 0; run < 6; ++run) {
-    const double heading = run * 1.7;  // ~97° between runs: real corners
-    for (int i = 1; i <= 40; ++i) {
-      const double a = heading + i * 0.01;
-      x += 0.12 * std::cos(a);
-      y += 0.12 * std::sin(a);
-      text += "G1 X" + std::to_string(x) + " Y" + std::to_string(y) + "\n";
-    }
-  }
-  text += "M30\n";
-  const MachineConfig c = wide_config();
-  JobOptions o;
-  o.start_position = Vec3{0, 0, 0};
-  std::vector<Block> checked;
-  const CheckResult r = check_program_text(text, "t.ngc", c, o, [&](const Block& b) { checked.push_back(b); });
-  ASSERT_TRUE(r.ok);
-  ASSERT_GE(r.smoothed_curves, 4u);
-  nurbs_plan_memo_clear();  // the stream plans everything itself
-  spline_fit_memo_clear();
-  std::vector<Block> streamed;
-  BlockStream stream(BlockStream::FromText{}, text, "t.ngc", c, o, r.transform);
-  Block b;
-  while (stream.next(b)) streamed.push_back(b);
-  ASSERT_EQ(checked.size(), streamed.size());
-  EXPECT_EQ(bytes_of(checked), bytes_of(streamed));
 }
 
 }  // namespace

@@ -29,9 +29,8 @@ std::vector<Move> bend(Vec3 from, double heading, int first_line, double tol = 0
   return v;
 }
 
-std::vector<Move> smooth(const std::vector<Move>& in, const MachineConfig& c, bool prefetch = false) {
+std::vector<Move> smooth(const std::vector<Move>& in, const MachineConfig& c) {
   Smoother s(c);
-  s.set_prefetch(prefetch);
   std::size_t next = 0;
   auto pull = [&](Move& m) {
     if (next >= in.size()) return false;
@@ -73,46 +72,6 @@ TEST(Smoothing, ARealCornerStaysACornerBetweenTwoCurves) {
   ASSERT_TRUE(out[1].line_marks);
   EXPECT_EQ(out[1].line_marks->front().line, 21);
   EXPECT_EQ(out[1].line_marks->back().line, 40);
-}
-
-// The check pass's look-ahead (set_prefetch: a curve is handed on once the next run is fitted,
-// while a worker plans it) hands on the same moves in the same order as the stream's stage.
-TEST(Smoothing, TheLookAheadOfTheCheckPassChangesNoMove) {
-  std::vector<Move> in;
-  Vec3 at{1, 1, 0};
-  int line = 1;
-  for (int run = 0; run < 5; ++run) {
-    const std::vector<Move> part = bend(at, run * 1.6, line);  // ~92° between runs: real corners
-    in.insert(in.end(), part.begin(), part.end());
-    at = in.back().end;
-    line += static_cast<int>(part.size());
-    if (run == 2) {  // a rapid between runs: not smoothable, passes as it is
-      Move r = in.back();
-      r.kind = MoveKind::kRapid;
-      r.start = at;
-      r.end = at + Vec3{0, 0, 1};
-      r.line = line++;
-      in.push_back(r);
-      at = r.end;
-    }
-  }
-  const std::vector<Move> plain = smooth(in, load_config(test::default_config()), false);
-  const std::vector<Move> ahead = smooth(in, load_config(test::default_config()), true);
-  ASSERT_EQ(plain.size(), ahead.size());
-  int curves = 0;
-  for (std::size_t i = 0; i < plain.size(); ++i) {
-    EXPECT_EQ(plain[i].kind, ahead[i].kind) << i;
-    EXPECT_EQ(plain[i].line, ahead[i].line) << i;
-    EXPECT_EQ(plain[i].start, ahead[i].start) << i;
-    EXPECT_EQ(plain[i].end, ahead[i].end) << i;
-    ASSERT_EQ(static_cast<bool>(plain[i].nurbs), static_cast<bool>(ahead[i].nurbs)) << i;
-    if (plain[i].nurbs) {
-      ++curves;
-      EXPECT_EQ(plain[i].nurbs->points, ahead[i].nurbs->points) << i;
-      EXPECT_EQ(plain[i].nurbs->knots, ahead[i].nurbs->knots) << i;
-    }
-  }
-  EXPECT_GE(curves, 4);
 }
 
 // A zigzag of 3 mm moves turning 9° each (under the smoothing angle) at 0.5 µm: no cubic with

@@ -6,7 +6,6 @@
 #include <cstdio>
 
 #include "gcode/nurbs_plan_memo.hpp"
-#include "gcode/nurbs_plan_prefetch.hpp"
 #include "gcode/nurbs_schedule.hpp"
 
 namespace pcnc {
@@ -117,44 +116,19 @@ std::string refine_into_travel(NurbsCurve& curve, const MachineConfig& config, d
          std::to_string(tol) + " mm inside the travel";
 }
 
-namespace {
-
-// What a NURBS move is planned from: its curve brought inside the travel, and the limits.
-struct PlanInput {
-  NurbsCurve curve;
-  NurbsLimits limits;
-  std::string error;
-};
-
-PlanInput plan_input(const Move& m, const MachineConfig& config) {
-  PlanInput in;
-  in.curve = *m.nurbs;
-  in.error = refine_into_travel(in.curve, config, nurbs_travel_margin(config));
-  if (!in.error.empty()) return in;
-  in.limits = nurbs_limits(config, m.feed_mm_s);
-  in.limits.samples_per_span = schedule_samples_per_span(in.curve);
-  if (m.smoothed) in.limits.samples_per_span = std::min(in.limits.samples_per_span, kSmoothedSamplesPerSpan);
-  return in;
-}
-
-}  // namespace
-
-void prefetch_nurbs_move(const Move& m, const MachineConfig& config) {
-  if (!m.nurbs) return;
-  const PlanInput in = plan_input(m, config);
-  if (in.error.empty()) prefetch_plan(in.curve, in.limits);
-}
-
 NurbsMoveBlocks plan_nurbs_move(const Move& m, const MachineConfig& config) {
   NurbsMoveBlocks out;
   if (!m.nurbs) {
     out.error = "NURBS move without its curve";
     return out;
   }
-  const PlanInput in = plan_input(m, config);
-  out.error = in.error;
+  NurbsCurve curve = *m.nurbs;
+  out.error = refine_into_travel(curve, config, nurbs_travel_margin(config));
   if (!out.error.empty()) return out;
-  NurbsBlocks nb = plan_nurbs_blocks_memo(in.curve, in.limits);  // the check's plan, when the stream asks again
+  NurbsLimits lim = nurbs_limits(config, m.feed_mm_s);
+  lim.samples_per_span = schedule_samples_per_span(curve);
+  if (m.smoothed) lim.samples_per_span = std::min(lim.samples_per_span, kSmoothedSamplesPerSpan);
+  NurbsBlocks nb = plan_nurbs_blocks_memo(curve, lim);  // the check's plan, when the stream asks again
   if (!nb.error.empty()) {
     out.error = nb.error;
     return out;

@@ -59,8 +59,4 @@ struct NurbsMoveBlocks {
 };
 NurbsMoveBlocks plan_nurbs_move(const Move& move, const MachineConfig& config);
 
-/// Starts planning `move` on the check pass's worker (gcode/nurbs_plan_prefetch.hpp), so that
-/// plan_nurbs_move() finds the plan made when it asks for it.
-void prefetch_nurbs_move(const Move& move, const MachineConfig& config);
-
 }  // namespace pcnc

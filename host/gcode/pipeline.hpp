@@ -89,8 +89,6 @@ class Pipeline {
   const CompFigures& comp_figures() const { return comp_.figures(); }
   /// What smoothing did so far; `blocks` counts the ring blocks its curves became.
   const SmoothingStats& smoothing() const { return smoother_.stats(); }
-  /// The check pass: curves planned ahead on a worker (Smoother::set_prefetch).
-  void set_prefetch_plans(bool on) { smoother_.set_prefetch(on); }
   std::uint64_t smoothed_blocks() const { return smoothed_blocks_; }
   const LineReader& reader() const { return *reader_; }
   std::uint64_t lines() const { return source_.lines(); }

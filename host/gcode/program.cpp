@@ -187,7 +187,6 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     const JobFrame frame = make_frame(config, options, t);
     Pipeline pipeline(in.open(name, config, frame), config, frame, sink);
     if (options.on_message) pipeline.set_message_handler(options.on_message);
-    pipeline.set_prefetch_plans(true);
     Block b;
     PlanRecorder plan(config);
     while (pipeline.next(b)) {

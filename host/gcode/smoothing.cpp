@@ -6,7 +6,6 @@
 #include <memory>
 #include <numbers>
 
-#include "gcode/nurbs_move.hpp"
 #include "gcode/spline_fit_memo.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/spline_fit.hpp"
@@ -14,8 +13,7 @@
 namespace pcnc {
 
 Smoother::Smoother(const MachineConfig& config)
-    : config_(config),
-      cos_corner_(std::cos(config.motion.smoothing_angle_deg * std::numbers::pi / 180.0)) {
+    : cos_corner_(std::cos(config.motion.smoothing_angle_deg * std::numbers::pi / 180.0)) {
   for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
     travel_min_[i] = config.axes[i].travel_min_mm;
     travel_max_[i] = config.axes[i].travel_max_mm;
@@ -51,12 +49,9 @@ bool Smoother::continues(const Move& last, const Move& m) const {
 }
 
 bool Smoother::next(const std::function<bool(Move&)>& pull, Move& out) {
-  // With prefetch, a curve is handed on only once the move after it is ready too (the next
-  // run fitted, or a move that is no curve): meanwhile the worker plans it.
-  while (out_.empty() || (prefetch_ && !ended_ && out_.size() == 1 && out_.front().kind == MoveKind::kNurbs)) {
+  while (out_.empty()) {
     Move m;
-    if (ended_ || !pull(m)) {
-      ended_ = true;
+    if (!pull(m)) {
       flush_run();
       if (out_.empty()) return false;
       break;
@@ -129,7 +124,6 @@ void Smoother::fit_range(std::size_t first, std::size_t last) {
   c.smoothed = true;
   c.nurbs = std::make_shared<const NurbsCurve>(std::move(fit.curve));
   c.line_marks = std::move(marks);
-  if (prefetch_) prefetch_nurbs_move(c, config_);
   out_.push_back(std::move(c));
   stats_.moves += last - first;
   stats_.curves += 1;

@@ -54,12 +54,6 @@ class Smoother {
 
   const SmoothingStats& stats() const { return stats_; }
 
-  /// The check pass: each curve's plan is started on a worker as soon as the curve is fitted
-  /// (prefetch_nurbs_move), and the stage reads one run ahead before it hands a run's last
-  /// curve on, so that the worker plans run k while this thread fits run k + 1. Not for a
-  /// stream that feeds the machine: it would hold a run back while waiting for the next.
-  void set_prefetch(bool on) { prefetch_ = on; }
-
  private:
   bool smoothable(const Move& m) const;
   bool continues(const Move& last, const Move& m) const;
@@ -67,10 +61,7 @@ class Smoother {
   void fit_range(std::size_t first, std::size_t last);  // points first..last of the run
   bool within_travel(const NurbsCurve& c) const;
 
-  const MachineConfig& config_;
   double cos_corner_;
-  bool prefetch_ = false;
-  bool ended_ = false;  // the input has ended
   Vec3 travel_min_{}, travel_max_{};  // the axes' travel: a curve never leaves it
   std::size_t fit_work_left_ = 0;  // points the run's remaining fits may still take
   std::vector<Move> run_;      // the run's moves (null moves dropped)
