@@ -16,13 +16,13 @@ const char* to_string(FeedResult r) {
 RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_ns, std::uint64_t follow_rt_ns)
     : link_(link), check_period_s_(check_period_s), spin_ns_(spin_ns), follow_rt_ns_(follow_rt_ns) {}
 
-// Spins while the rt runs (its cycles count up the scope ring), for 1 ms at most: a block that lasts longer costs one wake-up
-// (tens of µs) at its end, a small part of it, and the host's core is not held meanwhile.
 bool RingFeeder::slot_free() {
   auto& shm = link_.shm();
   return via_stage_ ? shm.stage.begin_push() != nullptr : shm.motion.begin_push() != nullptr;
 }
 
+// Spins while the rt runs (its cycles count up the scope ring), for 1 ms at most: a block that lasts longer costs one wake-up
+// (tens of µs) at its end, a small part of it, and the host's core is not held meanwhile.
 bool RingFeeder::follow_rt() {
   constexpr std::uint64_t kFollowAtMostNs = 1000000;
   auto& shm = link_.shm();
