@@ -132,7 +132,8 @@ std::string make_temp_dir() {
 // ---------------------------------------------------------------- the machine side
 
 // A real segment and a real Machine, stepped on the fuzzer's thread like pcnc-rt's loop
-// under --clock virtual: mailbox, one cycle, slot-freed wake-up, status.
+// under --clock virtual: the replay stage into the ring, mailbox, one cycle, slot-freed
+// wake-up, status.
 class InProcessRt {
  public:
   InProcessRt(const pcnc::MachineConfig& config, const std::string& name) : config_(config), segment_(name) { reset(); }
@@ -147,6 +148,7 @@ class InProcessRt {
     while (s.commands.try_pop(c)) {
     }
     s.motion.pop_all();
+    s.stage.pop_all();
     machine_ = std::make_unique<pcnc::Machine>(config_);
     machine_->set_host_alive(true);
     cycle();
@@ -156,9 +158,12 @@ class InProcessRt {
   /// (a bounded while) for them first, as the rt does under the virtual clock.
   void step(bool feeding) {
     auto& s = shm();
+    pcnc::take_staged(s);  // the host writes into the replay stage under the virtual clock
     if (feeding && !starved_ && s.commands.empty() && machine_->wants_more_blocks(s.motion)) {
       const bool got = s.block_published.wait_until(
-          [&] { return !s.commands.empty() || !machine_->wants_more_blocks(s.motion); }, 0.02, 50000);
+          [&] { return !s.commands.empty() || !s.stage.empty() || !machine_->wants_more_blocks(s.motion); }, 0.02,
+          50000);
+      pcnc::take_staged(s);
       if (!got) starved_ = true;  // the job stopped feeding: run on (an underrun), do not wait again
     }
     if (!feeding) starved_ = false;
