@@ -54,7 +54,7 @@ TEST(FixedText, TiesRoundToEvenOnTheExactBinaryValue) {
   EXPECT_EQ(fixed(-0.125, 2), "-0.12");
   EXPECT_EQ(fixed(10.25, 1), "10.2");
   EXPECT_EQ(fixed(10.75, 1), "10.8");
-  // decimal "ties" are not exact in binary: 0.15 is 0.1499999..., 0.35 is 0.3500000...2
+  // decimal "ties" are not exact in binary: 0.15 is 0.1499999..., 0.35 is 0.3499999..., 0.45 is 0.4500000...1
   EXPECT_EQ(fixed(0.15, 1), "0.1");
   EXPECT_EQ(fixed(0.35, 1), "0.3");
   EXPECT_EQ(fixed(2.675, 2), "2.67");

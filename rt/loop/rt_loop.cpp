@@ -192,8 +192,8 @@ std::uint64_t RtLoop::run(const StopRequest& stop) {
     // Same cycle, no sleeping: time is simulated. Before every cycle the ring is filled from
     // the replay stage the host writes into (take_staged, ipc/segment.hpp). While a program
     // needs blocks that the host has not written yet, wait for the host instead of advancing
-    // time, so that replays are deterministic. When the machine is at rest with nothing to do, wait too (10 ms steps)
-    // instead of burning a core.
+    // time, so that replays are deterministic. When the machine is at rest with nothing to
+    // do, wait too (10 ms steps) instead of burning a core.
     // Compute time is measured over runs of up to kVirtualTimedCycles cycles with no wait
     // between them, loop overhead included, and each cycle of a run counts with the run's
     // mean: one clock read per run instead of one per cycle (the clock is a good part of a
