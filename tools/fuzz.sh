@@ -52,6 +52,15 @@ for t in "${targets[@]}"; do
     -print_final_stats=1 "$work" "${seeds[@]}" >"$log" 2>&1 || rc=$?
   tail -n 12 "$log"
   if [ "$rc" -ne 0 ]; then
+    # The report's head (what failed and where) and the input, so a CI log alone reproduces it:
+    # base64 -d > crash.bin; build-asan/fuzz/fuzz_gcode crash.bin
+    echo "---- the report's first lines ----"
+    sed -n '/ERROR: \|runtime error\|==[0-9]*==\|deadly signal/,$p' "$log" | head -n 60
+    for f in crash-* timeout-* leak-*; do
+      [ -f "$f" ] || continue
+      echo "---- $f ($(stat -c %s "$f") bytes), base64 ----"
+      head -c 8192 "$f" | base64
+    done
     echo "fuzz.sh: fuzz_$t failed (exit $rc); see $log and the crash-*/timeout-*/leak-* file in $build" >&2
     exit "$rc"
   fi

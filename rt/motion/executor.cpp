@@ -178,7 +178,7 @@ double Executor::compute_exit_speed(const ExecInput& in) const {
     // brake at its schedule's accelerations (their mean over the block)
     const double cap = std::min(cap_of(prep_[j], in), prep_[j].v_first);
     double stop = stop_speed(prep_[j].length, v_out, prep_[j].brake_accel, dt_, k_);
-    if (prep_[j].kind == BlockKind::kArc && stop < cap) stop = std::max(stop, arc_stop_speed(prep_[j], prep_[j].length, v_out, false, cap, dt_, k_));
+    if (prep_[j].kind == BlockKind::kArc && stop < cap) stop = std::max(stop, arc_stop_speed(prep_[j], cfg_, prep_[j].length, v_out, false, cap, dt_, k_));
     const double v_in = std::min(cap, stop);
     v_out = std::min(v_in, junction_cap(j - 1, in));
   }
@@ -462,7 +462,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   if (b.kind == BlockKind::kArc && v_stop < cap && v_stop < v_up) {
     // An arc may also brake at what it keeps at every speed up to the one it brakes from (not
     // asked when v_stop reaches v_up already: the larger speed it gives could not bind).
-    v_stop = std::max(v_stop, arc_stop_speed(b, remaining, v_exit, stop_at_end && crossed_ == 0, cap, dt_, k_));
+    v_stop = std::max(v_stop, arc_stop_speed(b, cfg_, remaining, v_exit, stop_at_end && crossed_ == 0, cap, dt_, k_));
   }
   if (b.kind == BlockKind::kNurbs) {
     // A NURBS block may also brake at its schedule's accelerations along the rest of the block:

@@ -229,9 +229,50 @@ double arc_stretch_accel(const PreparedBlock& b, const ArcStretch& st, const Mac
   return std::max(arc_path_accel(b, v), by_axis);
 }
 
-double arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap, double dt, double k) {
+ArcSweep arc_sweep(const PreparedBlock& b, const MachineConfig& cfg, double from) {
+  ArcSweep w;
+  const double u = b.length > 0.0 ? std::clamp(from / b.length, 0.0, 1.0) : 0.0;
+  // the angles from here to the end: |cos θ| reaches 1 at kπ and 0 at π/2 + kπ, |sin θ| the other
+  // way round; else both lie between their values at the two ends
+  const double th = b.theta0 + b.sweep * u, th_end = b.theta0 + b.sweep;
+  const double lo = std::min(th, th_end), hi = std::max(th, th_end);
+  auto holds = [&](double offset) { return offset + std::ceil((lo - offset) / std::numbers::pi) * std::numbers::pi <= hi; };
+  const bool at_axis1 = holds(0.0), at_axis2 = holds(0.5 * std::numbers::pi);
+  const double c0 = std::abs(std::cos(th)), c1 = std::abs(std::cos(th_end));
+  const double s0 = std::abs(std::sin(th)), s1 = std::abs(std::sin(th_end));
+  w.x_lo[0] = at_axis2 ? 0.0 : std::min(c0, c1);
+  w.x_hi[0] = at_axis1 ? 1.0 : std::max(c0, c1);
+  w.x_lo[1] = at_axis1 ? 0.0 : std::min(s0, s1);
+  w.x_hi[1] = at_axis2 ? 1.0 : std::max(s0, s1);
+  w.limit[0] = kArcAccelMargin * cfg.axes[b.a1].max_accel_mm_s2;
+  w.limit[1] = kArcAccelMargin * cfg.axes[b.a2].max_accel_mm_s2;
+  // evaluate(): dp/du = (dr·cos θ − r·sin θ·sweep, dr·sin θ + r·cos θ·sweep, dn), curvature
+  // r·sweep²/|dp/du|² along −(cos θ, sin θ), with r between r0 and r1
+  const double sw = std::abs(b.sweep), dr = std::abs(b.r1 - b.r0), dn = std::abs(b.end[b.an] - b.start[b.an]);
+  const double r_min = std::min(b.r0, b.r1), r_max = std::max(b.r0, b.r1);
+  const double in_max = dr * dr + r_max * r_max * sw * sw;
+  w.q = in_max > 0.0 ? std::sqrt(in_max / (in_max + dn * dn)) : 0.0;
+  w.phi = r_min * sw > 0.0 ? dr / (r_min * sw) : std::numeric_limits<double>::infinity();
+  const double low = r_min * r_min * sw * sw + dn * dn;
+  w.curvature = low > 0.0 ? r_max * sw * sw / low : std::numeric_limits<double>::infinity();
+  if (dn > 0.0) w.normal = kArcAccelMargin * cfg.axes[b.an].max_accel_mm_s2 * std::sqrt(low) / dn;
+  return w;
+}
+
+double arc_sweep_accel(const PreparedBlock& b, const ArcSweep& w, double v) {
+  if (!std::isfinite(w.phi) || !std::isfinite(w.curvature)) return 0.0;
+  const double f = b.arc_f;  // the parameter speed over the true speed on a spiral
+  const double c = (v / f) * (v / f) * w.curvature;
+  double a = w.normal;
+  for (int i = 0; i < 2; ++i) a = std::min(a, plane_axis_tangential_room(w.limit[i], c, w.q, w.phi, w.x_lo[i], w.x_hi[i]));
+  return std::isfinite(a) ? f * a : 0.0;
+}
+
+double arc_stop_speed(const PreparedBlock& b, const MachineConfig& cfg, double distance, double v_exit, bool exact,
+                      double cap, double dt, double k) {
+  const ArcSweep sweep = arc_sweep(b, cfg, b.length - distance);
   auto rule = [&](double v) {
-    const double acc = std::max(b.accel, arc_path_accel(b, v));
+    const double acc = std::max({b.accel, arc_path_accel(b, v), arc_sweep_accel(b, sweep, v)});
     return exact ? stop_speed_exact(distance, acc, dt) : stop_speed(distance, v_exit, acc, dt, k);
   };
   if (!std::isfinite(cap)) cap = b.v_machine;
@@ -246,7 +287,7 @@ double arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bo
   // decide it: the same steps, the same result bit for bit, with fewer evaluations.
   const double r_zero = rule(0.0);
   const bool bounded = std::isfinite(r_zero) && std::isfinite(r_cap);
-  const double acc0 = std::max(b.accel, arc_path_accel(b, 0.0));  // the largest acceleration
+  const double acc0 = std::max({b.accel, arc_path_accel(b, 0.0), arc_sweep_accel(b, sweep, 0.0)});  // the largest
   const double slack = 1e-12 * (std::abs(r_zero) + std::abs(r_cap) + k * dt * acc0 + 1.0);
   double lo = 0.0, hi = cap;
   double r_lo = r_zero, r_hi = r_cap;  // the rule at the last speeds evaluated at/below lo, at/above hi

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "geometry/nurbs.hpp"
 #include "ipc/block.hpp"
@@ -100,13 +101,36 @@ struct ArcStretch {
 /// where the normal points along it. Both keep every axis within its limit.
 double arc_stretch_accel(const PreparedBlock& b, const ArcStretch& stretch, const MachineConfig& config, double v);
 
-/// The stop rule on an arc whose tangential acceleration falls as its speed rises
-/// (arc_path_accel): the largest V up to `cap` (infinite: the arc's v_machine) from which the
-/// rule brakes within `distance` to `v_exit` at the acceleration the arc keeps at every speed up
-/// to V, by a 24-step bisection on [0, cap] (the rule's speed rises with the acceleration, which
-/// falls with V). `exact`: stop_speed_exact's rule (a stop at rest with no junction-restricted
-/// cycle left), else stop_speed's with its margin `k`; `dt` the cycle. Pure.
-double arc_stop_speed(const PreparedBlock& b, double distance, double v_exit, bool exact, double cap, double dt, double k);
+/// The stretch of an arc from path length `from` to its end, as its in-plane axes see it: the
+/// shares of the radius direction each sweeps, and bounds on the tangent's shares and the
+/// curvature that hold at every point of it (evaluate), a spiral's and a helix's included. Built
+/// once per question for arc_sweep_accel at any number of speeds.
+struct ArcSweep {
+  double x_lo[2] = {0.0, 0.0}, x_hi[2] = {0.0, 0.0};  // |cos θ| (first plane axis), |sin θ| (second)
+  double limit[2] = {0.0, 0.0};                       // kArcAccelMargin · the axis's acceleration
+  double q = 0.0;          // the in-plane share of the unit tangent, at most
+  double phi = 0.0;        // a spiral's tangent turns from the circle's by at most atan(phi)
+  double curvature = 0.0;  // 1/mm, at most
+  double normal = std::numeric_limits<double>::infinity();  // what the normal axis leaves (helix)
+};
+ArcSweep arc_sweep(const PreparedBlock& b, const MachineConfig& config, double from);
+
+/// The least tangential path acceleration the axes leave at path speed v anywhere on the swept
+/// stretch, each axis carrying its own share (the least over the stretch of arc_stretch_accel's
+/// per-axis rule, in closed form: geometry/arc_limits.hpp plane_axis_tangential_room). It falls
+/// as v rises. On a G18/G19 arc it is larger than the plane rule (arc_path_accel) where the rest
+/// of the arc runs along the faster axis.
+double arc_sweep_accel(const PreparedBlock& b, const ArcSweep& sweep, double v);
+
+/// The stop rule on an arc whose tangential acceleration falls as its speed rises: the largest V
+/// up to `cap` (infinite: the arc's v_machine) from which the rule brakes within `distance` (the
+/// rest of the arc) to `v_exit` at the acceleration the arc keeps at every speed up to V on the
+/// rest of the arc (the larger of arc_path_accel and arc_sweep_accel over the last `distance`),
+/// by a 24-step bisection on [0, cap] (the rule's speed rises with the acceleration, which falls
+/// with V). `exact`: stop_speed_exact's rule (a stop at rest with no junction-restricted cycle
+/// left), else stop_speed's with its margin `k`; `dt` the cycle. Pure.
+double arc_stop_speed(const PreparedBlock& b, const MachineConfig& config, double distance, double v_exit, bool exact,
+                      double cap, double dt, double k);
 
 /// What the axes leave for a curve's tangential acceleration at a point `e` (p, dp/du, d²p/du²)
 /// at path speed v: each axis keeps |a_t·T_i + v²·κ_i| within kArcAccelMargin of its limit, so

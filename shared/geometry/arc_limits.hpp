@@ -57,6 +57,31 @@ inline double max_abs_cos(double start, double sweep) {
   return max_abs_trig(start, sweep, 0.0, [](double x) { return std::cos(x); });
 }
 
+/// The least tangential acceleration one in-plane axis leaves on a stretch of an arc, each axis
+/// carrying its own share: where the radius direction has a share x of the axis (|cos θ| for the
+/// first plane axis, |sin θ| for the second), the centripetal part takes c·x of the axis's
+/// `limit` (c = v²·κ, κ at most the arc's curvature) and the tangent has at most
+/// q·(√(1−x²) + φ·x) of it (q the in-plane share of the unit tangent; φ bounds how far a
+/// spiral's tangent turns from the circle's), so the tangential acceleration may be
+///   g(x) = (limit − c·x) / (q·(√(1−x²) + φ·x)).
+/// Returns the least g over x in [x_lo, x_hi] (the shares the stretch sweeps): g falls and then
+/// rises, its least value where x − φ·√(1−x²) = c/limit, so that point clamped into the range.
+/// 0 where the centripetal part alone takes the axis's whole limit somewhere in the range;
+/// +infinity where the axis never moves along the tangent. Pure.
+inline double plane_axis_tangential_room(double limit, double c, double q, double phi, double x_lo, double x_hi) {
+  if (c * x_hi >= limit) return 0.0;
+  if (!(q > 1e-12)) return std::numeric_limits<double>::infinity();
+  // x − φ·√(1−x²) = c/limit, with x = sin α: √(1+φ²)·sin(α − β) = c/limit, tan β = φ; at
+  // c >= limit g falls all the way to x = 1
+  const double n = std::sqrt(1.0 + phi * phi);
+  const double y = c / limit / n;
+  double x = c >= limit ? 1.0 : (y + phi * std::sqrt(1.0 - y * y)) / n;
+  x = std::clamp(x, x_lo, x_hi);
+  const double along = q * (std::sqrt(std::max(0.0, 1.0 - x * x)) + phi * x);
+  if (!(along > 1e-12)) return std::numeric_limits<double>::infinity();
+  return (limit - c * x) / along;
+}
+
 /// Share of what the plane leaves beside the centripetal part that the rt's executor ramps and
 /// brakes an arc at (the NURBS schedule's kTangentialAccelMargin): room for the cycle's linear
 /// steps of speed.
