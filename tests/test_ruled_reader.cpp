@@ -139,6 +139,9 @@ TEST(RuledReader, RefusesWhatTheFormForbids) {
       {kHead + "G5.4 F600\n" + kP1 + "G1 X1 Y0 Z0 I0 J0 K1\nG5.5\n",
        "p.ngc:5:1: error: G1 inside the G5.4 group opened at line 3"},
       {kHead + "G5.4 F600\n" + kP1 + kP2 + "M2\n", "p.ngc:6:1: error: M2 inside the G5.4 group opened at line 3"},
+      // a code far beyond any (found by fuzzing: it overflowed the int it was rounded into)
+      {kHead + "G5.4 F600\n" + kP1 + "G888888888\n" + kP2 + "G5.5\n",
+       "p.ngc:5:1: error: G888888888 inside the G5.4 group opened at line 3"},
       {kHead + "G5.4 F600\n" + kP1 + kP2, "p.ngc:3: error: the G5.4 group opened here is not closed by G5.5"},
       {kHead + "G5.4 F600\n" + kP1 + "G5.5\n", "p.ngc:5:1: error: the G5.4 group opened at line 3 has 1 set point"},
       {kHead + "G5.4 F600\n" + kP1 + "X0 Y0 Z0.0000001 I0 J0 K1\nG5.5\n",

@@ -8,8 +8,10 @@
 namespace pcnc {
 namespace {
 
-// A G or M word's number x10 ("G5.4" -> 54); -1 for a number that is not a multiple of 0.1.
+// A G or M word's number x10 ("G5.4" -> 54); -1 for a number that is not a multiple of 0.1 or
+// lies beyond any code (G888888888 must not overflow the int).
 int code10(double v) {
+  if (!(std::abs(v) < 1e6)) return -1;
   const double r = std::round(v * 10.0);
   return std::abs(v * 10.0 - r) < 1e-6 ? static_cast<int>(r) : -1;
 }
@@ -20,7 +22,7 @@ std::string word_name(const Word& w) {
     const int c = code10(w.value);
     if (c >= 0 && c % 10 == 0) std::snprintf(buf, sizeof buf, "%c%d", w.letter, c / 10);
     else if (c >= 0) std::snprintf(buf, sizeof buf, "%c%d.%d", w.letter, c / 10, c % 10);
-    else std::snprintf(buf, sizeof buf, "%c%g", w.letter, w.value);
+    else std::snprintf(buf, sizeof buf, "%c%.10g", w.letter, w.value);
   } else {
     std::snprintf(buf, sizeof buf, "%c", w.letter);
   }

@@ -461,8 +461,9 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
                                                : stop_speed(remaining, v_exit, a, dt_, k_);
   if (b.kind == BlockKind::kArc && v_stop < cap && v_stop < v_up) {
     // An arc may also brake at what it keeps at every speed up to the one it brakes from (not
-    // asked when v_stop reaches v_up already: the larger speed it gives could not bind).
-    v_stop = std::max(v_stop, arc_stop_speed(b, cfg_, remaining, v_exit, stop_at_end && crossed_ == 0, cap, dt_, k_));
+    // asked when v_stop reaches v_up already, and asked only up to v_up: a larger speed could not
+    // bind, and most cycles are settled by the rule at v_up alone).
+    v_stop = std::max(v_stop, arc_stop_speed(b, cfg_, remaining, v_exit, stop_at_end && crossed_ == 0, std::min(cap, v_up), dt_, k_));
   }
   if (b.kind == BlockKind::kNurbs) {
     // A NURBS block may also brake at its schedule's accelerations along the rest of the block:

@@ -276,34 +276,45 @@ double arc_stop_speed(const PreparedBlock& b, const MachineConfig& cfg, double d
     return exact ? stop_speed_exact(distance, acc, dt) : stop_speed(distance, v_exit, acc, dt, k);
   };
   if (!std::isfinite(cap)) cap = b.v_machine;
-  const double r_cap = rule(cap);
-  if (r_cap >= cap) return cap;
-  // The bisection's decisions, rule(mid) >= mid, many taken without the rule. The acceleration
-  // falls with V in floating point too (arc_accel_at: every step rounds monotonically), and the
-  // stop rule is monotone in the acceleration (stop_speed rises with it when distance > k·dt·v_exit,
-  // else falls; stop_speed_exact rises), so between two speeds the rule was evaluated at it
-  // lies between their two values, give or take its own rounding (a few ulps of its speeds;
-  // `slack` is a thousand times that). A mid clear of that band is decided as the rule would
-  // decide it: the same steps, the same result bit for bit, with fewer evaluations.
-  const double r_zero = rule(0.0);
-  const bool bounded = std::isfinite(r_zero) && std::isfinite(r_cap);
-  const double acc0 = std::max({b.accel, arc_path_accel(b, 0.0), arc_sweep_accel(b, sweep, 0.0)});  // the largest
-  const double slack = 1e-12 * (std::abs(r_zero) + std::abs(r_cap) + k * dt * acc0 + 1.0);
-  double lo = 0.0, hi = cap;
-  double r_lo = r_zero, r_hi = r_cap;  // the rule at the last speeds evaluated at/below lo, at/above hi
-  for (int i = 0; i < 24; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    bool below;  // rule(mid) >= mid: the answer is at mid or above
-    if (bounded && std::max(r_lo, r_hi) + slack < mid) {
-      below = false;
-    } else if (bounded && std::min(r_lo, r_hi) - slack >= mid) {
-      below = true;
+  const double g_cap = rule(cap) - cap;
+  if (g_cap >= 0.0) return cap;
+  // The largest V with rule(V) >= V: g(V) = rule(V) − V falls from g(lo) >= 0 to g(cap) < 0
+  // (the acceleration falls with V and the rule rises with it, so g falls at least as fast as
+  // −V: the root lies within g(lo) of lo; at the last cycles of a flowing exit the rule falls
+  // with the acceleration instead, g may not fall, and the bracket still closes on a V with
+  // rule(V) >= V). It starts from rule(cap): where the rule falls with V, it is at least that
+  // speed there (rule(cap) <= the root), and close below it as the rule changes slowly with V;
+  // else from 0. Regula falsi with the Illinois step (the end that stays is halved in weight),
+  // to 1e-8 of the cap: a few evaluations. `lo` always keeps rule(lo) >= lo: the speed returned
+  // brakes in time.
+  const double width = 1e-8 * cap;
+  double lo = 0.0, hi = cap, g_lo = -1.0, g_hi = g_cap;
+  const double v0 = g_cap + cap;
+  if (v0 > 0.0) {
+    g_lo = rule(v0) - v0;
+    if (g_lo >= 0.0) lo = v0;
+  }
+  if (lo == 0.0) g_lo = rule(0.0);
+  if (!(g_lo > 0.0)) return lo;
+  int kept = 0;  // which end stayed last: +1 hi, −1 lo
+  for (int i = 0; i < 64 && hi - lo > width && g_lo > width; ++i) {
+    double mid = lo + (hi - lo) * (g_lo / (g_lo - g_hi));
+    // a step too close to an end brings the bracket in by no more than itself: keep steps
+    // inside by a quarter of the target width (and bisect if the weights go astray)
+    mid = std::clamp(mid, lo + 0.25 * width, hi - 0.25 * width);
+    if (!(mid > lo && mid < hi)) mid = 0.5 * (lo + hi);
+    const double g = rule(mid) - mid;
+    if (g >= 0.0) {
+      lo = mid;
+      g_lo = g;
+      if (kept == 1) g_hi *= 0.5;
+      kept = 1;
     } else {
-      const double r = rule(mid);
-      below = r >= mid;
-      (below ? r_lo : r_hi) = r;
+      hi = mid;
+      g_hi = g;
+      if (kept == -1) g_lo *= 0.5;
+      kept = -1;
     }
-    (below ? lo : hi) = mid;
   }
   return lo;
 }
