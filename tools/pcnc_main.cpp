@@ -133,6 +133,10 @@ int main(int argc, char** argv) {
         display.update(*u);
       }
     };
+    // three.js is the same in every report: packed while the processes run (this process only
+    // waits for them), not after
+    std::shared_future<pcnc::PackedLibrary> three;
+    if (!report.empty()) three = pcnc::start_packing_three_js();
     exit_code = pcnc::launch_pair(lo);
     display.finish();
     // both processes have ended: the trace is complete and flushed; the summary gets the time
@@ -143,7 +147,7 @@ int main(int argc, char** argv) {
         if (!report.empty()) std::fprintf(stderr, "pcnc: no HTML report: the program did not run (see above)\n");
       } else {
         try {
-          pcnc::finish_run_outputs(summary_file, trace_file, report, !summary.empty());
+          pcnc::finish_run_outputs(summary_file, trace_file, report, !summary.empty(), three);
           if (!report.empty()) std::printf("  html report       %s\n", report.c_str());
         } catch (const std::exception& e) {
           std::fprintf(stderr, "pcnc: %s: %s\n", report.empty() ? "the summary's time_by_cause was not written" : "the HTML report was not written", e.what());

@@ -10,6 +10,9 @@
 #include <iterator>
 #include <stdexcept>
 
+#include <pthread.h>
+#include <signal.h>
+
 namespace pcnc {
 
 ReportPage load_report_page(const std::string& summary_path, const std::string& trace_path) {
@@ -64,12 +67,23 @@ ReportPage load_report_page(const std::string& summary_path, const std::string& 
   return page;
 }
 
+std::shared_future<PackedLibrary> start_packing_three_js() {
+  // The thread takes no signals (it inherits the mask it is started with): a Ctrl-C or SIGTERM
+  // goes to the thread that handles them (pcnc run's launcher), as without it.
+  sigset_t all, old;
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  std::shared_future<PackedLibrary> f = std::async(std::launch::async, pack_three_js, std::string()).share();
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  return f;
+}
+
 void finish_run_outputs(const std::string& summary_path, const std::string& trace_path, const std::string& html_path,
-                        bool rewrite_summary) {
+                        bool rewrite_summary, std::shared_future<PackedLibrary> three) {
   // three.js, the same in every report and the largest cost of packing the page, is packed on
-  // a second thread while the trace is read and the page drawn (path_view_3d.hpp)
-  std::shared_future<PackedLibrary> three;
-  if (!html_path.empty() && !trace_path.empty()) three = std::async(std::launch::async, pack_three_js, std::string()).share();
+  // a second thread while the trace is read and the page drawn (path_view_3d.hpp), if the caller
+  // has not started it already
+  if (!three.valid() && !html_path.empty() && !trace_path.empty()) three = start_packing_three_js();
   ReportPage page = load_report_page(summary_path, trace_path);
   page.view3d_options.library = three;
   if (!html_path.empty()) {
