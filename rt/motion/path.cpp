@@ -291,8 +291,9 @@ double arc_stop_speed(const PreparedBlock& b, const MachineConfig& cfg, double d
   double lo = 0.0, hi = cap, g_lo = -1.0, g_hi = g_cap;
   const double v0 = g_cap + cap;
   if (v0 > 0.0) {
-    g_lo = rule(v0) - v0;
-    if (g_lo >= 0.0) lo = v0;
+    const double g = rule(v0) - v0;
+    (g >= 0.0 ? lo : hi) = v0;
+    (g >= 0.0 ? g_lo : g_hi) = g;
   }
   if (lo == 0.0) g_lo = rule(0.0);
   if (!(g_lo > 0.0)) return lo;
