@@ -367,6 +367,51 @@ TEST(Executor, AlwaysAbleToStopWithinTheRing) {
   EXPECT_GT(clones, 50);
 }
 
+TEST(Executor, FlowingJunctionsAreCrossedWithinTheirCapsWhileBraking) {
+  // A zigzag under M21 (path tolerance 0: the seed's rule, each junction capped by the velocity
+  // step its turn asks, junction_speed_cap) whose turns grow from 0.5° to 9.5° over each run of
+  // ten short segments, at a feed far above the caps: the executor brakes through several blocks
+  // into ever lower caps. The cycle that crosses each junction runs at most at its cap, also
+  // with the junction-restricted cycles (at (1 − f)·a) after each crossing and before the next:
+  // the stop rule's margin (docs/rt-executor.md, "Speed law").
+  MachineConfig c = cfg();
+  c.motion.path_tolerance_mm = 0.0;
+  const double dt = c.cycle_period_s(), f = c.motion.junction_velocity_step_fraction;
+  const std::array<double, kAxes> acc{c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2, c.axes[2].max_accel_mm_s2};
+  const Vec3 start{1.5, 12.5, 20.0};
+  ProgramBuilder p(c, test::home(c));
+  p.rapid(start).contouring(true);
+  std::vector<Vec3> dirs;
+  double heading = 0.0;
+  Vec3 at = start;
+  for (int i = 0; i < 60; ++i) {
+    const double turn = (0.5 + 9.0 * static_cast<double>(i % 10) / 9.0) * std::numbers::pi / 180.0;
+    heading += (i % 2 == 0 ? 1.0 : -1.0) * turn;
+    // long enough to brake from cap to cap within one segment, then segments of a few cycles
+    // each, across which the look-ahead's backward pass must plan the braking
+    const double len = (i < 30 ? 0.2 : 0.03) * (1.0 + 0.75 * static_cast<double>(i % 3));
+    const Vec3 d{std::cos(heading), std::sin(heading), 0.0};
+    at = at + len * d;
+    p.line(at, 80.0);
+    dirs.push_back(d);
+  }
+  p.end();
+  const auto s = execute(c, p.blocks());
+  const std::uint32_t first = p.blocks()[1].line;  // the zigzag's first block (after the rapid)
+  int crossings = 0, tight = 0;
+  for (std::size_t k = 1; k < s.size(); ++k) {
+    if (s[k].line == s[k - 1].line || s[k - 1].line < first || s[k].line != s[k - 1].line + 1) continue;
+    const std::size_t j = s[k - 1].line - first;  // from segment j to j + 1
+    if (j + 1 >= dirs.size()) continue;
+    const double cap = junction_speed_cap(dirs[j], dirs[j + 1], acc, dt, f);
+    EXPECT_LE(s[k].v, cap * (1.0 + 1e-9)) << "junction " << j << " (turn " << j % 10 << ")";
+    ++crossings;
+    tight += s[k].v > 0.9 * cap;
+  }
+  EXPECT_GT(crossings, 50);
+  EXPECT_GT(tight, 20);  // the caps bind: the executor runs up to them
+}
+
 TEST(Executor, FeedHoldRampsDownAndResumes) {
   MachineConfig c = cfg();
   ProgramBuilder p(c, {2.0, 12.5, 20.0});

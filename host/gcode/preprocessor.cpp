@@ -83,14 +83,16 @@ void plan_arc(const Move& m, const MachineConfig& cfg, Block& b) {
   if (s_max > 0.0) v_axes = std::min(v_axes, cfg.axes[a0].max_velocity_mm_s * rho / (r * s_max));
   if (c_max > 0.0) v_axes = std::min(v_axes, cfg.axes[a1].max_velocity_mm_s * rho / (r * c_max));
   if (std::fabs(pitch) > 0.0) v_axes = std::min(v_axes, cfg.axes[nk].max_velocity_mm_s * rho / std::fabs(pitch));
-  // Centripetal acceleration v^2 * r / rho^2 within a share of the smaller in-plane axis limit.
-  const double a_plane = std::min(cfg.axes[a0].max_accel_mm_s2, cfg.axes[a1].max_accel_mm_s2);
-  if (r > 0.0) v_axes = std::min(v_axes, std::sqrt(kArcCentripetalShare * a_plane * rho * rho / r));
+  // Centripetal acceleration v^2 * r / rho^2 within a share of what the in-plane axes allow along
+  // the sweep, each carrying its own part (shared/geometry/arc_limits.hpp).
+  const ArcPlane plane = arc_plane(cfg.axes[a0].max_accel_mm_s2, cfg.axes[a1].max_accel_mm_s2, theta0, sweep);
+  if (r > 0.0) v_axes = std::min(v_axes, std::sqrt(kArcCentripetalShare * arc_centripetal_limit(plane) * rho * rho / r));
   const double speed = std::min(m.feed_mm_s, v_axes);
   // Tangential acceleration: what the plane has left at the block's top speed (feed override
-  // included), shared/arc_limits.hpp; the full limit along the normal.
+  // included), shared/geometry/arc_limits.hpp; the full limit along the normal.
   const double v_top = std::min(v_axes, kArcMaxFeedOverride * speed);
-  double accel = r > 0.0 ? arc_tangential_accel(a_plane, r, v_top * r / rho) * rho / r : kInf;
+  const double vp_top = v_top * r / rho;
+  double accel = r > 0.0 ? arc_plane_tangential_accel(plane, vp_top * vp_top / r) * rho / r : kInf;
   if (std::fabs(pitch) > 0.0) accel = std::min(accel, cfg.axes[nk].max_accel_mm_s2 * rho / std::fabs(pitch));
   if (!std::isfinite(accel)) accel = 0.0;
   b.speed = speed;

@@ -132,8 +132,8 @@ TimeCause cruise_cause(const Block& b, const MachineConfig& cfg) {
       if (r > 0.0 && s_max > 0.0) term(cfg.axes[a0].max_velocity_mm_s * rho / (r * s_max), axis_cause(TimeCause::kAxisVelocityX, pa[0]));
       if (r > 0.0 && c_max > 0.0) term(cfg.axes[a1].max_velocity_mm_s * rho / (r * c_max), axis_cause(TimeCause::kAxisVelocityX, pa[1]));
       if (std::fabs(pitch) > 0.0) term(cfg.axes[nk].max_velocity_mm_s * rho / std::fabs(pitch), axis_cause(TimeCause::kAxisVelocityX, n));
-      const double a_plane = std::min(cfg.axes[a0].max_accel_mm_s2, cfg.axes[a1].max_accel_mm_s2);
-      if (r > 0.0) term(std::sqrt(kArcCentripetalShare * a_plane * rho * rho / r), TimeCause::kArcCentripetal);
+      const ArcPlane plane = arc_plane(cfg.axes[a0].max_accel_mm_s2, cfg.axes[a1].max_accel_mm_s2, g.start_angle, sweep);
+      if (r > 0.0) term(std::sqrt(kArcCentripetalShare * arc_centripetal_limit(plane) * rho * rho / r), TimeCause::kArcCentripetal);
       if (!std::isfinite(v_axes) || below(b.speed, v_axes)) return feed_or_clamp(b.speed, cfg);
       return cause;
     }

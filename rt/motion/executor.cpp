@@ -457,18 +457,23 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
 
   // A stop at the end of this block, with no junction-restricted cycle left: the exact
   // discrete braking rule. Otherwise the rule with the margin k for the restricted cycles.
+  // The margin k of the stop rule: one cycle for the discrete braking, plus f·a·T of braking lost
+  // in each junction-restricted cycle still ahead (the one after this if this is the first after a
+  // crossing, and the one that crosses a flowing end): braking at (1 − f)·a in such a cycle leaves
+  // the speed f·a·T higher, which costs f·v·T of distance (docs/rt-executor.md, "Speed law").
+  const double k_here = 1.0 + f_ * ((crossed_ > 1 ? 1 : 0) + (stop_at_end ? 0 : 1));
   double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
-                                               : stop_speed(remaining, v_exit, a, dt_, k_);
+                                               : stop_speed(remaining, v_exit, a, dt_, k_here);
   if (b.kind == BlockKind::kArc && v_stop < cap && v_stop < v_up) {
     // An arc may also brake at what it keeps at every speed up to the one it brakes from (not
     // asked when v_stop reaches v_up already, and asked only up to v_up: a larger speed could not
     // bind, and most cycles are settled by the rule at v_up alone).
-    v_stop = std::max(v_stop, arc_stop_speed(b, cfg_, remaining, v_exit, stop_at_end && crossed_ == 0, std::min(cap, v_up), dt_, k_));
+    v_stop = std::max(v_stop, arc_stop_speed(b, cfg_, remaining, v_exit, stop_at_end && crossed_ == 0, std::min(cap, v_up), dt_, k_here));
   }
   if (b.kind == BlockKind::kNurbs) {
     // A NURBS block may also brake at its schedule's accelerations along the rest of the block:
     // what it can shed from the point k cycles ahead (at the fastest speed this cycle may take).
-    const double ahead = k_ * (v_ + a_ramp * dt_) * dt_;
+    const double ahead = k_here * (v_ + a_ramp * dt_) * dt_;
     v_stop = std::max(v_stop, std::sqrt(v_exit * v_exit + 2.0 * nurbs_brake_.at(blk.nurbs, s_ + ahead)));
   }
   // Corner windows: inside one dp/ds mixes the two tangents, so each axis's share of the path

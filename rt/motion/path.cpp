@@ -57,7 +57,8 @@ void arc_caps(PreparedBlock& pb, const MachineConfig& cfg) {
   double v_plane = std::numeric_limits<double>::infinity();
   if (f1 > 0.0) v_plane = std::min(v_plane, A[pb.a1].max_velocity_mm_s / f1);
   if (f2 > 0.0) v_plane = std::min(v_plane, A[pb.a2].max_velocity_mm_s / f2);
-  const ArcCaps c = pcnc::arc_caps(r_min, q, h, q > 1e-12 ? v_plane / q : 0.0, a_plane, A[pb.an].max_velocity_mm_s,
+  const ArcPlane plane = arc_plane(A[pb.a1].max_accel_mm_s2, A[pb.a2].max_accel_mm_s2, pb.theta0, pb.sweep);
+  const ArcCaps c = pcnc::arc_caps(r_min, q, h, q > 1e-12 ? v_plane / q : 0.0, plane, A[pb.an].max_velocity_mm_s,
                                    A[pb.an].max_accel_mm_s2, pb.speed);
   pb.v_machine = c.speed;
   pb.accel = std::min(pb.accel, c.accel);

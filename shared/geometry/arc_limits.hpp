@@ -31,14 +31,6 @@ constexpr double kArcCentripetalShare = 0.95;
 /// is min(what the axes allow, this times its programmed speed).
 constexpr double kArcMaxFeedOverride = 2.0;
 
-/// Tangential acceleration in the plane (mm/s²) on an arc of radius `r_mm` whose in-plane
-/// speed never exceeds `v_top_plane_mm_s`, for a plane axis limit `a_plane`.
-inline double arc_tangential_accel(double a_plane, double r_mm, double v_top_plane_mm_s) {
-  if (!(r_mm > 0.0)) return a_plane;
-  const double a_n = std::min(v_top_plane_mm_s * v_top_plane_mm_s / r_mm, kArcCentripetalShare * a_plane);
-  return std::sqrt(a_plane * a_plane - a_n * a_n);
-}
-
 /// Largest |sin| and |cos| over the angles from `start` through `start + sweep` (sweep signed):
 /// how much of an arc's in-plane speed its second and first plane axis carry at most, as the
 /// in-plane velocity is r·(−sin θ, cos θ).
@@ -101,6 +93,52 @@ inline double arc_accel_at(double a_plane, double r_mm, double q, double a_norma
   return std::min(at, a_normal_path);
 }
 
+/// An arc's plane as its two axes see the angles it sweeps: their accelerations and the shares
+/// of the radius direction (the centripetal part's direction) each carries, |cos θ| for the first
+/// plane axis and |sin θ| for the second, least and most over the sweep.
+struct ArcPlane {
+  double a1 = 0.0, a2 = 0.0;                 // the plane axes' acceleration limits, mm/s²
+  double n1_lo = 0.0, n1_hi = 1.0, n2_lo = 0.0, n2_hi = 1.0;
+};
+
+/// The plane of an arc from `start` over `sweep` (radians, signed) with plane axis limits a1, a2.
+inline ArcPlane arc_plane(double a1, double a2, double start, double sweep) {
+  ArcPlane p;
+  p.a1 = a1;
+  p.a2 = a2;
+  const double s_hi = max_abs_sin(start, sweep), c_hi = max_abs_cos(start, sweep);
+  const double c0 = std::fabs(std::cos(start)), c1 = std::fabs(std::cos(start + sweep));
+  const double s0 = std::fabs(std::sin(start)), s1 = std::fabs(std::sin(start + sweep));
+  p.n1_hi = c_hi;
+  p.n1_lo = s_hi >= 1.0 ? 0.0 : std::min(c0, c1);  // |sin| = 1 where cos = 0
+  p.n2_hi = s_hi;
+  p.n2_lo = c_hi >= 1.0 ? 0.0 : std::min(s0, s1);
+  return p;
+}
+
+/// The centripetal acceleration an arc may count on in its plane, each axis carrying its own
+/// share along the sweep: min(a1 / max|cos θ|, a2 / max|sin θ|). At least the smaller of a1 and a2
+/// (the whole plane's rule, which an arc sweeping through both axes' normals meets), more where
+/// the arc keeps its normal away from the slower axis (a short G18/G19 arc along the faster one).
+inline double arc_centripetal_limit(const ArcPlane& p) {
+  double a = std::numeric_limits<double>::infinity();
+  if (p.n1_hi > 0.0) a = std::min(a, p.a1 / p.n1_hi);
+  if (p.n2_hi > 0.0) a = std::min(a, p.a2 / p.n2_hi);
+  return std::isfinite(a) ? a : std::min(p.a1, p.a2);
+}
+
+/// The in-plane tangential acceleration an arc keeps at every angle of its sweep while its
+/// in-plane centripetal part is `an` (v²/r): the larger of the whole plane's rule (the vector
+/// sum within the smaller limit, sqrt(a² − an²), while an stays within it) and each axis within
+/// its own limit (plane_axis_tangential_room's least value over the shares the sweep gives it).
+inline double arc_plane_tangential_accel(const ArcPlane& p, double an) {
+  const double a_plane = std::min(p.a1, p.a2);
+  const double uniform = an < a_plane ? std::sqrt(a_plane * a_plane - an * an) : 0.0;
+  const double by_axis = std::min(plane_axis_tangential_room(p.a1, an, 1.0, 0.0, p.n1_lo, p.n1_hi),
+                                  plane_axis_tangential_room(p.a2, an, 1.0, 0.0, p.n2_lo, p.n2_hi));
+  return std::max(uniform, by_axis);
+}
+
 /// The machine's caps on an arc or helix, as path rates.
 struct ArcCaps {
   double speed = std::numeric_limits<double>::infinity();  // what the axes allow, mm/s
@@ -110,22 +148,23 @@ struct ArcCaps {
 /// What the arc's shape and the axes give: `r_mm` the (smallest) in-plane radius, `q` and
 /// `h` the in-plane and normal shares of the path speed (r/ρ and |pitch|/ρ on a helix),
 /// `v_plane` the path speed the in-plane axes' velocities allow (the caller's bound along
-/// its sweep), `a_plane` the smaller in-plane axis acceleration, `v_normal` and `a_normal`
+/// its sweep), `plane` the plane axes' accelerations along the sweep, `v_normal` and `a_normal`
 /// the normal axis's limits, `speed` the block's programmed path speed. The speed cap adds
-/// the centripetal share and the normal axis; the tangential acceleration is what the plane
-/// has left at the top speed the block can run at (feed override included), the normal axis
-/// taking its projected share.
-inline ArcCaps arc_caps(double r_mm, double q, double h, double v_plane, double a_plane, double v_normal,
+/// the centripetal share of arc_centripetal_limit and the normal axis; the tangential
+/// acceleration is what the plane has left at the top speed the block can run at (feed override
+/// included; arc_plane_tangential_accel), the normal axis taking its projected share.
+inline ArcCaps arc_caps(double r_mm, double q, double h, double v_plane, const ArcPlane& plane, double v_normal,
                         double a_normal, double speed) {
   ArcCaps c;
   if (q > 1e-12) {
     c.speed = std::min(c.speed, v_plane);
-    c.speed = std::min(c.speed, std::sqrt(kArcCentripetalShare * a_plane * r_mm) / q);
+    c.speed = std::min(c.speed, std::sqrt(kArcCentripetalShare * arc_centripetal_limit(plane) * r_mm) / q);
   }
   if (h > 1e-12) c.speed = std::min(c.speed, v_normal / h);
   if (q > 1e-12) {
     const double v_top = std::min(c.speed, kArcMaxFeedOverride * std::min(speed, c.speed));
-    c.accel = arc_tangential_accel(a_plane, r_mm, v_top * q) / q;
+    const double vp = v_top * q;
+    c.accel = r_mm > 0.0 ? arc_plane_tangential_accel(plane, vp * vp / r_mm) / q : std::min(plane.a1, plane.a2) / q;
   }
   if (h > 1e-12) c.accel = std::min(c.accel, a_normal / h);
   return c;
