@@ -38,6 +38,8 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       preflight_(config_, sink_, soft_limits),
       smoother_(config_),
       to_smoother_([this](Move& m) { return surface_ ? surface_->next(to_surface_, m) : comp_.next(from_source_, m); }),
+      splitter_(config_),
+      to_splitter_([this](Move& m) { return smoother_.next(to_smoother_, m); }),
       validator_(config_, frame.start, frame.rot_start),
       to_merge_([this](Move& m) { return checked_move(m); }),
       to_surface_([this](Move& m) { return comp_.next(from_source_, m); }) {
@@ -54,8 +56,8 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
 
 // The interpreter's moves through the geometry stages, in their order; each links as
 // `<stage>.next(<pull from the stage before>, m)`: cutter compensation, then surface
-// correction (with --surface), then smoothing.
-bool Pipeline::geometry_move(Move& m) { return smoother_.next(to_smoother_, m); }
+// correction (with --surface), then smoothing, then arc splitting.
+bool Pipeline::geometry_move(Move& m) { return splitter_.next(to_splitter_, m); }
 
 // ... then the preflight, which sees every move; a move without displacement ends there.
 bool Pipeline::checked_move(Move& m) {

@@ -11,6 +11,8 @@
 //   CutterComp   G41/G42: the tool centre's path (LinuxCNC's moves)   (cutter_comp.hpp)
 //   SurfaceCorrection  --surface: Z by a measured surface, optional    (surface_correction.hpp)
 //   Smoother     runs of G1 moves -> curves within the path tolerance  (smoothing.hpp)
+//   ArcSplitter  M21 arcs in a plane of unequal axis limits -> pieces   (arc_split.hpp)
+//                whose speed caps follow the angles each sweeps
 //   Preflight    the whole program: soft limits, extents, feed time    (preflight.hpp)
 //                (sees every programmed move; moves without displacement end here)
 //   SegmentMerger  packing for the ring: collinear G1 runs -> one line  (segment_merge.hpp)
@@ -33,6 +35,7 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "gcode/arc_split.hpp"
 #include "gcode/block_validator.hpp"
 #include "gcode/cutter_comp.hpp"
 #include "gcode/diagnostics.hpp"
@@ -107,6 +110,8 @@ class Pipeline {
   Preflight preflight_;
   Smoother smoother_;
   MovePull to_smoother_;        // the source's output, the smoother's input
+  ArcSplitter splitter_;
+  MovePull to_splitter_;        // the smoother's output, the arc splitter's input
   SegmentMerger merge_;
   BlockValidator validator_;
   MovePull to_merge_;           // the preflight's output, the merge's input
