@@ -165,10 +165,17 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
   out.samples.resize(us.size());
   const std::vector<double> arc = nurbs_arc_lengths_at(v, us);
   int span = v.degree;  // the samples go forward: each one's span is tried first
+  CurveFrame f, next;  // frames two at a time (nurbs_frame_pair): f at us[j], next at us[j + 1]
   for (std::size_t j = 0; j < us.size(); ++j) {
     FeedSample& fs = out.samples[j];
     fs.u = us[j];
-    const CurveFrame f = nurbs_frame(v, fs.u, span);
+    if (j % 2 == 1) {
+      f = next;
+    } else if (j + 1 < us.size()) {
+      nurbs_frame_pair(v, us[j], us[j + 1], span, f, next);
+    } else {
+      f = nurbs_frame(v, fs.u, span);
+    }
     fs.has_frame = f.ok;
     fs.t = f.t;
     fs.k = f.k;

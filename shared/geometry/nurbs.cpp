@@ -75,19 +75,35 @@ inline void derive(const double* t, int span, const T* lower, T* out) {
 
 // C(u) in the knot span `span` for the degree P known at compile time (basis_table's
 // operations, unrolled: the same value bit for bit).
-template <int P>
-Vec3 point_in_span(const NurbsView& c, int span, double u) {
-  BasisTable table;
-  basis_table<P>(c.knots, span, u, table);
-  Vec3 a{0.0, 0.0, 0.0};
-  double w = 0.0;
+template <int P, class T>
+void point_in_span_of(const NurbsView& c, int span, T u, T (&out)[3]) {
+  BasisTableOf<T> table;
+  basis_table<P, T>(c.knots, span, u, table);
+  T a[3] = {};
+  T w = T{} + 0.0;
   for (int j = 0; j <= P; ++j) {
     const int i = span - P + j;
-    const double nw = table[P][j] * c.weights[i];
-    a = a + nw * c.points[i];
+    const T nw = table[P][j] * c.weights[i];
+    for (int k = 0; k < 3; ++k) a[k] = a[k] + nw * c.points[i][static_cast<std::size_t>(k)];
     w += nw;
   }
-  return (1.0 / w) * a;
+  const T inv = 1.0 / w;
+  for (int k = 0; k < 3; ++k) out[k] = inv * a[k];
+}
+
+template <int P>
+Vec3 point_in_span(const NurbsView& c, int span, double u) {
+  double p[3];
+  point_in_span_of<P, double>(c, span, u, p);
+  return {p[0], p[1], p[2]};
+}
+
+template <int P>
+void point_pair_in_span(const NurbsView& c, int span, double ua, double ub, Vec3& pa, Vec3& pb) {
+  Pair p[3];
+  point_in_span_of<P, Pair>(c, span, Pair{ua, ub}, p);
+  pa = {p[0][0], p[1][0], p[2][0]};
+  pb = {p[0][1], p[1][1], p[2][1]};
 }
 
 int multiplicity(const std::vector<double>& knots, double u) {
@@ -270,6 +286,25 @@ int find_span(const NurbsView& c, double u) {
   return lo;
 }
 
+void nurbs_point_pair(const NurbsView& c, double ua, double ub, int& span_hint, Vec3& pa, Vec3& pb) {
+  ua = std::clamp(ua, c.u_min(), c.u_max());
+  ub = std::clamp(ub, c.u_min(), c.u_max());
+  const int sa = find_span(c, ua, span_hint);
+  span_hint = find_span(c, ub, sa);
+  if (sa != span_hint) {
+    pa = nurbs_point(c, ua);
+    pb = nurbs_point(c, ub);
+    return;
+  }
+  switch (c.degree) {
+    case 1: return point_pair_in_span<1>(c, sa, ua, ub, pa, pb);
+    case 2: return point_pair_in_span<2>(c, sa, ua, ub, pa, pb);
+    case 3: return point_pair_in_span<3>(c, sa, ua, ub, pa, pb);
+    case 4: return point_pair_in_span<4>(c, sa, ua, ub, pa, pb);
+    default: return point_pair_in_span<5>(c, sa, ua, ub, pa, pb);
+  }
+}
+
 Vec3 nurbs_point(const NurbsView& c, double u) {
   u = std::clamp(u, c.u_min(), c.u_max());
   const int span = find_span(c, u);
@@ -422,8 +457,13 @@ Vec3 nurbs_derivative(const NurbsView& c, double u, int& span_hint) {
   return eval_dispatch<false>(c, span_hint, u).d1;
 }
 
-void nurbs_eval_pair(const NurbsView& c, double ua, double ub, int& span_hint, NurbsEval& ea, NurbsEval& eb) {
-  eval_pair<true>(c, ua, ub, span_hint, ea, eb);
+void nurbs_eval_pair(const NurbsView& c, double ua, double ub, int& span_hint, NurbsEval& ea, NurbsEval& eb,
+                     bool second) {
+  if (second) {
+    eval_pair<true>(c, ua, ub, span_hint, ea, eb);
+  } else {
+    eval_pair<false>(c, ua, ub, span_hint, ea, eb);
+  }
 }
 
 void nurbs_derivative_pair(const NurbsView& c, double ua, double ub, int& span_hint, Vec3& da, Vec3& db) {

@@ -272,8 +272,15 @@ std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>&
     for (int j = 0; j < samples_per_span; ++j) su.push_back(a + (b - a) * j / samples_per_span);
   }
   su.push_back(v.u_max());
-  sp.reserve(su.size());
-  for (double u : su) sp.push_back(nurbs_point(v, u));
+  sp.resize(su.size());
+  int hint = curve.degree;  // two samples at a time (nurbs_point_pair), in order
+  for (std::size_t k = 0; k < su.size(); k += 2) {
+    if (k + 1 < su.size()) {
+      nurbs_point_pair(v, su[k], su[k + 1], hint, sp[k], sp[k + 1]);
+    } else {
+      sp[k] = nurbs_point(v, su[k]);
+    }
+  }
   const double span = t.back() / static_cast<double>(std::max<std::size_t>(1, su.size() - 1)) * samples_per_span;
   const double width = 0.05 + 2.0 * span / samples_per_span;
   const SegmentChain programmed(pts), sampled(sp);
