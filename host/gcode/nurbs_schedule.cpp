@@ -3,6 +3,8 @@
 #include "gcode/nurbs_schedule.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -330,10 +332,16 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
   // between the kept points, at or below the dense speed: what the axes leave is then at
   // least the dense sample's). The rt uses the smaller of two points between them. After the
   // passes lowered speeds, once more (it can only rise, so the passes still hold).
+  // The second time only the intervals with an end the passes lowered change (an interval's
+  // value depends on its two ends' speeds alone).
   std::vector<double> acc(pick.size());
+  std::vector<double> interval(pick.size(), kInf);  // interval k: pick[k] .. pick[k + 1]
+  std::vector<double> planned;                      // the speeds the intervals were found with
   auto kept_accels = [&] {
-    std::vector<double> interval(pick.size(), kInf);  // interval k: pick[k] .. pick[k + 1]
+    auto same = [](double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); };
     for (std::size_t k = 0; k + 1 < pick.size(); ++k) {
+      if (!planned.empty() && same(planned[k], speed[k]) && same(planned[k + 1], speed[k + 1])) continue;
+      interval[k] = kInf;
       for (std::size_t i = pick[k]; i <= pick[k + 1]; ++i) {
         const double v = line_at(pick[k], pick[k + 1], speed[k], speed[k + 1], i);
         interval[k] = std::min(interval[k], sample_accel(s[i], std::min(v, s[i].speed), schedule.limits));
@@ -342,6 +350,7 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
     for (std::size_t k = 0; k < pick.size(); ++k) {
       acc[k] = std::min(k > 0 ? interval[k - 1] : kInf, k + 1 < pick.size() ? interval[k] : kInf);
     }
+    planned = speed;
   };
   kept_accels();
   block_passes(pick.size(), [&](std::size_t k) { return s[pick[k]].s; }, acc, speed);

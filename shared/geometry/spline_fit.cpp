@@ -246,12 +246,21 @@ double to_polyline(const Vec3& p, const std::vector<Vec3>& pts, const SegmentCha
 
 // Window [lo, hi] of indices of the sorted `t` around parameter u: at least `min_count`
 // entries and `min_width` of parameter on each side. `at` receives the index j with
-// t[j] <= u < t[j + 1] (0 before the first).
+// t[j] <= u < t[j + 1] (0 before the first); it comes in as the last query's (the queries
+// mostly go forward: that index or the next one is tried before the binary search).
 std::pair<std::size_t, std::size_t> window(const std::vector<double>& t, double u, std::size_t min_count, double min_width,
                                            std::size_t& at) {
   const std::size_t n = t.size();
-  std::size_t j = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), u) - t.begin());
-  j = j > 0 ? j - 1 : 0;
+  auto holds = [&](std::size_t j) { return j + 1 < n && t[j] <= u && u < t[j + 1]; };
+  std::size_t j = 0;
+  if (holds(at)) {
+    j = at;
+  } else if (holds(at + 1)) {
+    j = at + 1;
+  } else {
+    j = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), u) - t.begin());
+    j = j > 0 ? j - 1 : 0;
+  }
   at = j;
   // first the count (one step), then the width one index at a time
   std::size_t lo = j >= min_count ? j - min_count : 0;
@@ -261,8 +270,8 @@ std::pair<std::size_t, std::size_t> window(const std::vector<double>& t, double 
   return {lo, hi};
 }
 
-std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>& pts, const std::vector<double>& t,
-                               int samples_per_span) {
+std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>& pts, const SegmentChain& programmed,
+                               const std::vector<double>& t, int samples_per_span) {
   const NurbsView v = curve.view();
   std::vector<double> su;
   std::vector<Vec3> sp;
@@ -283,22 +292,22 @@ std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>&
   }
   const double span = t.back() / static_cast<double>(std::max<std::size_t>(1, su.size() - 1)) * samples_per_span;
   const double width = 0.05 + 2.0 * span / samples_per_span;
-  const SegmentChain programmed(pts), sampled(sp);
+  const SegmentChain sampled(sp);
   std::vector<Deviation> out;
   out.reserve(su.size() + 4 * pts.size());
   // the curve against the programmed segments
+  std::size_t at = 0;
   for (std::size_t k = 0; k < su.size(); ++k) {
-    std::size_t at = 0;
     const auto [lo, hi] = window(t, su[k], 4, width, at);
     out.push_back({su[k], to_polyline(sp[k], pts, programmed, lo, hi, at)});
   }
   // the programmed points and segments (quarter points) against the sampled curve
+  at = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     for (int q = 0; q < (i + 1 < pts.size() ? 4 : 1); ++q) {
       const double f = q / 4.0;
       const Vec3 p = q == 0 ? pts[i] : pts[i] + f * (pts[i + 1] - pts[i]);
       const double u = q == 0 ? t[i] : t[i] + f * (t[i + 1] - t[i]);
-      std::size_t at = 0;
       const auto [lo, hi] = window(su, u, static_cast<std::size_t>(2 * samples_per_span), width, at);
       out.push_back({u, to_polyline(p, sp, sampled, lo, hi, at)});
     }
@@ -342,7 +351,7 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 double polyline_deviation(const NurbsCurve& curve, const std::vector<Vec3>& points, int samples_per_span,
                           std::vector<double>* per_point) {
   const std::vector<double> t = chord_params(points);
-  const std::vector<Deviation> devs = measure(curve, points, t, samples_per_span);
+  const std::vector<Deviation> devs = measure(curve, points, SegmentChain(points), t, samples_per_span);
   double worst = 0.0;
   if (per_point) per_point->assign(points.size(), 0.0);
   for (const Deviation& d : devs) {
@@ -371,13 +380,14 @@ SplineFit fit_polyline(const std::vector<Vec3>& points, double tolerance) {
   for (int i = 1; i < first_spans; ++i) interior.push_back(length * i / first_spans);
   std::vector<double> knots;
   std::vector<Deviation> devs;
+  const SegmentChain programmed(points);  // the same in every round
   for (int round = 0;; ++round) {
     knots.assign(kDegree + 1, 0.0);
     knots.insert(knots.end(), interior.begin(), interior.end());
     knots.insert(knots.end(), kDegree + 1, length);
     sample_polyline(points, t, interior, du, dp);
     r.curve = solve_fit(knots, du, dp, points.front(), points.back());
-    devs = measure(r.curve, points, t, 16);
+    devs = measure(r.curve, points, programmed, t, 16);
     // the largest deviation in each span [knots_s, knots_s+1] (interior index s - kDegree)
     std::vector<double> span_dev(interior.size() + 1, 0.0);
     for (const Deviation& d : devs) {
