@@ -280,8 +280,12 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
   std::vector<Worst> worst{worst_of(first, last)};  // worst[k]: interval pick[k] .. pick[k + 1]
   while (pick.size() < m) {
     std::size_t k_best = 0;
+    double dev_best = worst[0].dev;  // kept apart: a load through k_best per step was a third of this function
     for (std::size_t k = 1; k < worst.size(); ++k) {
-      if (worst[k].dev > worst[k_best].dev) k_best = k;
+      if (worst[k].dev > dev_best) {
+        k_best = k;
+        dev_best = worst[k].dev;
+      }
     }
     const std::size_t worst_i = worst[k_best].i;
     if (worst_i == 0) break;  // the polyline already is the dense schedule

@@ -221,24 +221,26 @@ double to_polyline(const Vec3& p, const std::vector<Vec3>& pts, const SegmentCha
   near = std::clamp(near, lo, hi > lo ? hi - 1 : lo);
   if (near < hi) best2 = std::min(best2, chain.dist2(p, near));
   double best = std::sqrt(best2);
-  for (std::size_t i = lo; i < hi; ++i) {
-    if (i == near) continue;
-    if (i % SegmentChain::kChunk == 0 && i + SegmentChain::kChunk <= hi) {  // a whole chunk inside the window
-      const std::size_t c = i / SegmentChain::kChunk;
+  // chunk by chunk (also the partial ones at the window's ends: a far ball is far for each of
+  // its segments inside the window as well), then segment by segment
+  for (std::size_t c = lo / SegmentChain::kChunk; c * SegmentChain::kChunk < hi; ++c) {
+    const std::size_t start = c * SegmentChain::kChunk;
+    if (!(near >= start && near < start + SegmentChain::kChunk)) {
       const Vec3 m = chain.chunk_mid[c] - p;
       const double reach = best + chain.chunk_radius[c] + kSkipMarginMm;
-      if (dot(m, m) > reach * reach && !(near >= i && near < i + SegmentChain::kChunk)) {
-        i += SegmentChain::kChunk - 1;
-        continue;
-      }
+      if (dot(m, m) > reach * reach) continue;
     }
-    const Vec3 m = chain.mid[i] - p;
-    const double reach = best + chain.half[i] + kSkipMarginMm;
-    if (dot(m, m) > reach * reach) continue;
-    const double d2 = chain.dist2(p, i);
-    if (d2 < best2) {
-      best2 = d2;
-      best = std::sqrt(best2);
+    const std::size_t end = std::min(hi, start + SegmentChain::kChunk);
+    for (std::size_t i = std::max(lo, start); i < end; ++i) {
+      if (i == near) continue;
+      const Vec3 m = chain.mid[i] - p;
+      const double reach = best + chain.half[i] + kSkipMarginMm;
+      if (dot(m, m) > reach * reach) continue;
+      const double d2 = chain.dist2(p, i);
+      if (d2 < best2) {
+        best2 = d2;
+        best = std::sqrt(best2);
+      }
     }
   }
   return best;
