@@ -385,6 +385,8 @@ void eval_pair_in_span(const NurbsView& c, int span, double ua, double ub, Nurbs
   if constexpr (Second) {
     ea.d2 = {d2[0][0], d2[1][0], d2[2][0]};
     eb.d2 = {d2[0][1], d2[1][1], d2[2][1]};
+  } else {
+    ea.d2 = eb.d2 = Vec3{};
   }
 }
 
