@@ -164,12 +164,12 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
   us.push_back(v.u_max());
   interior_knot.push_back(false);
 
-  out.samples.resize(us.size());
+  out.samples.reserve(us.size());  // each sample written once, as it is made (no zeroing pass first)
   const std::vector<double> arc = nurbs_arc_lengths_at(v, us);
   int span = v.degree;  // the samples go forward: each one's span is tried first
   CurveFrame f, next;  // frames two at a time (nurbs_frame_pair): f at us[j], next at us[j + 1]
   for (std::size_t j = 0; j < us.size(); ++j) {
-    FeedSample& fs = out.samples[j];
+    FeedSample& fs = out.samples.emplace_back();
     fs.u = us[j];
     if (j % 2 == 1) {
       f = next;

@@ -246,23 +246,24 @@ double to_polyline(const Vec3& p, const std::vector<Vec3>& pts, const SegmentCha
   return best;
 }
 
+// std::upper_bound(v.begin(), v.end(), x) - v.begin(), the same index, trying `hint` and
+// hint + 1 before the binary search: the deviation queries mostly go forward.
+std::size_t upper_index(const std::vector<double>& v, double x, std::size_t hint) {
+  const std::size_t n = v.size();
+  auto is_it = [&](std::size_t s) { return s <= n && (s == 0 || v[s - 1] <= x) && (s == n || x < v[s]); };
+  if (is_it(hint)) return hint;
+  if (is_it(hint + 1)) return hint + 1;
+  return static_cast<std::size_t>(std::upper_bound(v.begin(), v.end(), x) - v.begin());
+}
+
 // Window [lo, hi] of indices of the sorted `t` around parameter u: at least `min_count`
 // entries and `min_width` of parameter on each side. `at` receives the index j with
-// t[j] <= u < t[j + 1] (0 before the first); it comes in as the last query's (the queries
-// mostly go forward: that index or the next one is tried before the binary search).
+// t[j] <= u < t[j + 1] (0 before the first); it comes in as the last query's (a hint).
 std::pair<std::size_t, std::size_t> window(const std::vector<double>& t, double u, std::size_t min_count, double min_width,
                                            std::size_t& at) {
   const std::size_t n = t.size();
-  auto holds = [&](std::size_t j) { return j + 1 < n && t[j] <= u && u < t[j + 1]; };
-  std::size_t j = 0;
-  if (holds(at)) {
-    j = at;
-  } else if (holds(at + 1)) {
-    j = at + 1;
-  } else {
-    j = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), u) - t.begin());
-    j = j > 0 ? j - 1 : 0;
-  }
+  std::size_t j = upper_index(t, u, at + 1);
+  j = j > 0 ? j - 1 : 0;
   at = j;
   // first the count (one step), then the width one index at a time
   std::size_t lo = j >= min_count ? j - min_count : 0;
@@ -326,9 +327,10 @@ void sample_polyline(const std::vector<Vec3>& points, const std::vector<double>&
   du.clear();
   dp.clear();
   const double length = t.back();
+  std::size_t s = 0;
   for (std::size_t i = 0; i + 1 < points.size(); ++i) {
     const double mid = 0.5 * (t[i] + t[i + 1]);
-    const std::size_t s = static_cast<std::size_t>(std::upper_bound(interior.begin(), interior.end(), mid) - interior.begin());
+    s = upper_index(interior, mid, s);
     const double h = (s < interior.size() ? interior[s] : length) - (s > 0 ? interior[s - 1] : 0.0);
     const int n = std::clamp(static_cast<int>(std::ceil(2.0 * (t[i + 1] - t[i]) / std::max(h, kMinSpanMm))), 2, 64);
     for (int j = 0; j < n; ++j) {
@@ -392,10 +394,11 @@ SplineFit fit_polyline(const std::vector<Vec3>& points, double tolerance) {
     devs = measure(r.curve, points, programmed, t, 16);
     // the largest deviation in each span [knots_s, knots_s+1] (interior index s - kDegree)
     std::vector<double> span_dev(interior.size() + 1, 0.0);
+    std::size_t in = 0;  // the span of d.u
     for (const Deviation& d : devs) {
-      const std::size_t s = static_cast<std::size_t>(std::upper_bound(interior.begin(), interior.end(), d.u) - interior.begin());
-      span_dev[s] = std::max(span_dev[s], d.d);
-      if (s > 0 && d.u == interior[s - 1]) span_dev[s - 1] = std::max(span_dev[s - 1], d.d);
+      in = upper_index(interior, d.u, in);
+      span_dev[in] = std::max(span_dev[in], d.d);
+      if (in > 0 && d.u == interior[in - 1]) span_dev[in - 1] = std::max(span_dev[in - 1], d.d);
     }
     std::vector<double> refined;
     bool split = false, stuck = false;
