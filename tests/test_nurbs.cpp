@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geometry/nurbs.hpp"
+#include "geometry/tangential_budget.hpp"
 #include "ipc/block_nurbs.hpp"
 #include "nurbs_circles.hpp"
 #include "gcode/nurbs_reader.hpp"
@@ -297,6 +298,70 @@ TEST(NurbsEval, UnrolledEvaluationAndSpanHintsGiveTheGenericLoopsBits) {
     }
   }
   EXPECT_GT(checked, 10000u);
+}
+
+TEST(NurbsEval, PairsGiveTheSingleCallsBits) {
+  // two parameters of one span (the two SIMD lanes), of two spans (two single calls), beyond
+  // the ends (clamped), every degree, rational, with a doubled interior knot
+  std::vector<NurbsCurve> curves{full_circle(5.0), nurbs_xy()};
+  for (int degree = 1; degree <= kMaxNurbsDegree; ++degree) {
+    curves.push_back(random_curve(degree + 8, degree, 60u + static_cast<unsigned>(degree)));
+    curves.push_back(random_curve(degree + 12, degree, 70u + static_cast<unsigned>(degree), KnotRule::kChordLength));
+  }
+  std::size_t same_span = 0, checked = 0;
+  for (std::size_t n = 0; n < curves.size(); ++n) {
+    const NurbsView v = curves[n].view();
+    const std::vector<double> us = probe_params(curves[n], 17u + static_cast<unsigned>(n));
+    std::mt19937 rng(5u + static_cast<unsigned>(n));
+    std::uniform_real_distribution<double> near(-1e-3, 1e-3);
+    for (std::size_t k = 0; k < us.size(); ++k) {
+      const double ua = us[k];
+      for (const double ub : {us[(k + 1) % us.size()], ua + near(rng) * (v.u_max() - v.u_min()), ua, v.u_max() + 1.0}) {
+        const NurbsEval ra = nurbs_eval(v, ua), rb = nurbs_eval(v, ub);
+        if (find_span(v, std::clamp(ua, v.u_min(), v.u_max())) == find_span(v, std::clamp(ub, v.u_min(), v.u_max())))
+          ++same_span;
+        for (int hint = -1; hint <= v.count; hint += 3) {
+          int h = hint;
+          NurbsEval ea, eb;
+          nurbs_eval_pair(v, ua, ub, h, ea, eb);
+          EXPECT_EQ(ea.p, ra.p) << "curve " << n << " ua=" << ua << " ub=" << ub;
+          EXPECT_EQ(ea.d1, ra.d1);
+          EXPECT_EQ(ea.d2, ra.d2);
+          EXPECT_EQ(eb.p, rb.p) << "curve " << n << " ua=" << ua << " ub=" << ub;
+          EXPECT_EQ(eb.d1, rb.d1);
+          EXPECT_EQ(eb.d2, rb.d2);
+          EXPECT_EQ(h, find_span(v, std::clamp(ub, v.u_min(), v.u_max())));
+          nurbs_eval_pair(v, ua, ub, h, ea, eb, false);  // without C'': p and d1 all the same
+          EXPECT_EQ(ea.p, ra.p);
+          EXPECT_EQ(ea.d1, ra.d1);
+          EXPECT_EQ(ea.d2, Vec3{});
+          EXPECT_EQ(eb.p, rb.p);
+          EXPECT_EQ(eb.d1, rb.d1);
+          Vec3 da, db, pa, pb;
+          nurbs_derivative_pair(v, ua, ub, h, da, db);
+          EXPECT_EQ(da, nurbs_derivative(v, ua));
+          EXPECT_EQ(db, nurbs_derivative(v, ub));
+          nurbs_point_pair(v, ua, ub, h, pa, pb);
+          EXPECT_EQ(pa, nurbs_point(v, ua));
+          EXPECT_EQ(pb, nurbs_point(v, ub));
+          CurveFrame fa, fb;
+          nurbs_frame_pair(v, ua, ub, h, fa, fb);
+          const CurveFrame ga = nurbs_frame(v, ua), gb = nurbs_frame(v, ub);
+          EXPECT_EQ(fa.ok, ga.ok);
+          EXPECT_EQ(fa.p, ga.p);
+          EXPECT_EQ(fa.t, ga.t);
+          EXPECT_EQ(fa.k, ga.k);
+          EXPECT_EQ(fb.ok, gb.ok);
+          EXPECT_EQ(fb.p, gb.p);
+          EXPECT_EQ(fb.t, gb.t);
+          EXPECT_EQ(fb.k, gb.k);
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GT(same_span, 2000u);  // the lanes themselves were exercised, not only the fallback
+  EXPECT_GT(checked, 20000u);
 }
 
 TEST(NurbsEval, DerivativesMatchFiniteDifferences) {

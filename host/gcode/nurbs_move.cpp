@@ -57,10 +57,18 @@ void nurbs_extreme_points(const NurbsCurve& curve, std::vector<Vec3>& out) {
     int span = j;  // every sample and bisection point of this span lies in it
     NurbsEval prev = nurbs_eval(v, a, span);
     double u_prev = a;
+    // the last sample of a span sits just inside it: at b the derivative is the next span's
+    auto sample_u = [&](int s) { return s == kSamplesPerSpan ? std::nextafter(b, a) : a + (b - a) * s / kSamplesPerSpan; };
+    NurbsEval e, next;  // two samples at a time (nurbs_eval_pair; C'' is not needed): e at s, next at s + 1
     for (int s = 1; s <= kSamplesPerSpan; ++s) {
-      // the last sample of a span sits just inside it: at b the derivative is the next span's
-      const double u = s == kSamplesPerSpan ? std::nextafter(b, a) : a + (b - a) * s / kSamplesPerSpan;
-      const NurbsEval e = nurbs_eval(v, u, span);
+      const double u = sample_u(s);
+      if (s % 2 == 0) {
+        e = next;
+      } else if (s + 1 <= kSamplesPerSpan) {
+        nurbs_eval_pair(v, u, sample_u(s + 1), span, e, next, false);
+      } else {
+        e = nurbs_eval(v, u, span);
+      }
       out.push_back(e.p);
       for (std::size_t i = 0; i < 3; ++i) {
         if (!((prev.d1[i] < 0.0 && e.d1[i] > 0.0) || (prev.d1[i] > 0.0 && e.d1[i] < 0.0))) continue;

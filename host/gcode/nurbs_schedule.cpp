@@ -3,6 +3,8 @@
 #include "gcode/nurbs_schedule.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -162,13 +164,20 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
   us.push_back(v.u_max());
   interior_knot.push_back(false);
 
-  out.samples.resize(us.size());
+  out.samples.reserve(us.size());  // each sample written once, as it is made (no zeroing pass first)
   const std::vector<double> arc = nurbs_arc_lengths_at(v, us);
   int span = v.degree;  // the samples go forward: each one's span is tried first
+  CurveFrame f, next;  // frames two at a time (nurbs_frame_pair): f at us[j], next at us[j + 1]
   for (std::size_t j = 0; j < us.size(); ++j) {
-    FeedSample& fs = out.samples[j];
+    FeedSample& fs = out.samples.emplace_back();
     fs.u = us[j];
-    const CurveFrame f = nurbs_frame(v, fs.u, span);
+    if (j % 2 == 1) {
+      f = next;
+    } else if (j + 1 < us.size()) {
+      nurbs_frame_pair(v, us[j], us[j + 1], span, f, next);
+    } else {
+      f = nurbs_frame(v, fs.u, span);
+    }
     fs.has_frame = f.ok;
     fs.t = f.t;
     fs.k = f.k;
@@ -271,8 +280,12 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
   std::vector<Worst> worst{worst_of(first, last)};  // worst[k]: interval pick[k] .. pick[k + 1]
   while (pick.size() < m) {
     std::size_t k_best = 0;
+    double dev_best = worst[0].dev;  // kept apart: a load through k_best per step was a third of this function
     for (std::size_t k = 1; k < worst.size(); ++k) {
-      if (worst[k].dev > worst[k_best].dev) k_best = k;
+      if (worst[k].dev > dev_best) {
+        k_best = k;
+        dev_best = worst[k].dev;
+      }
     }
     const std::size_t worst_i = worst[k_best].i;
     if (worst_i == 0) break;  // the polyline already is the dense schedule
@@ -323,10 +336,16 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
   // between the kept points, at or below the dense speed: what the axes leave is then at
   // least the dense sample's). The rt uses the smaller of two points between them. After the
   // passes lowered speeds, once more (it can only rise, so the passes still hold).
+  // The second time only the intervals with an end the passes lowered change (an interval's
+  // value depends on its two ends' speeds alone).
   std::vector<double> acc(pick.size());
+  std::vector<double> interval(pick.size(), kInf);  // interval k: pick[k] .. pick[k + 1]
+  std::vector<double> planned;                      // the speeds the intervals were found with
   auto kept_accels = [&] {
-    std::vector<double> interval(pick.size(), kInf);  // interval k: pick[k] .. pick[k + 1]
+    auto same = [](double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); };
     for (std::size_t k = 0; k + 1 < pick.size(); ++k) {
+      if (!planned.empty() && same(planned[k], speed[k]) && same(planned[k + 1], speed[k + 1])) continue;
+      interval[k] = kInf;
       for (std::size_t i = pick[k]; i <= pick[k + 1]; ++i) {
         const double v = line_at(pick[k], pick[k + 1], speed[k], speed[k + 1], i);
         interval[k] = std::min(interval[k], sample_accel(s[i], std::min(v, s[i].speed), schedule.limits));
@@ -335,6 +354,7 @@ void fill_block_schedule(const FeedSchedule& schedule, double u0, double u1, Nur
     for (std::size_t k = 0; k < pick.size(); ++k) {
       acc[k] = std::min(k > 0 ? interval[k - 1] : kInf, k + 1 < pick.size() ? interval[k] : kInf);
     }
+    planned = speed;
   };
   kept_accels();
   block_passes(pick.size(), [&](std::size_t k) { return s[pick[k]].s; }, acc, speed);

@@ -24,24 +24,36 @@ constexpr int kOrderMax = kMaxNurbsDegree + 1;
 #define PCNC_UNROLL
 #endif
 
+// Two parameters evaluated at once on two SIMD lanes (GCC/Clang vector extension; SSE2 on
+// x86-64): each lane's operations are IEEE operations in the scalar order, so each lane's value
+// is the scalar one bit for bit. The knot differences (divisors, zero tests) are the same for
+// both lanes of one span, so the branches stay scalar.
+typedef double Pair __attribute__((vector_size(16)));
+
 // a / b with the B-spline convention 0/0 = 0 (a zero-length knot interval contributes nothing).
-inline double safe_div(double a, double b) { return b != 0.0 ? a / b : 0.0; }
+// T: double, or Pair (both lanes divided by the one knot difference).
+template <class T>
+inline T safe_div(T a, double b) {
+  return b != 0.0 ? a / b : T{} + 0.0;
+}
 
 // Non-zero basis functions of every degree 0..p at u in span `span`:
 // table[d][j] = N_{span-d+j, d}(u), j = 0..d (Cox–de Boor recurrence).
-using BasisTable = std::array<std::array<double, kOrderMax>, kOrderMax>;
+template <class T>
+using BasisTableOf = std::array<std::array<T, kOrderMax>, kOrderMax>;
+using BasisTable = BasisTableOf<double>;
 
-template <int p>
-inline void basis_table(const double* t, int span, double u, BasisTable& table) {
-  table[0][0] = 1.0;
+template <int p, class T>
+inline void basis_table(const double* t, int span, T u, BasisTableOf<T>& table) {
+  table[0][0] = T{} + 1.0;
   PCNC_UNROLL
   for (int d = 1; d <= p; ++d) {
     PCNC_UNROLL
     for (int j = 0; j <= d; ++j) {
       const int i = span - d + j;
-      double value = 0.0;
-      if (j >= 1) value += safe_div(u - t[i], t[i + d] - t[i]) * table[d - 1][j - 1];
-      if (j <= d - 1) value += safe_div(t[i + d + 1] - u, t[i + d + 1] - t[i + 1]) * table[d - 1][j];
+      T value = T{} + 0.0;
+      if (j >= 1) value += safe_div<T>(u - t[i], t[i + d] - t[i]) * table[d - 1][j - 1];
+      if (j <= d - 1) value += safe_div<T>(t[i + d + 1] - u, t[i + d + 1] - t[i + 1]) * table[d - 1][j];
       table[d][j] = value;
     }
   }
@@ -49,33 +61,49 @@ inline void basis_table(const double* t, int span, double u, BasisTable& table) 
 
 // Derivative of the degree-d basis functions from the degree-(d-1) values `lower`
 // (lower[j] = N_{span-d+1+j, d-1} or its derivative): out[j] for N_{span-d+j, d}.
-template <int d>
-inline void derive(const double* t, int span, const double* lower, double* out) {
+template <int d, class T>
+inline void derive(const double* t, int span, const T* lower, T* out) {
   PCNC_UNROLL
   for (int j = 0; j <= d; ++j) {
     const int i = span - d + j;
-    double value = 0.0;
-    if (j >= 1) value += safe_div(lower[j - 1], t[i + d] - t[i]);
-    if (j <= d - 1) value -= safe_div(lower[j], t[i + d + 1] - t[i + 1]);
-    out[j] = d * value;
+    T value = T{} + 0.0;
+    if (j >= 1) value += safe_div<T>(lower[j - 1], t[i + d] - t[i]);
+    if (j <= d - 1) value -= safe_div<T>(lower[j], t[i + d + 1] - t[i + 1]);
+    out[j] = static_cast<double>(d) * value;
   }
 }
 
 // C(u) in the knot span `span` for the degree P known at compile time (basis_table's
 // operations, unrolled: the same value bit for bit).
-template <int P>
-Vec3 point_in_span(const NurbsView& c, int span, double u) {
-  BasisTable table;
-  basis_table<P>(c.knots, span, u, table);
-  Vec3 a{0.0, 0.0, 0.0};
-  double w = 0.0;
+template <int P, class T>
+void point_in_span_of(const NurbsView& c, int span, T u, T (&out)[3]) {
+  BasisTableOf<T> table;
+  basis_table<P, T>(c.knots, span, u, table);
+  T a[3] = {};
+  T w = T{} + 0.0;
   for (int j = 0; j <= P; ++j) {
     const int i = span - P + j;
-    const double nw = table[P][j] * c.weights[i];
-    a = a + nw * c.points[i];
+    const T nw = table[P][j] * c.weights[i];
+    for (int k = 0; k < 3; ++k) a[k] = a[k] + nw * c.points[i][static_cast<std::size_t>(k)];
     w += nw;
   }
-  return (1.0 / w) * a;
+  const T inv = 1.0 / w;
+  for (int k = 0; k < 3; ++k) out[k] = inv * a[k];
+}
+
+template <int P>
+Vec3 point_in_span(const NurbsView& c, int span, double u) {
+  double p[3];
+  point_in_span_of<P, double>(c, span, u, p);
+  return {p[0], p[1], p[2]};
+}
+
+template <int P>
+void point_pair_in_span(const NurbsView& c, int span, double ua, double ub, Vec3& pa, Vec3& pb) {
+  Pair p[3];
+  point_in_span_of<P, Pair>(c, span, Pair{ua, ub}, p);
+  pa = {p[0][0], p[1][0], p[2][0]};
+  pb = {p[0][1], p[1][1], p[2][1]};
 }
 
 int multiplicity(const std::vector<double>& knots, double u) {
@@ -258,6 +286,25 @@ int find_span(const NurbsView& c, double u) {
   return lo;
 }
 
+void nurbs_point_pair(const NurbsView& c, double ua, double ub, int& span_hint, Vec3& pa, Vec3& pb) {
+  ua = std::clamp(ua, c.u_min(), c.u_max());
+  ub = std::clamp(ub, c.u_min(), c.u_max());
+  const int sa = find_span(c, ua, span_hint);
+  span_hint = find_span(c, ub, sa);
+  if (sa != span_hint) {
+    pa = nurbs_point(c, ua);
+    pb = nurbs_point(c, ub);
+    return;
+  }
+  switch (c.degree) {
+    case 1: return point_pair_in_span<1>(c, sa, ua, ub, pa, pb);
+    case 2: return point_pair_in_span<2>(c, sa, ua, ub, pa, pb);
+    case 3: return point_pair_in_span<3>(c, sa, ua, ub, pa, pb);
+    case 4: return point_pair_in_span<4>(c, sa, ua, ub, pa, pb);
+    default: return point_pair_in_span<5>(c, sa, ua, ub, pa, pb);
+  }
+}
+
 Vec3 nurbs_point(const NurbsView& c, double u) {
   u = std::clamp(u, c.u_min(), c.u_max());
   const int span = find_span(c, u);
@@ -274,40 +321,73 @@ namespace {
 
 // The evaluation proper, in the knot span `span` of u (find_span's answer), for the degree P
 // known at compile time (basis_table and derive unroll: the same operations in the same order,
-// the same values bit for bit, about twice as fast). `Second`: C'' too.
-template <int P, bool Second>
-NurbsEval eval_in_span(const NurbsView& c, int span, double u) {
+// the same values bit for bit, about twice as fast). `Second`: C'' too. T: double, or Pair
+// (two parameters of one span; out[k]: component k, each lane one parameter's).
+template <int P, bool Second, class T>
+void eval_in_span_of(const NurbsView& c, int span, T u, T (&p)[3], T (&d1)[3], T (&d2)[3]) {
   const double* t = c.knots;
-  BasisTable table;
-  basis_table<P>(t, span, u, table);
-  std::array<double, kOrderMax> d1{};
-  std::array<double, kOrderMax> d2{};
-  derive<P>(t, span, table[P - 1].data(), d1.data());
+  BasisTableOf<T> table;
+  basis_table<P, T>(t, span, u, table);
+  std::array<T, kOrderMax> b1{};
+  std::array<T, kOrderMax> b2{};
+  derive<P, T>(t, span, table[P - 1].data(), b1.data());
   if constexpr (Second && P >= 2) {
-    std::array<double, kOrderMax> lower_d1{};
-    derive<P - 1>(t, span, table[P - 2].data(), lower_d1.data());
-    derive<P>(t, span, lower_d1.data(), d2.data());
+    std::array<T, kOrderMax> lower_d1{};
+    derive<P - 1, T>(t, span, table[P - 2].data(), lower_d1.data());
+    derive<P, T>(t, span, lower_d1.data(), b2.data());
   }
-  Vec3 a0{}, a1{}, a2{};
-  double w0 = 0.0, w1 = 0.0, w2 = 0.0;
+  T a0[3] = {}, a1[3] = {}, a2[3] = {};
+  T w0 = T{} + 0.0, w1 = T{} + 0.0, w2 = T{} + 0.0;
   PCNC_UNROLL
   for (int j = 0; j <= P; ++j) {
     const int i = span - P + j;
     const double w = c.weights[i];
     const Vec3 wp = w * c.points[i];
-    a0 = a0 + table[P][j] * wp;
-    a1 = a1 + d1[j] * wp;
-    if constexpr (Second) a2 = a2 + d2[j] * wp;
+    PCNC_UNROLL
+    for (int k = 0; k < 3; ++k) {
+      a0[k] = a0[k] + table[P][j] * wp[static_cast<std::size_t>(k)];
+      a1[k] = a1[k] + b1[j] * wp[static_cast<std::size_t>(k)];
+      if constexpr (Second) a2[k] = a2[k] + b2[j] * wp[static_cast<std::size_t>(k)];
+    }
     w0 += table[P][j] * w;
-    w1 += d1[j] * w;
-    if constexpr (Second) w2 += d2[j] * w;
+    w1 += b1[j] * w;
+    if constexpr (Second) w2 += b2[j] * w;
   }
+  const T inv = 1.0 / w0;
+  PCNC_UNROLL
+  for (int k = 0; k < 3; ++k) {
+    p[k] = inv * a0[k];
+    d1[k] = inv * (a1[k] - w1 * p[k]);
+    if constexpr (Second) d2[k] = inv * (a2[k] - 2.0 * w1 * d1[k] - w2 * p[k]);
+  }
+}
+
+template <int P, bool Second>
+NurbsEval eval_in_span(const NurbsView& c, int span, double u) {
+  double p[3], d1[3], d2[3] = {0.0, 0.0, 0.0};
+  eval_in_span_of<P, Second, double>(c, span, u, p, d1, d2);
   NurbsEval e;
-  const double inv = 1.0 / w0;
-  e.p = inv * a0;
-  e.d1 = inv * (a1 - w1 * e.p);
-  if constexpr (Second) e.d2 = inv * (a2 - 2.0 * w1 * e.d1 - w2 * e.p);
+  e.p = {p[0], p[1], p[2]};
+  e.d1 = {d1[0], d1[1], d1[2]};
+  if constexpr (Second) e.d2 = {d2[0], d2[1], d2[2]};
   return e;
+}
+
+// Two parameters of the knot span `span` at once.
+template <int P, bool Second>
+void eval_pair_in_span(const NurbsView& c, int span, double ua, double ub, NurbsEval& ea, NurbsEval& eb) {
+  Pair p[3], d1[3], d2[3] = {};
+  eval_in_span_of<P, Second, Pair>(c, span, Pair{ua, ub}, p, d1, d2);
+  ea.p = {p[0][0], p[1][0], p[2][0]};
+  eb.p = {p[0][1], p[1][1], p[2][1]};
+  ea.d1 = {d1[0][0], d1[1][0], d1[2][0]};
+  eb.d1 = {d1[0][1], d1[1][1], d1[2][1]};
+  if constexpr (Second) {
+    ea.d2 = {d2[0][0], d2[1][0], d2[2][0]};
+    eb.d2 = {d2[0][1], d2[1][1], d2[2][1]};
+  } else {
+    ea.d2 = eb.d2 = Vec3{};
+  }
 }
 
 // eval_in_span for the curve's degree (1..kMaxNurbsDegree; the callers evaluate valid curves).
@@ -322,6 +402,32 @@ NurbsEval eval_dispatch(const NurbsView& c, int span, double u) {
   }
 }
 static_assert(kMaxNurbsDegree == 5, "eval_dispatch covers degrees 1..5");
+
+template <bool Second>
+void eval_pair_dispatch(const NurbsView& c, int span, double ua, double ub, NurbsEval& ea, NurbsEval& eb) {
+  switch (c.degree) {
+    case 1: return eval_pair_in_span<1, Second>(c, span, ua, ub, ea, eb);
+    case 2: return eval_pair_in_span<2, Second>(c, span, ua, ub, ea, eb);
+    case 3: return eval_pair_in_span<3, Second>(c, span, ua, ub, ea, eb);
+    case 4: return eval_pair_in_span<4, Second>(c, span, ua, ub, ea, eb);
+    default: return eval_pair_in_span<5, Second>(c, span, ua, ub, ea, eb);
+  }
+}
+
+// nurbs_eval (Second) or nurbs_derivative at ua and ub: as a pair when both lie in one span.
+template <bool Second>
+void eval_pair(const NurbsView& c, double ua, double ub, int& span_hint, NurbsEval& ea, NurbsEval& eb) {
+  ua = std::clamp(ua, c.u_min(), c.u_max());
+  ub = std::clamp(ub, c.u_min(), c.u_max());
+  const int sa = find_span(c, ua, span_hint);
+  span_hint = find_span(c, ub, sa);
+  if (sa == span_hint) {
+    eval_pair_dispatch<Second>(c, sa, ua, ub, ea, eb);
+  } else {
+    ea = eval_dispatch<Second>(c, sa, ua);
+    eb = eval_dispatch<Second>(c, span_hint, ub);
+  }
+}
 
 }  // namespace
 
@@ -351,6 +457,22 @@ Vec3 nurbs_derivative(const NurbsView& c, double u, int& span_hint) {
   u = std::clamp(u, c.u_min(), c.u_max());
   span_hint = find_span(c, u, span_hint);
   return eval_dispatch<false>(c, span_hint, u).d1;
+}
+
+void nurbs_eval_pair(const NurbsView& c, double ua, double ub, int& span_hint, NurbsEval& ea, NurbsEval& eb,
+                     bool second) {
+  if (second) {
+    eval_pair<true>(c, ua, ub, span_hint, ea, eb);
+  } else {
+    eval_pair<false>(c, ua, ub, span_hint, ea, eb);
+  }
+}
+
+void nurbs_derivative_pair(const NurbsView& c, double ua, double ub, int& span_hint, Vec3& da, Vec3& db) {
+  NurbsEval ea, eb;
+  eval_pair<false>(c, ua, ub, span_hint, ea, eb);
+  da = ea.d1;
+  db = eb.d1;
 }
 
 Vec3 nurbs_tangent(const NurbsView& c, double u, bool toward_end) {
@@ -383,7 +505,9 @@ double gauss8_speed(const NurbsView& c, double a, double b, int span) {
   const double half = 0.5 * (b - a);
   double sum = 0.0;
   for (int g = 0; g < 4; ++g) {
-    sum += kW[g] * (norm(nurbs_derivative(c, mid - half * kX[g], span)) + norm(nurbs_derivative(c, mid + half * kX[g], span)));
+    Vec3 lo, hi;
+    nurbs_derivative_pair(c, mid - half * kX[g], mid + half * kX[g], span, lo, hi);
+    sum += kW[g] * (norm(lo) + norm(hi));
   }
   return half * sum;
 }

@@ -114,6 +114,16 @@ NurbsEval nurbs_eval(const NurbsView& c, double u, int& span_hint);
 Vec3 nurbs_derivative(const NurbsView& c, double u);
 Vec3 nurbs_derivative(const NurbsView& c, double u, int& span_hint);
 
+/// nurbs_eval / nurbs_derivative / nurbs_point at two parameters, each value bit for bit the
+/// single call's; two parameters of one knot span are evaluated together on two SIMD lanes (the
+/// quadratures' pairs of Gauss points, consecutive samples: about half the time of two calls).
+/// span_hint as above (ub's span). nurbs_eval_pair without `second`: d2 stays zero (p and d1
+/// are nurbs_eval's all the same).
+void nurbs_eval_pair(const NurbsView& c, double ua, double ub, int& span_hint, NurbsEval& ea, NurbsEval& eb,
+                     bool second = true);
+void nurbs_derivative_pair(const NurbsView& c, double ua, double ub, int& span_hint, Vec3& da, Vec3& db);
+void nurbs_point_pair(const NurbsView& c, double ua, double ub, int& span_hint, Vec3& pa, Vec3& pb);
+
 /// Unit tangent at u; where the parametric speed vanishes (a doubled control point, as in
 /// LinuxCNC programs that repeat the start point) the direction of C'' is used instead,
 /// looking forward (`toward_end`) or backward.

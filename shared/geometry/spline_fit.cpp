@@ -221,36 +221,48 @@ double to_polyline(const Vec3& p, const std::vector<Vec3>& pts, const SegmentCha
   near = std::clamp(near, lo, hi > lo ? hi - 1 : lo);
   if (near < hi) best2 = std::min(best2, chain.dist2(p, near));
   double best = std::sqrt(best2);
-  for (std::size_t i = lo; i < hi; ++i) {
-    if (i == near) continue;
-    if (i % SegmentChain::kChunk == 0 && i + SegmentChain::kChunk <= hi) {  // a whole chunk inside the window
-      const std::size_t c = i / SegmentChain::kChunk;
+  // chunk by chunk (also the partial ones at the window's ends: a far ball is far for each of
+  // its segments inside the window as well), then segment by segment
+  for (std::size_t c = lo / SegmentChain::kChunk; c * SegmentChain::kChunk < hi; ++c) {
+    const std::size_t start = c * SegmentChain::kChunk;
+    if (!(near >= start && near < start + SegmentChain::kChunk)) {
       const Vec3 m = chain.chunk_mid[c] - p;
       const double reach = best + chain.chunk_radius[c] + kSkipMarginMm;
-      if (dot(m, m) > reach * reach && !(near >= i && near < i + SegmentChain::kChunk)) {
-        i += SegmentChain::kChunk - 1;
-        continue;
-      }
+      if (dot(m, m) > reach * reach) continue;
     }
-    const Vec3 m = chain.mid[i] - p;
-    const double reach = best + chain.half[i] + kSkipMarginMm;
-    if (dot(m, m) > reach * reach) continue;
-    const double d2 = chain.dist2(p, i);
-    if (d2 < best2) {
-      best2 = d2;
-      best = std::sqrt(best2);
+    const std::size_t end = std::min(hi, start + SegmentChain::kChunk);
+    for (std::size_t i = std::max(lo, start); i < end; ++i) {
+      if (i == near) continue;
+      const Vec3 m = chain.mid[i] - p;
+      const double reach = best + chain.half[i] + kSkipMarginMm;
+      if (dot(m, m) > reach * reach) continue;
+      const double d2 = chain.dist2(p, i);
+      if (d2 < best2) {
+        best2 = d2;
+        best = std::sqrt(best2);
+      }
     }
   }
   return best;
 }
 
+// std::upper_bound(v.begin(), v.end(), x) - v.begin(), the same index, trying `hint` and
+// hint + 1 before the binary search: the deviation queries mostly go forward.
+std::size_t upper_index(const std::vector<double>& v, double x, std::size_t hint) {
+  const std::size_t n = v.size();
+  auto is_it = [&](std::size_t s) { return s <= n && (s == 0 || v[s - 1] <= x) && (s == n || x < v[s]); };
+  if (is_it(hint)) return hint;
+  if (is_it(hint + 1)) return hint + 1;
+  return static_cast<std::size_t>(std::upper_bound(v.begin(), v.end(), x) - v.begin());
+}
+
 // Window [lo, hi] of indices of the sorted `t` around parameter u: at least `min_count`
 // entries and `min_width` of parameter on each side. `at` receives the index j with
-// t[j] <= u < t[j + 1] (0 before the first).
+// t[j] <= u < t[j + 1] (0 before the first); it comes in as the last query's (a hint).
 std::pair<std::size_t, std::size_t> window(const std::vector<double>& t, double u, std::size_t min_count, double min_width,
                                            std::size_t& at) {
   const std::size_t n = t.size();
-  std::size_t j = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), u) - t.begin());
+  std::size_t j = upper_index(t, u, at + 1);
   j = j > 0 ? j - 1 : 0;
   at = j;
   // first the count (one step), then the width one index at a time
@@ -261,8 +273,8 @@ std::pair<std::size_t, std::size_t> window(const std::vector<double>& t, double 
   return {lo, hi};
 }
 
-std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>& pts, const std::vector<double>& t,
-                               int samples_per_span) {
+std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>& pts, const SegmentChain& programmed,
+                               const std::vector<double>& t, int samples_per_span) {
   const NurbsView v = curve.view();
   std::vector<double> su;
   std::vector<Vec3> sp;
@@ -272,26 +284,33 @@ std::vector<Deviation> measure(const NurbsCurve& curve, const std::vector<Vec3>&
     for (int j = 0; j < samples_per_span; ++j) su.push_back(a + (b - a) * j / samples_per_span);
   }
   su.push_back(v.u_max());
-  sp.reserve(su.size());
-  for (double u : su) sp.push_back(nurbs_point(v, u));
+  sp.resize(su.size());
+  int hint = curve.degree;  // two samples at a time (nurbs_point_pair), in order
+  for (std::size_t k = 0; k < su.size(); k += 2) {
+    if (k + 1 < su.size()) {
+      nurbs_point_pair(v, su[k], su[k + 1], hint, sp[k], sp[k + 1]);
+    } else {
+      sp[k] = nurbs_point(v, su[k]);
+    }
+  }
   const double span = t.back() / static_cast<double>(std::max<std::size_t>(1, su.size() - 1)) * samples_per_span;
   const double width = 0.05 + 2.0 * span / samples_per_span;
-  const SegmentChain programmed(pts), sampled(sp);
+  const SegmentChain sampled(sp);
   std::vector<Deviation> out;
   out.reserve(su.size() + 4 * pts.size());
   // the curve against the programmed segments
+  std::size_t at = 0;
   for (std::size_t k = 0; k < su.size(); ++k) {
-    std::size_t at = 0;
     const auto [lo, hi] = window(t, su[k], 4, width, at);
     out.push_back({su[k], to_polyline(sp[k], pts, programmed, lo, hi, at)});
   }
   // the programmed points and segments (quarter points) against the sampled curve
+  at = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     for (int q = 0; q < (i + 1 < pts.size() ? 4 : 1); ++q) {
       const double f = q / 4.0;
       const Vec3 p = q == 0 ? pts[i] : pts[i] + f * (pts[i + 1] - pts[i]);
       const double u = q == 0 ? t[i] : t[i] + f * (t[i + 1] - t[i]);
-      std::size_t at = 0;
       const auto [lo, hi] = window(su, u, static_cast<std::size_t>(2 * samples_per_span), width, at);
       out.push_back({u, to_polyline(p, sp, sampled, lo, hi, at)});
     }
@@ -308,9 +327,10 @@ void sample_polyline(const std::vector<Vec3>& points, const std::vector<double>&
   du.clear();
   dp.clear();
   const double length = t.back();
+  std::size_t s = 0;
   for (std::size_t i = 0; i + 1 < points.size(); ++i) {
     const double mid = 0.5 * (t[i] + t[i + 1]);
-    const std::size_t s = static_cast<std::size_t>(std::upper_bound(interior.begin(), interior.end(), mid) - interior.begin());
+    s = upper_index(interior, mid, s);
     const double h = (s < interior.size() ? interior[s] : length) - (s > 0 ? interior[s - 1] : 0.0);
     const int n = std::clamp(static_cast<int>(std::ceil(2.0 * (t[i + 1] - t[i]) / std::max(h, kMinSpanMm))), 2, 64);
     for (int j = 0; j < n; ++j) {
@@ -335,7 +355,7 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 double polyline_deviation(const NurbsCurve& curve, const std::vector<Vec3>& points, int samples_per_span,
                           std::vector<double>* per_point) {
   const std::vector<double> t = chord_params(points);
-  const std::vector<Deviation> devs = measure(curve, points, t, samples_per_span);
+  const std::vector<Deviation> devs = measure(curve, points, SegmentChain(points), t, samples_per_span);
   double worst = 0.0;
   if (per_point) per_point->assign(points.size(), 0.0);
   for (const Deviation& d : devs) {
@@ -364,19 +384,21 @@ SplineFit fit_polyline(const std::vector<Vec3>& points, double tolerance) {
   for (int i = 1; i < first_spans; ++i) interior.push_back(length * i / first_spans);
   std::vector<double> knots;
   std::vector<Deviation> devs;
+  const SegmentChain programmed(points);  // the same in every round
   for (int round = 0;; ++round) {
     knots.assign(kDegree + 1, 0.0);
     knots.insert(knots.end(), interior.begin(), interior.end());
     knots.insert(knots.end(), kDegree + 1, length);
     sample_polyline(points, t, interior, du, dp);
     r.curve = solve_fit(knots, du, dp, points.front(), points.back());
-    devs = measure(r.curve, points, t, 16);
+    devs = measure(r.curve, points, programmed, t, 16);
     // the largest deviation in each span [knots_s, knots_s+1] (interior index s - kDegree)
     std::vector<double> span_dev(interior.size() + 1, 0.0);
+    std::size_t in = 0;  // the span of d.u
     for (const Deviation& d : devs) {
-      const std::size_t s = static_cast<std::size_t>(std::upper_bound(interior.begin(), interior.end(), d.u) - interior.begin());
-      span_dev[s] = std::max(span_dev[s], d.d);
-      if (s > 0 && d.u == interior[s - 1]) span_dev[s - 1] = std::max(span_dev[s - 1], d.d);
+      in = upper_index(interior, d.u, in);
+      span_dev[in] = std::max(span_dev[in], d.d);
+      if (in > 0 && d.u == interior[in - 1]) span_dev[in - 1] = std::max(span_dev[in - 1], d.d);
     }
     std::vector<double> refined;
     bool split = false, stuck = false;

@@ -57,8 +57,10 @@ CurveFrame nurbs_frame(const NurbsView& c, double u) {
   return nurbs_frame(c, u, span);
 }
 
-CurveFrame nurbs_frame(const NurbsView& c, double u, int& span_hint) {
-  NurbsEval e = nurbs_eval(c, u, span_hint);
+namespace {
+
+// nurbs_frame from the evaluation e at u (span_hint: u's span).
+CurveFrame frame_of(const NurbsView& c, double u, NurbsEval e, int span_hint) {
   CurveFrame f;
   f.p = e.p;
   const double scale = (c.u_max() - c.u_min()) * 1e-7;
@@ -72,6 +74,20 @@ CurveFrame nurbs_frame(const NurbsView& c, double u, int& span_hint) {
   f.t = (1.0 / sp) * e.d1;
   f.k = (1.0 / (sp * sp)) * (e.d2 - dot(e.d2, f.t) * f.t);
   return f;
+}
+
+}  // namespace
+
+CurveFrame nurbs_frame(const NurbsView& c, double u, int& span_hint) {
+  const NurbsEval e = nurbs_eval(c, u, span_hint);
+  return frame_of(c, u, e, span_hint);
+}
+
+void nurbs_frame_pair(const NurbsView& c, double ua, double ub, int& span_hint, CurveFrame& fa, CurveFrame& fb) {
+  NurbsEval ea, eb;
+  nurbs_eval_pair(c, ua, ub, span_hint, ea, eb);
+  fa = frame_of(c, ua, ea, span_hint);
+  fb = frame_of(c, ub, eb, span_hint);
 }
 
 }  // namespace pcnc

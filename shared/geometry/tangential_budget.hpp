@@ -50,5 +50,7 @@ struct CurveFrame {
 CurveFrame nurbs_frame(const NurbsView& c, double u);
 /// The same, with the knot span tried first and updated (nurbs_eval's span hint).
 CurveFrame nurbs_frame(const NurbsView& c, double u, int& span_hint);
+/// nurbs_frame at two parameters (nurbs_eval_pair: two of one span at once), bit for bit.
+void nurbs_frame_pair(const NurbsView& c, double ua, double ub, int& span_hint, CurveFrame& fa, CurveFrame& fb);
 
 }  // namespace pcnc
