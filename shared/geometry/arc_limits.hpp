@@ -17,6 +17,13 @@
 // with and the stop rules can count on at every speed. The rt's executor also ramps and brakes
 // by speed (arc_accel_at): below the top speed the tangential part gets what the centripetal
 // part leaves at the speed the machine has.
+//
+// Each axis may also carry its own share along the angles the arc sweeps (since 2026-11-27):
+// the radius direction lies at most max|cos θ| along the first plane axis and max|sin θ| along
+// the second, so the cap's `a` is arc_centripetal_limit, min(A1/max|cos θ|, A2/max|sin θ|) >=
+// min(A1, A2), and the block's tangential constant the larger of the vector rule above and each
+// axis's least share over the sweep (arc_plane_tangential_accel). A short G18/G19 arc whose normal
+// stays near the faster axis runs faster; one sweeping through both axes' normals as before.
 #pragma once
 
 #include <algorithm>
@@ -25,7 +32,8 @@
 
 namespace pcnc {
 
-/// Share of the smaller in-plane axis acceleration an arc may use for centripetal acceleration.
+/// Share of what the plane axes allow for the centripetal part along the sweep
+/// (arc_centripetal_limit) that an arc's speed cap uses.
 constexpr double kArcCentripetalShare = 0.95;
 /// The largest feed override (FeedOverride::kMax): the top speed an arc block can be run at
 /// is min(what the axes allow, this times its programmed speed).
