@@ -89,6 +89,9 @@ TEST(ArcSplit, OnlyM21ArcsInAPlaneOfUnequalLimitsLongEnoughAreCut) {
   EXPECT_EQ(arc_pieces(arc(0, 3.0, 0.0, quarter, -1.0, 0.0, false), c), 1);  // M22: each piece would stop
   EXPECT_EQ(arc_pieces(arc(0, 0.4, 0.0, quarter), c), 1);  // 0.63 mm: one piece of 0.5 mm at most
   EXPECT_EQ(arc_pieces(arc(0, 0.8, 0.0, quarter), c), 2);  // 1.26 mm: two pieces
+  Move turning = arc(0, 3.0, 0.0, quarter);
+  turning.rot_end[0] = 0.5;  // a rotary joint's turn is not shared out: left whole
+  EXPECT_EQ(arc_pieces(turning, c), 1);
   Move line = arc(0, 3.0, 0.0, quarter);
   line.kind = MoveKind::kLine;
   EXPECT_EQ(arc_pieces(line, c), 1);

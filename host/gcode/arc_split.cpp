@@ -43,7 +43,8 @@ std::vector<Move> split_arc(const Move& m, int n) {
 }
 
 int arc_pieces(const Move& m, const MachineConfig& config) {
-  if (m.kind != MoveKind::kArc || !m.contouring || m.tcp) return 1;
+  // (an arc turns no rotary joint; one that did would need its turn shared between the pieces)
+  if (m.kind != MoveKind::kArc || !m.contouring || m.tcp || m.rot_start != m.rot_end) return 1;
   const auto pa = plane_axes(m.normal_axis);
   const double a0 = config.axes[static_cast<std::size_t>(pa[0])].max_accel_mm_s2;
   const double a1 = config.axes[static_cast<std::size_t>(pa[1])].max_accel_mm_s2;
