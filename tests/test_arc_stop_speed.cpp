@@ -25,21 +25,11 @@ using namespace pcnc;
 
 namespace {
 
-// The rule itself, and the bisection as it ran before: every mid evaluated.
-double arc_rule(const PreparedBlock& b, const MachineConfig& c, double distance, double v_exit, bool exact, double dt,
-                double k, double v) {
-  const ArcSweep sweep = arc_sweep(b, c, b.length - distance);
-  const double acc = std::max({b.accel, arc_path_accel(b, v), arc_sweep_accel(b, sweep, v)});
-  return exact ? stop_speed_exact(distance, acc, dt) : stop_speed(distance, v_exit, acc, dt, k);
-}
-
+// The bisection as it ran before: every mid evaluated.
 double plain_arc_stop_speed(const PreparedBlock& b, const MachineConfig& c, double distance, double v_exit, bool exact,
                             double cap, double dt, double k) {
   const ArcSweep sweep = arc_sweep(b, c, b.length - distance);
-  auto rule = [&](double v) {
-    const double acc = std::max({b.accel, arc_path_accel(b, v), arc_sweep_accel(b, sweep, v)});
-    return exact ? stop_speed_exact(distance, acc, dt) : stop_speed(distance, v_exit, acc, dt, k);
-  };
+  auto rule = [&](double v) { return arc_stop_rule(b, sweep, distance, v_exit, exact, dt, k, v); };
   if (!std::isfinite(cap)) cap = b.v_machine;
   if (rule(cap) >= cap) return cap;
   double lo = 0.0, hi = cap;
@@ -100,7 +90,8 @@ TEST(ArcStopSpeed, TheRootIsSafeAndThePlainBisectionsTo1e7OfTheCap) {
       ASSERT_NEAR(got, want, 1e-7 * top)
           << "r " << r << " sweep " << sweep << " normal " << normal << " distance " << distance << " v_exit "
           << v_exit << " exact " << exact << " cap " << cap;
-      ASSERT_GE(arc_rule(b, c, distance, v_exit, exact, dt, k, got), got) << "unsafe: r " << r << " distance " << distance;
+      ASSERT_GE(arc_stop_rule(b, arc_sweep(b, c, b.length - distance), distance, v_exit, exact, dt, k, got), got)
+          << "unsafe: r " << r << " distance " << distance;
       ++asked;
       binding += want < (std::isfinite(cap) ? cap : b.v_machine);
       falling += !exact && distance < k * dt * v_exit;

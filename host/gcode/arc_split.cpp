@@ -27,7 +27,6 @@ std::vector<Move> split_arc(const Move& m, int n) {
       p.end = m.end;
     } else {
       const double th = theta0 + m.sweep * u, r = r0 + (r1 - r0) * u;
-      p.end = m.end;  // axes off the plane (none for an arc) keep the move's
       p.end[a0] = m.center[a0] + r * std::cos(th);
       p.end[a1] = m.center[a1] + r * std::sin(th);
       p.end[nk] = m.start[nk] + (m.end[nk] - m.start[nk]) * u;
@@ -68,8 +67,6 @@ bool ArcSplitter::next(const std::function<bool(Move&)>& pull, Move& out) {
       return true;
     }
     for (Move& p : split_arc(m, n)) pending_.push_back(std::move(p));
-    ++arcs_cut_;
-    pieces_ += static_cast<std::uint64_t>(n);
   }
   out = std::move(pending_.front());
   pending_.pop_front();

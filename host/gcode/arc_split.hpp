@@ -17,6 +17,7 @@
 
 #include <deque>
 #include <functional>
+#include <numbers>
 #include <vector>
 
 #include "config/config.hpp"
@@ -25,7 +26,7 @@
 namespace pcnc {
 
 /// The largest sweep of one piece (rad): 22.5°.
-constexpr double kArcPieceSweep = 0.39269908169872414;
+constexpr double kArcPieceSweep = std::numbers::pi / 8.0;
 /// The shortest piece (mm along the arc): a shorter arc is cut into fewer pieces, or none.
 constexpr double kArcPieceMinMm = 0.5;
 
@@ -45,14 +46,9 @@ class ArcSplitter {
   /// returns false at the end. Returns false at the end of the stream.
   bool next(const std::function<bool(Move&)>& pull, Move& out);
 
-  /// Arcs cut, and the pieces they became (the run report's figures).
-  std::uint64_t arcs_cut() const { return arcs_cut_; }
-  std::uint64_t pieces() const { return pieces_; }
-
  private:
   const MachineConfig& config_;
-  std::deque<Move> pending_;
-  std::uint64_t arcs_cut_ = 0, pieces_ = 0;
+  std::deque<Move> pending_;  // the pieces of the arc being handed out
 };
 
 }  // namespace pcnc

@@ -456,11 +456,11 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const double v_up = v_ + a_step * dt_;  // the fastest this cycle may go
 
   // A stop at the end of this block, with no junction-restricted cycle left: the exact
-  // discrete braking rule. Otherwise the rule with the margin k for the restricted cycles.
-  // The margin k of the stop rule: one cycle for the discrete braking, plus f·a·T of braking lost
-  // in each junction-restricted cycle still ahead (the one after this if this is the first after a
-  // crossing, and the one that crosses a flowing end): braking at (1 − f)·a in such a cycle leaves
-  // the speed f·a·T higher, which costs f·v·T of distance (docs/rt-executor.md, "Speed law").
+  // discrete braking rule. Otherwise the rule with a margin k: one cycle for the discrete
+  // braking, plus f for each junction-restricted cycle still ahead (the one after this if this is
+  // the first after a crossing, and the one that crosses a flowing end): braking at (1 − f)·a in
+  // such a cycle leaves the speed f·a·T higher, which costs f·v·T of distance
+  // (docs/rt-executor.md, "Speed law"). The look-ahead's backward pass keeps k_ = 1 + 2f.
   const double k_here = 1.0 + f_ * ((crossed_ > 1 ? 1 : 0) + (stop_at_end ? 0 : 1));
   double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
                                                : stop_speed(remaining, v_exit, a, dt_, k_here);

@@ -233,20 +233,8 @@ double arc_stretch_accel(const PreparedBlock& b, const ArcStretch& st, const Mac
 ArcSweep arc_sweep(const PreparedBlock& b, const MachineConfig& cfg, double from) {
   ArcSweep w;
   const double u = b.length > 0.0 ? std::clamp(from / b.length, 0.0, 1.0) : 0.0;
-  // the angles from here to the end: |cos θ| reaches 1 at kπ and 0 at π/2 + kπ, |sin θ| the other
-  // way round; else both lie between their values at the two ends
-  const double th = b.theta0 + b.sweep * u, th_end = b.theta0 + b.sweep;
-  const double lo = std::min(th, th_end), hi = std::max(th, th_end);
-  auto holds = [&](double offset) { return offset + std::ceil((lo - offset) / std::numbers::pi) * std::numbers::pi <= hi; };
-  const bool at_axis1 = holds(0.0), at_axis2 = holds(0.5 * std::numbers::pi);
-  const double c0 = std::abs(std::cos(th)), c1 = std::abs(std::cos(th_end));
-  const double s0 = std::abs(std::sin(th)), s1 = std::abs(std::sin(th_end));
-  w.x_lo[0] = at_axis2 ? 0.0 : std::min(c0, c1);
-  w.x_hi[0] = at_axis1 ? 1.0 : std::max(c0, c1);
-  w.x_lo[1] = at_axis1 ? 0.0 : std::min(s0, s1);
-  w.x_hi[1] = at_axis2 ? 1.0 : std::max(s0, s1);
-  w.limit[0] = kArcAccelMargin * cfg.axes[b.a1].max_accel_mm_s2;
-  w.limit[1] = kArcAccelMargin * cfg.axes[b.a2].max_accel_mm_s2;
+  w.plane = arc_plane(kArcAccelMargin * cfg.axes[b.a1].max_accel_mm_s2, kArcAccelMargin * cfg.axes[b.a2].max_accel_mm_s2,
+                      b.theta0 + b.sweep * u, b.sweep * (1.0 - u));
   // evaluate(): dp/du = (dr·cos θ − r·sin θ·sweep, dr·sin θ + r·cos θ·sweep, dn), curvature
   // r·sweep²/|dp/du|² along −(cos θ, sin θ), with r between r0 and r1
   const double sw = std::abs(b.sweep), dr = std::abs(b.r1 - b.r0), dn = std::abs(b.end[b.an] - b.start[b.an]);
@@ -265,17 +253,22 @@ double arc_sweep_accel(const PreparedBlock& b, const ArcSweep& w, double v) {
   const double f = b.arc_f;  // the parameter speed over the true speed on a spiral
   const double c = (v / f) * (v / f) * w.curvature;
   double a = w.normal;
-  for (int i = 0; i < 2; ++i) a = std::min(a, plane_axis_tangential_room(w.limit[i], c, w.q, w.phi, w.x_lo[i], w.x_hi[i]));
+  const ArcPlane& p = w.plane;
+  a = std::min({a, plane_axis_tangential_room(p.a1, c, w.q, w.phi, p.n1_lo, p.n1_hi),
+                plane_axis_tangential_room(p.a2, c, w.q, w.phi, p.n2_lo, p.n2_hi)});
   return std::isfinite(a) ? f * a : 0.0;
+}
+
+double arc_stop_rule(const PreparedBlock& b, const ArcSweep& sweep, double distance, double v_exit, bool exact,
+                     double dt, double k, double v) {
+  const double acc = std::max({b.accel, arc_path_accel(b, v), arc_sweep_accel(b, sweep, v)});
+  return exact ? stop_speed_exact(distance, acc, dt) : stop_speed(distance, v_exit, acc, dt, k);
 }
 
 double arc_stop_speed(const PreparedBlock& b, const MachineConfig& cfg, double distance, double v_exit, bool exact,
                       double cap, double dt, double k) {
   const ArcSweep sweep = arc_sweep(b, cfg, b.length - distance);
-  auto rule = [&](double v) {
-    const double acc = std::max({b.accel, arc_path_accel(b, v), arc_sweep_accel(b, sweep, v)});
-    return exact ? stop_speed_exact(distance, acc, dt) : stop_speed(distance, v_exit, acc, dt, k);
-  };
+  auto rule = [&](double v) { return arc_stop_rule(b, sweep, distance, v_exit, exact, dt, k, v); };
   if (!std::isfinite(cap)) cap = b.v_machine;
   const double g_cap = rule(cap) - cap;
   if (g_cap >= 0.0) return cap;

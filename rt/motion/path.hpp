@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "geometry/arc_limits.hpp"
 #include "geometry/nurbs.hpp"
 #include "ipc/block.hpp"
 #include "config/config.hpp"
@@ -106,8 +107,7 @@ double arc_stretch_accel(const PreparedBlock& b, const ArcStretch& stretch, cons
 /// curvature that hold at every point of it (evaluate), a spiral's and a helix's included. Built
 /// once per question for arc_sweep_accel at any number of speeds.
 struct ArcSweep {
-  double x_lo[2] = {0.0, 0.0}, x_hi[2] = {0.0, 0.0};  // |cos θ| (first plane axis), |sin θ| (second)
-  double limit[2] = {0.0, 0.0};                       // kArcAccelMargin · the axis's acceleration
+  ArcPlane plane{};        // the shares of the radius direction, and kArcAccelMargin · each limit
   double q = 0.0;          // the in-plane share of the unit tangent, at most
   double phi = 0.0;        // a spiral's tangent turns from the circle's by at most atan(phi)
   double curvature = 0.0;  // 1/mm, at most
@@ -122,13 +122,18 @@ ArcSweep arc_sweep(const PreparedBlock& b, const MachineConfig& config, double f
 /// of the arc runs along the faster axis.
 double arc_sweep_accel(const PreparedBlock& b, const ArcSweep& sweep, double v);
 
+/// The stop rule on the rest of an arc (`sweep` = arc_sweep over its last `distance`) asked at
+/// speed v: the speed from which the rule brakes within `distance` to `v_exit` at the
+/// acceleration the arc keeps at every speed up to v there (the largest of the block's constant,
+/// arc_path_accel and arc_sweep_accel). `exact`: stop_speed_exact's rule (a stop at rest with
+/// no junction-restricted cycle left), else stop_speed's with its margin `k`; `dt` the cycle.
+double arc_stop_rule(const PreparedBlock& b, const ArcSweep& sweep, double distance, double v_exit, bool exact,
+                     double dt, double k, double v);
+
 /// The stop rule on an arc whose tangential acceleration falls as its speed rises: the largest V
-/// up to `cap` (infinite: the arc's v_machine) from which the rule brakes within `distance` (the
-/// rest of the arc) to `v_exit` at the acceleration the arc keeps at every speed up to V on the
-/// rest of the arc (the larger of arc_path_accel and arc_sweep_accel over the last `distance`),
-/// by a 24-step bisection on [0, cap] (the rule's speed rises with the acceleration, which falls
-/// with V). `exact`: stop_speed_exact's rule (a stop at rest with no junction-restricted cycle
-/// left), else stop_speed's with its margin `k`; `dt` the cycle. Pure.
+/// up to `cap` (infinite: the arc's v_machine) with arc_stop_rule(V) >= V, to 1e-8 of the cap,
+/// by regula falsi (the rule's speed rises with the acceleration, which falls with V); the V
+/// returned always has arc_stop_rule(V) >= V. Pure.
 double arc_stop_speed(const PreparedBlock& b, const MachineConfig& config, double distance, double v_exit, bool exact,
                       double cap, double dt, double k);
 

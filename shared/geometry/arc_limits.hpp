@@ -110,17 +110,22 @@ struct ArcPlane {
 };
 
 /// The plane of an arc from `start` over `sweep` (radians, signed) with plane axis limits a1, a2.
+/// |cos θ| reaches 1 at kπ and 0 at π/2 + kπ, |sin θ| the other way round; elsewhere both lie
+/// between their values at the two ends (one cos and one sin at each end).
 inline ArcPlane arc_plane(double a1, double a2, double start, double sweep) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double lo = std::min(start, start + sweep), hi = std::max(start, start + sweep);
+  auto holds = [&](double offset) { return offset + std::ceil((lo - offset) / kPi) * kPi <= hi; };
+  const bool along1 = holds(0.0), along2 = holds(0.5 * kPi);  // the radius along axis 1 / axis 2
+  const double c0 = std::fabs(std::cos(start)), c1 = std::fabs(std::cos(start + sweep));
+  const double s0 = std::fabs(std::sin(start)), s1 = std::fabs(std::sin(start + sweep));
   ArcPlane p;
   p.a1 = a1;
   p.a2 = a2;
-  const double s_hi = max_abs_sin(start, sweep), c_hi = max_abs_cos(start, sweep);
-  const double c0 = std::fabs(std::cos(start)), c1 = std::fabs(std::cos(start + sweep));
-  const double s0 = std::fabs(std::sin(start)), s1 = std::fabs(std::sin(start + sweep));
-  p.n1_hi = c_hi;
-  p.n1_lo = s_hi >= 1.0 ? 0.0 : std::min(c0, c1);  // |sin| = 1 where cos = 0
-  p.n2_hi = s_hi;
-  p.n2_lo = c_hi >= 1.0 ? 0.0 : std::min(s0, s1);
+  p.n1_hi = along1 ? 1.0 : std::max(c0, c1);
+  p.n1_lo = along2 ? 0.0 : std::min(c0, c1);
+  p.n2_hi = along2 ? 1.0 : std::max(s0, s1);
+  p.n2_lo = along1 ? 0.0 : std::min(s0, s1);
   return p;
 }
 
