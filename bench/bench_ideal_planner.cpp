@@ -5,7 +5,8 @@
 // beside pcnc's machine time; docs/smoothing.md, "The ideal planner".
 //
 // Usage: bench_ideal_planner PROGRAM [--config F] [--fit] [--contouring on|off]
-//                            [--tolerance MM] [--chord MM] [--lines OUT.csv] [--keep-bend-limits]
+//                            [--tolerance MM] [--chord MM] [--arcs whole|chords] [--lines OUT.csv]
+//                            [--keep-bend-limits]
 // Prints one line: "ideal <time> s  segments <n>  stops <n>  length <mm>  bends ..." (what the
 // ideal's speeds ask of the programmed curve at its bends, ideal_planner.hpp).
 #include <CLI/CLI.hpp>
@@ -31,13 +32,19 @@ int main(int argc, char** argv) {
   app.add_option("--contouring", contouring, "on or off: the program's start state, as for pcnc run");
   app.add_flag("--fit", fit, "scale and centre the program into the travel, as pcnc run --fit");
   app.add_option("--tolerance", tolerance, "junction deviation (mm); default: the config's path tolerance");
-  app.add_option("--chord", ideal.chord_tolerance_mm, "arcs and curves as chords of at most this sagitta (mm)");
+  app.add_option("--chord", ideal.chord_tolerance_mm, "curves (and arcs as chords) as chords of at most this sagitta (mm)");
+  std::string arcs = "whole";
+  app.add_option("--arcs", arcs,
+                 "whole: an arc is one segment at most at sqrt(A*r) (LinuxCNC; the issue's figures); chords: grbl's "
+                 "chords, each junction at the junction-deviation speed")
+      ->check(CLI::IsMember({"whole", "chords"}));
   app.add_flag("--keep-bend-limits", ideal.keep_bend_limits,
                "not the ideal's rule: also hold every bend (turn < 10°) to sqrt(a·rho), the axes' acceleration on the "
                "curve the points draw (a floor for a planner that keeps the limits)");
   std::string lines_csv;
   app.add_option("--lines", lines_csv, "write the ideal's time per source line to this CSV (line,time_s)");
   CLI11_PARSE(app, argc, argv);
+  ideal.arcs_as_chords = arcs == "chords";
   MachineConfig c = load_config(config_path);
   ideal.tolerance_mm = tolerance >= 0.0 ? tolerance : c.motion.path_tolerance_mm;
   set_operator_tolerance(c.motion, 0.0);  // the moves as programmed, no smoothing

@@ -1,7 +1,7 @@
 // test_ideal_planner.cpp — the yardstick of issue 14 (report/ideal_planner.hpp): trapezoids
 // between junction-deviation speeds, with unlimited look-ahead, checked against closed forms:
-// one line, a straight run cut in pieces, a 90° corner, a reversal and an exact stop, an arc's
-// chords, what its speeds ask of a finely drawn circle, and the floor that keeps the limits there.
+// one line, a straight run cut in pieces, a 90° corner, a reversal and an exact stop, an arc
+// whole and as chords, what its speeds ask of a finely drawn circle, and the floor that keeps the limits there.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -105,6 +105,54 @@ TEST(IdealPlanner, AReversalAndAnExactStopStop) {
   EXPECT_NEAR(dwelt.time_s, 0.5 + 2.0 * trapezoid(5.0, 50.0, 2000.0), 1e-9);
 }
 
+TEST(IdealPlanner, AnArcIsOneSegmentAtItsCentripetalLimit) {
+  const MachineConfig c = mill();
+  // a half circle of radius 2 in XY at F100: sqrt(2000·2) = 63.2 mm/s, entered along the tangent
+  // of a 10 mm line (no junction limit), ramps at 2000 mm/s² on both
+  Move arc;
+  arc.kind = MoveKind::kArc;
+  arc.contouring = true;
+  arc.normal_axis = 2;
+  arc.center = {10, 2, 0};
+  arc.radius = 2.0;
+  arc.sweep = std::numbers::pi;
+  arc.start = {10, 0, 0};
+  arc.end = {10, 4, 0};
+  arc.feed_mm_s = 100.0;
+  arc.line = 2;
+  Move in = line({0, 0, 0}, {10, 0, 0}, 100.0);
+  in.line = 1;
+  const IdealPlan p = ideal_planner_time({in, arc}, c);
+  EXPECT_EQ(p.segments, 2u);
+  EXPECT_NEAR(p.length_mm, 10.0 + 2.0 * std::numbers::pi, 1e-12);
+  const double v_arc = std::sqrt(2000.0 * 2.0);
+  ASSERT_EQ(p.line_times.size(), 2u);
+  EXPECT_NEAR(p.line_times[0].time_s, trapezoid(10.0, 0.0, v_arc, 100.0, 2000.0), 1e-9);
+  EXPECT_NEAR(p.line_times[1].time_s, trapezoid(2.0 * std::numbers::pi, v_arc, 0.0, v_arc, 2000.0), 1e-9);
+  EXPECT_EQ(p.bends, 0u) << "an arc's junction is no bend of a polyline";
+
+  // entered across a 90° corner instead (down −Y into the arc's start tangent +X): the junction
+  // deviation between the line and the tangent
+  Move down = line({10, 5, 0}, {10, 0, 0}, 100.0);
+  IdealPlannerOptions o;
+  o.tolerance_mm = 0.01;
+  const IdealPlan q = ideal_planner_time({down, arc}, c, o);
+  const double sh = std::sqrt(0.5);
+  const double vj = std::sqrt(2000.0 * std::sqrt(2.0) * 0.01 * sh / (1.0 - sh));
+  EXPECT_NEAR(q.time_s,
+              trapezoid(5.0, 0.0, vj, 100.0, 2000.0) + trapezoid(2.0 * std::numbers::pi, vj, 0.0, v_arc, 2000.0),
+              1e-9);
+
+  // a helix: the tangent's share on Z (1000 mm/s²) limits its path acceleration
+  Move helix = arc;
+  helix.end = {10, 4, 4};
+  const IdealPlan hx = ideal_planner_time({helix}, c);
+  const double planar = 2.0 * std::numbers::pi, l = std::hypot(planar, 4.0);
+  const double a = std::min(2000.0 * l / planar, 1000.0 * l / 4.0);
+  const double v = std::min({v_arc, 100.0, 50.0 * l / 4.0});
+  EXPECT_NEAR(hx.time_s, trapezoid(l, v, a), 1e-9);
+}
+
 TEST(IdealPlanner, AnArcIsCutIntoChordsWithinTheChordTolerance) {
   const MachineConfig c = mill();
   Move arc;
@@ -119,6 +167,7 @@ TEST(IdealPlanner, AnArcIsCutIntoChordsWithinTheChordTolerance) {
   arc.feed_mm_s = 20.0;
   IdealPlannerOptions o;
   o.chord_tolerance_mm = 0.002;
+  o.arcs_as_chords = true;
   const IdealPlan p = ideal_planner_time({arc}, c, o);
   const double step = 2.0 * std::acos(1.0 - 0.002 / 2.0);
   EXPECT_EQ(p.segments, static_cast<std::uint64_t>(std::ceil(arc.sweep / step)));

@@ -10,8 +10,9 @@
 # programmed path (bench_path_deviation), the host CPU of `pcnc check` (the whole front end
 # with the fit) against the machine time, and with --real the ring underruns at real clock.
 # The ideal planner's time is bench_ideal_planner's (report/ideal_planner.hpp: grbl's junction
-# deviation for 0.005 mm with unlimited look-ahead, arcs as chords of 0.002 mm); "issue" is the
-# figure issue 14 gives for the program (LHchips4 62.8 s, blur_torus 78.5 s), "-" for others.
+# deviation for 0.005 mm with unlimited look-ahead, arcs whole at sqrt(A·r) as LinuxCNC runs
+# them); "issue" is the figure issue 14 gives for the program (LHchips4 62.8 s, blur_torus
+# 78.5 s), "-" for others.
 # Usage: tools/bench_surfacing.sh [BUILD_DIR] [--real] [FILES...]
 #   (default files: cam/linuxcnc-tp/LHchips4.ngc and blur_torus.ngc of ../shared/gcode)
 set -euo pipefail

@@ -19,7 +19,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 const double kBendCos = std::cos(10.0 * 3.14159265358979323846 / 180.0);  // a bend turns by less than 10°
 
 struct Segment {
-  Vec3 u{};              // unit direction
+  Vec3 u{};              // unit direction (an arc's: its tangent at the start)
+  Vec3 u_end{};          // unit direction at the end (a line's: u; an arc's: its end tangent)
+  bool arc = false;      // a whole arc: its junctions are not a polyline's bends
   double length = 0.0;   // mm
   double v_max = 0.0;    // mm/s: feed and axes
   double a_max = 0.0;    // mm/s²: the axes' acceleration along u
@@ -48,6 +50,7 @@ class Cutter {
     s.v_max = axis_cap(s.u, velocity_);
     if (feed > 0.0) s.v_max = std::min(s.v_max, feed);
     s.a_max = axis_cap(s.u, accel_);
+    s.u_end = s.u;
     s.line = line_;
     segments_.push_back(s);
   }
@@ -57,6 +60,54 @@ class Cutter {
   }
 
   void arc(const Move& m) {
+    if (options_.arcs_as_chords) {
+      chords(m);
+    } else {
+      whole_arc(m);
+    }
+  }
+
+  // An arc as one segment: at most at sqrt(A·r), A the smaller plane axis's acceleration, and
+  // within every axis's velocity and acceleration wherever its tangent points (in the plane the
+  // tangent's share is at most r·|sweep| / L on each plane axis, on the normal axis |h| / L).
+  void whole_arc(const Move& m) {
+    const auto ax = plane_axes(m.normal_axis);
+    const auto n = static_cast<std::size_t>(m.normal_axis);
+    const auto i0 = static_cast<std::size_t>(ax[0]);
+    const auto i1 = static_cast<std::size_t>(ax[1]);
+    const double r = m.radius;
+    const double h = m.end[n] - m.start[n];
+    const double planar = r * std::fabs(m.sweep);
+    Segment s;
+    s.length = std::hypot(planar, h);
+    if (s.length <= 1e-12) return;
+    const double sign = m.sweep >= 0.0 ? 1.0 : -1.0;
+    const auto tangent = [&](const Vec3& p) {
+      Vec3 t{};
+      t[i0] = -sign * (p[i1] - m.center[i1]) * std::fabs(m.sweep);
+      t[i1] = sign * (p[i0] - m.center[i0]) * std::fabs(m.sweep);
+      t[n] = h;
+      return normalized(t);
+    };
+    s.u = tangent(m.start);
+    s.u_end = tangent(m.end);
+    s.arc = true;
+    const double in_plane = planar / s.length, along_normal = std::fabs(h) / s.length;
+    const auto cap = [&](const AxisLimits& lim) {
+      double c = std::min(lim[i0], lim[i1]) / std::max(in_plane, 1e-12);
+      if (along_normal > 1e-12) c = std::min(c, lim[n] / along_normal);
+      return c;
+    };
+    const double plane_accel = std::min(accel_[i0], accel_[i1]);
+    s.v_max = std::min(cap(velocity_), std::sqrt(plane_accel * r));
+    if (m.feed_mm_s > 0.0) s.v_max = std::min(s.v_max, m.feed_mm_s);
+    s.a_max = cap(accel_);
+    s.line = line_;
+    segments_.push_back(s);
+  }
+
+  // An arc as chords of at most the chord tolerance's sagitta (grbl's arc segments).
+  void chords(const Move& m) {
     const auto ax = plane_axes(m.normal_axis);
     const auto n = static_cast<std::size_t>(m.normal_axis);
     const auto i0 = static_cast<std::size_t>(ax[0]);
@@ -123,7 +174,7 @@ class Cutter {
 // The junction-deviation speed between two segments (geometry/junction_deviation.hpp), within
 // both segments' speeds.
 double junction_speed(const Segment& in, const Segment& out, const AxisLimits& accel, double tol) {
-  return std::min({junction_deviation_speed(in.u, out.u, accel, tol), in.v_max, out.v_max});
+  return std::min({junction_deviation_speed(in.u_end, out.u, accel, tol), in.v_max, out.v_max});
 }
 
 // Time over a segment of length l from v0 to v1 with top speed vt and acceleration a.
@@ -152,6 +203,11 @@ double bend_ratio(const Segment& in, const Segment& out, double v, const AxisLim
   return v * v / rho / axis_cap(normalized(out.u - in.u), accel);
 }
 
+// A bend: two straight segments (not a whole arc) that turn by less than 10°.
+bool is_bend(const Segment& in, const Segment& out) {
+  return !in.arc && !out.arc && dot(in.u, out.u) >= kBendCos;
+}
+
 // The time of one run of segments that starts and ends at rest.
 double run_time(std::vector<Segment>& s, std::size_t first, std::size_t last,
                 const AxisLimits& accel, double tol, bool keep_bends, std::uint64_t* stops,
@@ -162,7 +218,7 @@ double run_time(std::vector<Segment>& s, std::size_t first, std::size_t last,
     const Segment& in = s[first + k - 1];
     const Segment& out = s[first + k];
     v[k] = junction_speed(in, out, accel, tol);
-    if (keep_bends && dot(in.u, out.u) >= kBendCos) {
+    if (keep_bends && is_bend(in, out)) {
       v[k] = std::min(v[k], std::sqrt(axis_cap(normalized(out.u - in.u), accel) * bend_radius(in, out)));
     }
     if (v[k] <= 0.0) ++*stops;
@@ -184,7 +240,7 @@ double run_time(std::vector<Segment>& s, std::size_t first, std::size_t last,
   for (std::size_t k = 1; k < n; ++k) {
     const Segment& in = s[first + k - 1];
     const Segment& out = s[first + k];
-    if (dot(in.u, out.u) >= kBendCos) bends->push_back(bend_ratio(in, out, v[k], accel));
+    if (is_bend(in, out)) bends->push_back(bend_ratio(in, out, v[k], accel));
   }
   return t;
 }

@@ -5,13 +5,14 @@
 // pcnc's machine time (docs/smoothing.md, "The ideal planner").
 //
 // The rules, grbl's (planner.c, junction deviation), with unlimited look-ahead:
-//  * the programmed path is cut into straight segments: lines and rapids as they are, arcs and
-//    NURBS curves into chords whose sagitta is at most `chord_tolerance_mm` (grbl's
-//    arc_tolerance, 0.002 mm);
+//  * lines and rapids are straight segments as they are; an arc is one segment at most at
+//    sqrt(A·r) (A the smaller plane axis's acceleration: LinuxCNC's tp runs an arc as an arc),
+//    or with `arcs_as_chords` cut into chords whose sagitta is at most `chord_tolerance_mm`
+//    (grbl's arc_tolerance, 0.002 mm); NURBS curves are cut into such chords;
 //  * a segment runs at most at its feed (rapids: none) and at the axes' velocities projected on
 //    it; it accelerates and brakes at the axes' accelerations projected on it (the smallest
 //    a_i / |u_i|);
-//  * at a junction turning by θ the speed is at most sqrt(a_j · δ · s / (1 − s)), with
+//  * at a junction turning by θ (between an arc's end tangent and the next start's) the speed is at most sqrt(a_j · δ · s / (1 − s)), with
 //    s = sin((π − θ)/2), δ the path tolerance and a_j the axes' acceleration projected on the
 //    change of direction; a reversal stops;
 //  * the program starts and ends at rest, and stops where a move does not contour (G61/M22),
@@ -33,7 +34,11 @@ namespace pcnc {
 
 struct IdealPlannerOptions {
   double tolerance_mm = 0.005;        // the junction deviation δ
-  double chord_tolerance_mm = 0.002;  // arcs and curves as chords of at most this sagitta
+  double chord_tolerance_mm = 0.002;  // curves (and arcs as chords) as chords of at most this sagitta
+  // grbl's arcs: chords, each junction at the junction-deviation speed. On an arc of a few
+  // tenths of a mm a chord turns by over 10°, and the junction-deviation circle of 5 µm is
+  // larger than the arc: faster than the arc's own sqrt(A·r) (docs/smoothing.md).
+  bool arcs_as_chords = false;
   // Not the ideal's rule but the floor a planner that keeps the axes' acceleration on the bends
   // could reach with the same junctions: a bend (a turn under 10°) also at most at sqrt(a_j·ρ),
   // ρ the circumradius of the junction and its neighbours' far ends.
@@ -52,7 +57,7 @@ struct IdealPlan {
   std::uint64_t stops = 0;            // junctions (and ends) passed at rest
   std::uint64_t unmodelled_moves = 0; // rotary, angular or ruled moves left out
   // What the planned speeds ask of the programmed curve at its bends (junctions turning by less
-  // than 10°: a fillet's moves, an arc's chords): v² over the circumradius of the junction and
+  // than 10° between straight segments: a fillet's moves, an arc's chords): v² over the circumradius of the junction and
   // its neighbours' far ends, as a multiple of the axes' acceleration along the change of
   // direction. Above 1 (by more than 1e-9) the ideal's speed there exceeds what the axes are
   // configured to give.
