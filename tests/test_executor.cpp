@@ -4,12 +4,14 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "motion/executor.hpp"
 #include "motion/junction.hpp"
 #include "motion/path.hpp"
 #include "gcode/preprocessor.hpp"
 #include "geometry/arc_limits.hpp"
+#include "geometry/axis_caps.hpp"
 #include "geometry/plane.hpp"
 #include "machine_runner.hpp"
 #include "make_blocks.hpp"
@@ -410,6 +412,70 @@ TEST(Executor, FlowingJunctionsAreCrossedWithinTheirCapsWhileBraking) {
   }
   EXPECT_GT(crossings, 50);
   EXPECT_GT(tight, 20);  // the caps bind: the executor runs up to them
+}
+
+TEST(Executor, RandomZigzagsAreCrossedWithinTheirCaps) {
+  // The test above on random zigzags: 40 programs of 40 segments each, lengths from a small part
+  // of a cycle's travel to many cycles', turns from 0.2° to 9.8° either way, feeds 20-100 mm/s,
+  // the ring fed in full and one block at a time. Every crossing runs at most at its cap, and
+  // the speed never changes by more than the axes' acceleration allows in a cycle.
+  MachineConfig c = cfg();
+  c.motion.path_tolerance_mm = 0.0;
+  const double dt = c.cycle_period_s(), f = c.motion.junction_velocity_step_fraction;
+  const std::array<double, kAxes> acc{c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2, c.axes[2].max_accel_mm_s2};
+  std::mt19937 rng(20261127);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int crossings = 0, tight = 0;
+  for (int program = 0; program < 40; ++program) {
+    const Vec3 start{2.0, 12.5, 20.0};
+    ProgramBuilder p(c, test::home(c));
+    p.rapid(start).contouring(true);
+    std::vector<Vec3> dirs;
+    double heading = 0.0;
+    Vec3 at = start;
+    const double feed = 20.0 + 80.0 * unit(rng);
+    int micro = 0;  // moves left in a run of micro moves
+    for (int i = 0; i < 40; ++i) {
+      // 0.003 to 1 mm turning by 0.2-9.8°; now and then a run of 3-8 collinear micro moves of
+      // 0.1-10 µm, as CAM output has (one cycle may cross several, and more than the ring holds)
+      if (micro == 0 && unit(rng) < 0.1) micro = 3 + static_cast<int>(6.0 * unit(rng));
+      const double turn = (micro > 0 ? 0.0 : 0.2 + 9.6 * unit(rng)) * std::numbers::pi / 180.0;
+      heading += (unit(rng) < 0.5 ? 1.0 : -1.0) * turn;
+      const double len = micro > 0 ? std::pow(10.0, -4.0 + 2.0 * unit(rng)) : std::pow(10.0, -2.5 + 2.5 * unit(rng));
+      if (micro > 0) --micro;
+      const Vec3 d{std::cos(heading), std::sin(heading), 0.0};
+      if ((at + len * d)[0] > 23.0 || (at + len * d)[1] < 2.0 || (at + len * d)[1] > 23.0) break;
+      at = at + len * d;
+      p.line(at, feed);
+      dirs.push_back(d);
+    }
+    p.end();
+    for (const std::size_t feed_limit : {kRingSlots, std::size_t{3}, std::size_t{2}, std::size_t{1}}) {
+      const auto s = execute(c, p.blocks(), nullptr, feed_limit);
+      const std::uint32_t first = p.blocks()[1].line;
+      for (std::size_t k = 1; k < s.size(); ++k) {
+        // the path speed never steps by more than a cycle's acceleration along the block (the
+        // larger of the two blocks' where the cycle crosses)
+        if (s[k].line >= first && s[k - 1].line >= first && s[k].line - first < dirs.size() &&
+            s[k - 1].line - first < dirs.size()) {
+          const double a = std::max(axis_cap(dirs[s[k].line - first], acc), axis_cap(dirs[s[k - 1].line - first], acc));
+          EXPECT_LE(std::abs(s[k].v - s[k - 1].v), a * dt * (1.0 + 1e-9)) << "program " << program << " line " << s[k].line;
+        }
+        if (s[k].line == s[k - 1].line || s[k - 1].line < first || s[k].line <= s[k - 1].line) continue;
+        // every junction crossed in this cycle: from segment j to j + 1, for j in [line before, line now)
+        for (std::uint32_t l = s[k - 1].line; l < s[k].line; ++l) {
+          const std::size_t j = l - first;
+          if (j + 1 >= dirs.size()) continue;
+          const double cap = junction_speed_cap(dirs[j], dirs[j + 1], acc, dt, f);
+          EXPECT_LE(s[k].v, cap * (1.0 + 1e-9)) << "program " << program << " junction " << j;
+          ++crossings;
+          tight += s[k].v > 0.9 * cap;
+        }
+      }
+    }
+  }
+  EXPECT_GT(crossings, 1000);
+  EXPECT_GT(tight, 200);
 }
 
 TEST(Executor, FeedHoldRampsDownAndResumes) {
