@@ -414,6 +414,58 @@ TEST(Executor, FlowingJunctionsAreCrossedWithinTheirCapsWhileBraking) {
   EXPECT_GT(tight, 20);  // the caps bind: the executor runs up to them
 }
 
+TEST(Junction, TheTurnsShareGrowsWithTheCrossingSpeed) {
+  const std::array<double, kAxes> acc{2000.0, 2000.0, 1000.0};
+  const double dt = 0.0005, f = 0.5;
+  const Vec3 x{1, 0, 0};
+  const double e = 3.0 * std::numbers::pi / 180.0;
+  const Vec3 turned{std::cos(e), std::sin(e), 0.0};
+  // a tangent junction takes nothing; a velocity step at its cap takes the whole fraction, and
+  // half of it at half the cap
+  EXPECT_EQ(turn_share_at(turn_share(x, x, acc, dt, 0.0), 50.0, f), 0.0);
+  const double cap = junction_speed_cap(x, turned, acc, dt, f);
+  const TurnShare step = turn_share(x, turned, acc, dt, 0.0);
+  EXPECT_NEAR(turn_share_at(step, cap, f), f, 1e-12);
+  EXPECT_NEAR(turn_share_at(step, 0.5 * cap, f), 0.5 * f, 1e-12);
+  EXPECT_EQ(turn_share_at(step, 10.0 * cap, f), f) << "never above the fraction";
+  // a corner window of half-length h: its peak turn acceleration v²·1.5·|Δu_i|/(2h) over the axis's
+  const double h = 0.02, v = 10.0;
+  const TurnShare window = turn_share(x, turned, acc, dt, h);
+  const double dy = std::sin(e), dx = 1.0 - std::cos(e);
+  EXPECT_NEAR(turn_share_at(window, v, f), v * v * 1.5 * std::max(dx, dy) / (2.0 * h * 2000.0), 1e-12);
+  // next to a rotary block: the whole fraction at any speed
+  EXPECT_EQ(turn_share_at(TurnShare{}, 1.0, f), f);
+}
+
+TEST(Executor, AJunctionCrossedWellBelowItsCapKeepsMostOfTheAcceleration) {
+  // Ramping from rest through a 0.5° junction 0.05 mm ahead (crossed at about 14 mm/s, its cap
+  // over 50 mm/s): its velocity step takes about a quarter of f there, so the cycles around it
+  // keep nearly all of the acceleration (until 2026-11-27 they kept (1 − f)·a, half).
+  MachineConfig c = cfg();
+  c.motion.path_tolerance_mm = 0.0;
+  const double dt = c.cycle_period_s(), f = c.motion.junction_velocity_step_fraction;
+  const Vec3 a0{2.0, 12.5, 20.0}, a1 = a0 + Vec3{0.05, 0.0, 0.0};
+  const double e = 0.5 * std::numbers::pi / 180.0;
+  const Vec3 a2 = a1 + 5.0 * Vec3{std::cos(e), std::sin(e), 0.0};
+  ProgramBuilder p(c, a0);
+  p.contouring(true).line(a1, 80.0).line(a2, 80.0).end();
+  const auto s = execute(c, p.blocks());
+  const std::array<double, kAxes> acc{c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2, c.axes[2].max_accel_mm_s2};
+  const double cap = junction_speed_cap({1, 0, 0}, {std::cos(e), std::sin(e), 0}, acc, dt, f);
+  int around = 0;
+  for (std::size_t k = 2; k + 1 < s.size(); ++k) {
+    const bool crossing = s[k].line != s[k - 1].line && s[k - 1].line == p.blocks()[0].line;
+    if (!crossing) continue;
+    EXPECT_LT(s[k].v, 0.4 * cap);
+    // the crossing cycle and the one after it ramp at nearly the full 2000 mm/s²
+    for (std::size_t j = k; j <= k + 1; ++j) {
+      EXPECT_GT(s[j].v - s[j - 1].v, 0.85 * 2000.0 * dt) << "cycle " << j;
+      ++around;
+    }
+  }
+  EXPECT_EQ(around, 2);
+}
+
 TEST(Executor, RandomZigzagsAreCrossedWithinTheirCaps) {
   // The test above on random zigzags: 40 programs of 40 segments each, lengths from a small part
   // of a cycle's travel to many cycles', turns from 0.2° to 9.8° either way, feeds 20-100 mm/s,

@@ -112,6 +112,9 @@ bool Executor::prepare_visible(const MotionRing& ring, ExecResult& out) {
         }
         corner_[prepared_ - 1] = cap;
         plan_blend(prepared_ - 1, cap);
+        const CornerBlend& w = blend_[prepared_ - 1];
+        turn_[prepared_ - 1] = p.rotary || q.rotary ? TurnShare{}
+                                                    : turn_share(p.dir_end, q.dir_start, junction_.axis_accel, dt_, w.on ? w.h : 0.0);
       } else {
         corner_[prepared_ - 1] = 0.0;
         blend_[prepared_ - 1] = CornerBlend{};
@@ -133,6 +136,7 @@ void Executor::pop(MotionRing& ring, ExecResult& out) {
   for (std::size_t i = 1; i < prepared_; ++i) {
     prep_[i - 1] = prep_[i];
     corner_[i - 1] = corner_[i];
+    turn_[i - 1] = turn_[i];
     blend_[i - 1] = blend_[i];
   }
   --prepared_;
@@ -450,9 +454,14 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const bool stop_at_end = !flows_after(0);
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
   const double remaining = b.length - s_;
-  const bool near_junction = crossed_ > 0 || (!stop_at_end && remaining <= (v_ + a * dt_) * dt_);
-  const double a_step = near_junction ? (1.0 - f_) * a_ramp : a_ramp;
-  const double a_step_down = near_junction ? (1.0 - f_) * a_brake : a_brake;
+  // the cycles around a flowing junction leave the share its turn takes at the speed there
+  const double share_in = crossed_ > 0 ? crossed_share_ : 0.0;
+  const bool crossing = !stop_at_end && remaining <= (v_ + a * dt_) * dt_;
+  // this cycle crosses at v_ + a·T at most; a later one at the junction's cap at most
+  const double share_out = !stop_at_end ? turn_share_at(turn_[0], crossing ? v_ + a * dt_ : junction_cap(0, in), f_) : 0.0;
+  const double share = std::max(share_in, crossing ? share_out : 0.0);
+  const double a_step = (1.0 - share) * a_ramp;
+  const double a_step_down = (1.0 - share) * a_brake;
   const double v_up = v_ + a_step * dt_;  // the fastest this cycle may go
 
   // A stop at the end of this block, with no junction-restricted cycle left: the exact
@@ -461,7 +470,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   // the first after a crossing, and the one that crosses a flowing end): braking at (1 − f)·a in
   // such a cycle leaves the speed f·a·T higher, which costs f·v·T of distance
   // (docs/rt-executor.md, "Speed law"). The look-ahead's backward pass keeps k_ = 1 + 2f.
-  const double k_here = 1.0 + f_ * ((crossed_ > 1 ? 1 : 0) + (stop_at_end ? 0 : 1));
+  const double k_here = 1.0 + (crossed_ > 1 ? share_in : 0.0) + share_out;
   double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
                                                : stop_speed(remaining, v_exit, a, dt_, k_here);
   if (b.kind == BlockKind::kArc && v_stop < cap && v_stop < v_up) {
@@ -537,6 +546,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
       return;
     }
     // flowing junction: carry the distance left over into the next block
+    crossed_share_ = turn_share_at(turn_[0], v_new, f_);
     const Block& next = flow_into_next(ring, out);
     crossed_ = 2;
     const double carry = leftover;
@@ -551,60 +561,6 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     rot_acc_ = {0.0, 0.0, 0.0};
   }
   remember_cycle();
-}
-
-double Executor::ruled_exit_speed(const MotionRing& ring, const ExecInput& in) const {
-  const RuledGeometry& g = ring.peek(0).ruled;
-  if (in.hold || prepared_ < 2 || !(g.end_speed > 0.0)) return 0.0;
-  const Block& next = ring.peek(1);
-  if (next.kind != BlockKind::kRuled || !(next.ruled.start_speed > 0.0)) return 0.0;
-  // continuity: the next piece starts with the tool where and as this one ends
-  const PreparedBlock& p = prep_[0];
-  const PreparedBlock& q = prep_[1];
-  if (norm(q.start - p.end) > cfg_.motion.block_tolerance_mm || dot(p.dir_end, q.dir_start) < 0.9999 ||
-      norm(next.rotary.axis_start - ring.peek(0).rotary.axis_end) > 1e-6) {
-    return 0.0;
-  }
-  const double scale = std::clamp(in.feed_override, 0.0, 1.0);
-  // the next piece may have to stop within its own length (what follows it is not known)
-  const double stop = std::sqrt(2.0 * next.ruled.accel * next.ruled.length);
-  return std::min({g.end_speed, next.ruled.start_speed, scale * next.ruled.schedule_speed[0], stop});
-}
-
-void Executor::put_ruled(const RuledSample& s) {
-  from_joints(cfg_, s.q, pos_, rot_);
-  Rot3 rv{}, ra{};
-  from_joints(cfg_, s.dq, vel_, rv);
-  from_joints(cfg_, s.ddq, acc_, ra);
-  rot_vel_ = rv;
-  rot_acc_ = ra;
-  v_ = s.feed;
-  s_ = ruled_.travelled();
-}
-
-void Executor::ruled_step(MotionRing& ring, const ExecInput& in, ExecResult& out) {
-  const Block& blk = ring.peek(0);
-  const double scale = in.hold ? 0.0 : std::clamp(in.feed_override, 0.0, 1.0);
-  const RuledSample& s = ruled_.step(blk.ruled, dt_, ruled_exit_speed(ring, in), scale);
-  put_ruled(s);
-  if (!ruled_.done()) return;
-  if (!(s.feed > 0.0) || prepared_ < 2 || ring.peek(1).kind != BlockKind::kRuled) {
-    // the end at rest: land exactly on the host's end joints, rest one cycle, then the next block
-    pos_ = prep_[0].land;
-    rot_ = prep_[0].rot_end;
-    hold_still();
-    pop(ring, out);
-    rest_cycle_ = true;
-    ended_at_rest_ = true;
-    after_motion_ = true;
-    return;
-  }
-  // a flowing join: the next part of the piece starts at the speed this one ended with, the
-  // cycle's leftover length already travelled along it
-  ruled_carry_ = ruled_.leftover();
-  ruled_speed_ = s.feed;
-  flow_into_next(ring, out);
-  put_ruled(ruled_.sample());
 }
 
 const Block& Executor::flow_into_next(MotionRing& ring, ExecResult& out) {

@@ -199,6 +199,12 @@ class Executor {
   // corner_[i]: the speed cap of the junction between prep_[i] and prep_[i + 1] from the
   // geometry alone (0: it does not flow), computed once when prep_[i + 1] is prepared.
   std::array<double, kRingSlots> corner_{};
+  // turn_[i]: how the share of a cycle's acceleration junction i's turn takes grows with the
+  // speed it is crossed at (junction.hpp TurnShare: a velocity step, or a corner window's turn;
+  // the whole fraction f_ next to a rotary block); crossed_share_: the junction crossed last's,
+  // at the speed it was crossed at
+  std::array<TurnShare, kRingSlots> turn_{};
+  double crossed_share_ = 0.0;
   // blend_[i]: the corner blend of junction i (on: its window replaces the sharp corner; its `at`
   // is the corner's position in path_base_'s coordinate); entered_: the junction crossed into the
   // block in execution, whose window may still reach into it

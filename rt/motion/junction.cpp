@@ -50,6 +50,22 @@ double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std:
   return axis_cap(dir_start - dir_end, step);
 }
 
+TurnShare turn_share(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel, double dt,
+                     double window_half) {
+  double worst = 0.0;  // max_i |Δu_i| / a_i
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
+    worst = std::fmax(worst, std::fabs(dir_start[i] - dir_end[i]) / axis_accel[i]);
+  }
+  if (window_half > 0.0) return {1.5 * worst / (2.0 * window_half), 2};
+  return {worst / dt, 1};
+}
+
+double turn_share_at(const TurnShare& share, double v, double fraction) {
+  if (share.power == 0) return fraction;
+  const double s = share.coef * (share.power == 2 ? v * v : v);
+  return s < fraction ? s : fraction;
+}
+
 double joint_junction_speed(const JointRate& rate_end, const JointRate& curv_end, const JointRate& rate_start,
                             const JointRate& curv_start, const JointRate& joint_accel, double dt, double fraction) {
   double v = std::numeric_limits<double>::infinity();

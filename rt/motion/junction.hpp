@@ -46,6 +46,24 @@ bool junction_flows(bool contouring, const Vec3& dir_end, const Vec3& dir_start,
 double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel,
                           double dt_s, double fraction);
 
+/// How the share of a cycle's acceleration a flowing junction's turn takes, on its busiest axis,
+/// grows with the speed v it is crossed at: coef·v for a velocity step within one cycle
+/// (max_i |Δu_i| / (a_i·dt)), coef·v² where a corner window of half-length h carries the turn
+/// (its peak turn acceleration, 1.5·max_i |Δu_i| / (2h·a_i)); power 0: always the whole fraction.
+struct TurnShare {
+  double coef = 0.0;
+  int power = 0;
+};
+
+/// The TurnShare of the junction between `dir_end` and `dir_start` (unit vectors); `window_half`
+/// 0 for a velocity step, else the corner window's half-length h (mm).
+TurnShare turn_share(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel, double dt_s,
+                     double window_half_mm);
+
+/// The share at speed v, at most `fraction` (junction_velocity_step_fraction): the cycles around
+/// the junction keep (1 − share)·a for the path (executor.cpp, docs/rt-executor.md).
+double turn_share_at(const TurnShare& share, double v_mm_s, double fraction);
+
 /// The rules a junction is judged by, from the config.
 struct JunctionRules {
   double cos_limit = 1.0;             // cos(contouring angle)
