@@ -16,7 +16,6 @@ namespace pcnc {
 
 Executor::Executor(const MachineConfig& config) : cfg_(config), dt_(config.cycle_period_s()) {
   f_ = std::clamp(config.motion.junction_velocity_step_fraction, 0.0, 1.0);
-  k_ = 1.0 + 2.0 * f_;
   junction_.cos_limit = std::cos(config.motion.contouring_angle_deg * std::numbers::pi / 180.0);
   junction_.step_fraction = f_;
   junction_.dt = dt_;
@@ -181,8 +180,11 @@ double Executor::compute_exit_speed(const ExecInput& in) const {
     // the same discrete rule (with its margin) the block will be run with; a NURBS block may
     // brake at its schedule's accelerations (their mean over the block)
     const double cap = std::min(cap_of(prep_[j], in), prep_[j].v_first);
-    double stop = stop_speed(prep_[j].length, v_out, prep_[j].brake_accel, dt_, k_);
-    if (prep_[j].kind == BlockKind::kArc && stop < cap) stop = std::max(stop, arc_stop_speed(prep_[j], cfg_, prep_[j].length, v_out, false, cap, dt_, k_));
+    // its margin: one cycle, and the share its entry's and its exit's turns take at their caps
+    const double k = 1.0 + turn_share_at(turn_[j - 1], junction_cap(j - 1, in), f_) +
+                     (flows_after(j) ? turn_share_at(turn_[j], junction_cap(j, in), f_) : 0.0);
+    double stop = stop_speed(prep_[j].length, v_out, prep_[j].brake_accel, dt_, k);
+    if (prep_[j].kind == BlockKind::kArc && stop < cap) stop = std::max(stop, arc_stop_speed(prep_[j], cfg_, prep_[j].length, v_out, false, cap, dt_, k));
     const double v_in = std::min(cap, stop);
     v_out = std::min(v_in, junction_cap(j - 1, in));
   }
@@ -469,7 +471,8 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   // braking, plus f for each junction-restricted cycle still ahead (the one after this if this is
   // the first after a crossing, and the one that crosses a flowing end): braking at (1 − f)·a in
   // such a cycle leaves the speed f·a·T higher, which costs f·v·T of distance
-  // (docs/rt-executor.md, "Speed law"). The look-ahead's backward pass keeps k_ = 1 + 2f.
+  // (docs/rt-executor.md, "Speed law"). The look-ahead's backward pass counts a block's entry
+  // and exit shares at their junctions' caps (compute_exit_speed).
   const double k_here = 1.0 + (crossed_ > 1 ? share_in : 0.0) + share_out;
   double v_stop = stop_at_end && crossed_ == 0 ? stop_speed_exact(remaining, a, dt_)
                                                : stop_speed(remaining, v_exit, a, dt_, k_here);

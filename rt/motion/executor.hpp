@@ -191,7 +191,6 @@ class Executor {
   MachineConfig cfg_;
   double dt_;
   double f_;               // junction velocity-step fraction, clamped to [0, 1]
-  double k_;               // stop_speed margin
   JunctionRules junction_;  // contouring angle, step fraction, corner tolerance, axis limits
   JointRate joint_accel_{};  // each joint's acceleration limit, X Y Z mm/s² then A B C rad/s²
 
