@@ -369,6 +369,39 @@ TEST(Executor, AlwaysAbleToStopWithinTheRing) {
   EXPECT_GT(clones, 50);
 }
 
+// A zigzag program's run (segment j from line first + j, direction dirs[j]): every junction a
+// cycle crosses (one cycle may cross several) at most at its junction_speed_cap, and no cycle's
+// speed change above its blocks' acceleration. Returns the crossings and how many ran within 10 %
+// of their cap.
+struct Crossings {
+  int count = 0;
+  int tight = 0;
+};
+
+Crossings check_zigzag_run(const std::vector<Sample>& s, std::uint32_t first, const std::vector<Vec3>& dirs,
+                           const MachineConfig& c, const std::string& what) {
+  const double dt = c.cycle_period_s(), f = c.motion.junction_velocity_step_fraction;
+  const std::array<double, kAxes> acc{c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2, c.axes[2].max_accel_mm_s2};
+  auto segment = [&](std::uint32_t line) { return line >= first && line - first < dirs.size() ? line - first : dirs.size(); };
+  Crossings out;
+  for (std::size_t k = 1; k < s.size(); ++k) {
+    const std::size_t a = segment(s[k - 1].line), b = segment(s[k].line);
+    if (a < dirs.size() && b < dirs.size()) {
+      // the larger of the two blocks' accelerations where the cycle crosses
+      const double limit = std::max(axis_cap(dirs[a], acc), axis_cap(dirs[b], acc));
+      EXPECT_LE(std::abs(s[k].v - s[k - 1].v), limit * dt * (1.0 + 1e-9)) << what << " line " << s[k].line;
+    }
+    if (a >= dirs.size() || s[k].line <= s[k - 1].line) continue;
+    for (std::size_t j = a; j < std::min(b, dirs.size() - 1); ++j) {  // from segment j to j + 1
+      const double cap = junction_speed_cap(dirs[j], dirs[j + 1], acc, dt, f);
+      EXPECT_LE(s[k].v, cap * (1.0 + 1e-9)) << what << " junction " << j;
+      ++out.count;
+      out.tight += s[k].v > 0.9 * cap;
+    }
+  }
+  return out;
+}
+
 TEST(Executor, FlowingJunctionsAreCrossedWithinTheirCapsWhileBraking) {
   // A zigzag under M21 (path tolerance 0: the seed's rule, each junction capped by the velocity
   // step its turn asks, junction_speed_cap) whose turns grow from 0.5° to 9.5° over each run of
@@ -378,8 +411,6 @@ TEST(Executor, FlowingJunctionsAreCrossedWithinTheirCapsWhileBraking) {
   // the stop rule's margin (docs/rt-executor.md, "Speed law").
   MachineConfig c = cfg();
   c.motion.path_tolerance_mm = 0.0;
-  const double dt = c.cycle_period_s(), f = c.motion.junction_velocity_step_fraction;
-  const std::array<double, kAxes> acc{c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2, c.axes[2].max_accel_mm_s2};
   const Vec3 start{1.5, 12.5, 20.0};
   ProgramBuilder p(c, test::home(c));
   p.rapid(start).contouring(true);
@@ -398,20 +429,10 @@ TEST(Executor, FlowingJunctionsAreCrossedWithinTheirCapsWhileBraking) {
     dirs.push_back(d);
   }
   p.end();
-  const auto s = execute(c, p.blocks());
-  const std::uint32_t first = p.blocks()[1].line;  // the zigzag's first block (after the rapid)
-  int crossings = 0, tight = 0;
-  for (std::size_t k = 1; k < s.size(); ++k) {
-    if (s[k].line == s[k - 1].line || s[k - 1].line < first || s[k].line != s[k - 1].line + 1) continue;
-    const std::size_t j = s[k - 1].line - first;  // from segment j to j + 1
-    if (j + 1 >= dirs.size()) continue;
-    const double cap = junction_speed_cap(dirs[j], dirs[j + 1], acc, dt, f);
-    EXPECT_LE(s[k].v, cap * (1.0 + 1e-9)) << "junction " << j << " (turn " << j % 10 << ")";
-    ++crossings;
-    tight += s[k].v > 0.9 * cap;
-  }
-  EXPECT_GT(crossings, 50);
-  EXPECT_GT(tight, 20);  // the caps bind: the executor runs up to them
+  // the zigzag's first block follows the rapid
+  const Crossings x = check_zigzag_run(execute(c, p.blocks()), p.blocks()[1].line, dirs, c, "zigzag");
+  EXPECT_GT(x.count, 50);
+  EXPECT_GT(x.tight, 20);  // the caps bind: the executor runs up to them
 }
 
 TEST(Junction, TheTurnsShareGrowsWithTheCrossingSpeed) {
@@ -469,12 +490,10 @@ TEST(Executor, AJunctionCrossedWellBelowItsCapKeepsMostOfTheAcceleration) {
 TEST(Executor, RandomZigzagsAreCrossedWithinTheirCaps) {
   // The test above on random zigzags: 40 programs of 40 segments each, lengths from a small part
   // of a cycle's travel to many cycles', turns from 0.2° to 9.8° either way, feeds 20-100 mm/s,
-  // the ring fed in full and one block at a time. Every crossing runs at most at its cap, and
-  // the speed never changes by more than the axes' acceleration allows in a cycle.
+  // the ring fed 4, 3, 2 and 1 blocks deep. Every crossing runs at most at its cap, and the speed
+  // never changes by more than the axes' acceleration allows in a cycle.
   MachineConfig c = cfg();
   c.motion.path_tolerance_mm = 0.0;
-  const double dt = c.cycle_period_s(), f = c.motion.junction_velocity_step_fraction;
-  const std::array<double, kAxes> acc{c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2, c.axes[2].max_accel_mm_s2};
   std::mt19937 rng(20261127);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int crossings = 0, tight = 0;
@@ -503,27 +522,10 @@ TEST(Executor, RandomZigzagsAreCrossedWithinTheirCaps) {
     }
     p.end();
     for (const std::size_t feed_limit : {kRingSlots, std::size_t{3}, std::size_t{2}, std::size_t{1}}) {
-      const auto s = execute(c, p.blocks(), nullptr, feed_limit);
-      const std::uint32_t first = p.blocks()[1].line;
-      for (std::size_t k = 1; k < s.size(); ++k) {
-        // the path speed never steps by more than a cycle's acceleration along the block (the
-        // larger of the two blocks' where the cycle crosses)
-        if (s[k].line >= first && s[k - 1].line >= first && s[k].line - first < dirs.size() &&
-            s[k - 1].line - first < dirs.size()) {
-          const double a = std::max(axis_cap(dirs[s[k].line - first], acc), axis_cap(dirs[s[k - 1].line - first], acc));
-          EXPECT_LE(std::abs(s[k].v - s[k - 1].v), a * dt * (1.0 + 1e-9)) << "program " << program << " line " << s[k].line;
-        }
-        if (s[k].line == s[k - 1].line || s[k - 1].line < first || s[k].line <= s[k - 1].line) continue;
-        // every junction crossed in this cycle: from segment j to j + 1, for j in [line before, line now)
-        for (std::uint32_t l = s[k - 1].line; l < s[k].line; ++l) {
-          const std::size_t j = l - first;
-          if (j + 1 >= dirs.size()) continue;
-          const double cap = junction_speed_cap(dirs[j], dirs[j + 1], acc, dt, f);
-          EXPECT_LE(s[k].v, cap * (1.0 + 1e-9)) << "program " << program << " junction " << j;
-          ++crossings;
-          tight += s[k].v > 0.9 * cap;
-        }
-      }
+      const Crossings x = check_zigzag_run(execute(c, p.blocks(), nullptr, feed_limit), p.blocks()[1].line, dirs, c,
+                                           "program " + std::to_string(program) + " ring " + std::to_string(feed_limit));
+      crossings += x.count;
+      tight += x.tight;
     }
   }
   EXPECT_GT(crossings, 1000);

@@ -27,6 +27,21 @@ MachineConfig mill() {
 
 Move line(const Vec3& a, const Vec3& b, double feed) { return test::line_move(a, b, 0, feed); }
 
+// A counter-clockwise XY arc of `radius` about `center` from `from` (radians) through `sweep`.
+Move xy_arc(const Vec3& center, double radius, double from, double sweep, double feed) {
+  Move arc;
+  arc.kind = MoveKind::kArc;
+  arc.contouring = true;
+  arc.normal_axis = 2;
+  arc.center = center;
+  arc.radius = radius;
+  arc.sweep = sweep;
+  arc.start = center + radius * Vec3{std::cos(from), std::sin(from), 0.0};
+  arc.end = center + radius * Vec3{std::cos(from + sweep), std::sin(from + sweep), 0.0};
+  arc.feed_mm_s = feed;
+  return arc;
+}
+
 // Rest to rest over l at most at v, accelerating and braking at a.
 double trapezoid(double l, double v, double a) {
   if (v * v / a >= l) return 2.0 * std::sqrt(l / a);
@@ -109,16 +124,7 @@ TEST(IdealPlanner, AnArcIsOneSegmentAtItsCentripetalLimit) {
   const MachineConfig c = mill();
   // a half circle of radius 2 in XY at F100: sqrt(2000·2) = 63.2 mm/s, entered along the tangent
   // of a 10 mm line (no junction limit), ramps at 2000 mm/s² on both
-  Move arc;
-  arc.kind = MoveKind::kArc;
-  arc.contouring = true;
-  arc.normal_axis = 2;
-  arc.center = {10, 2, 0};
-  arc.radius = 2.0;
-  arc.sweep = std::numbers::pi;
-  arc.start = {10, 0, 0};
-  arc.end = {10, 4, 0};
-  arc.feed_mm_s = 100.0;
+  Move arc = xy_arc({10, 2, 0}, 2.0, -std::numbers::pi / 2.0, std::numbers::pi, 100.0);
   arc.line = 2;
   Move in = line({0, 0, 0}, {10, 0, 0}, 100.0);
   in.line = 1;
@@ -155,16 +161,7 @@ TEST(IdealPlanner, AnArcIsOneSegmentAtItsCentripetalLimit) {
 
 TEST(IdealPlanner, AnArcIsCutIntoChordsWithinTheChordTolerance) {
   const MachineConfig c = mill();
-  Move arc;
-  arc.kind = MoveKind::kArc;
-  arc.contouring = true;
-  arc.normal_axis = 2;
-  arc.center = {0, 0, 0};
-  arc.radius = 2.0;
-  arc.sweep = std::numbers::pi / 2.0;
-  arc.start = {2, 0, 0};
-  arc.end = {0, 2, 0};
-  arc.feed_mm_s = 20.0;
+  const Move arc = xy_arc({0, 0, 0}, 2.0, 0.0, std::numbers::pi / 2.0, 20.0);
   IdealPlannerOptions o;
   o.chord_tolerance_mm = 0.002;
   o.arcs_as_chords = true;
