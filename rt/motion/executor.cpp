@@ -456,11 +456,20 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const bool stop_at_end = !flows_after(0);
   const double v_exit = stop_at_end ? 0.0 : exit_speed_of_current(in);
   const double remaining = b.length - s_;
-  // the cycles around a flowing junction leave the share its turn takes at the speed there
+  // The cycles around a flowing junction leave the share its turn takes at the speed there: this
+  // cycle crosses at v_most at most (and every junction within its reach past the first), a
+  // later cycle at the junction's cap at most.
   const double share_in = crossed_ > 0 ? crossed_share_ : 0.0;
   const bool crossing = !stop_at_end && remaining <= (v_ + a * dt_) * dt_;
-  // this cycle crosses at v_ + a·T at most; a later one at the junction's cap at most
-  const double share_out = !stop_at_end ? turn_share_at(turn_[0], crossing ? v_ + a * dt_ : junction_cap(0, in), f_) : 0.0;
+  const double v_most = v_ + std::max(a, a_ramp) * dt_;
+  double share_out = !stop_at_end ? turn_share_at(turn_[0], crossing ? v_most : junction_cap(0, in), f_) : 0.0;
+  if (crossing) {
+    double reach = v_most * dt_ - remaining;  // how far past the first junction this cycle may go
+    for (std::size_t i = 1; reach > 0.0 && flows_after(i); ++i) {
+      share_out = std::max(share_out, turn_share_at(turn_[i], v_most, f_));
+      reach -= prep_[i].length;
+    }
+  }
   const double share = std::max(share_in, crossing ? share_out : 0.0);
   const double a_step = (1.0 - share) * a_ramp;
   const double a_step_down = (1.0 - share) * a_brake;
@@ -468,9 +477,9 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
 
   // A stop at the end of this block, with no junction-restricted cycle left: the exact
   // discrete braking rule. Otherwise the rule with a margin k: one cycle for the discrete
-  // braking, plus f for each junction-restricted cycle still ahead (the one after this if this is
-  // the first after a crossing, and the one that crosses a flowing end): braking at (1 − f)·a in
-  // such a cycle leaves the speed f·a·T higher, which costs f·v·T of distance
+  // braking, plus the share φ of each junction-restricted cycle still ahead (the one after this
+  // if this is the first after a crossing, and the one that crosses a flowing end): braking at
+  // (1 − φ)·a in such a cycle leaves the speed φ·a·T higher, which costs φ·v·T of distance
   // (docs/rt-executor.md, "Speed law"). The look-ahead's backward pass counts a block's entry
   // and exit shares at their junctions' caps (compute_exit_speed).
   const double k_here = 1.0 + (crossed_ > 1 ? share_in : 0.0) + share_out;
@@ -526,6 +535,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const double v_old = v_;
   v_ = v_new;
   double leftover = 0.0;
+  int crossings_this_cycle = 0;
   bool at_end = advance(blk, v_new * dt_, leftover) || (stop_at_end && v_new > 0.0 && v_new * dt_ >= remaining);
   while (at_end) {
     if (!flows_after(0)) {
@@ -549,7 +559,9 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
       return;
     }
     // flowing junction: carry the distance left over into the next block
-    crossed_share_ = turn_share_at(turn_[0], v_new, f_);
+    // the cycle after it keeps the share of every junction this cycle crossed
+    crossed_share_ = std::max(crossings_this_cycle > 0 ? crossed_share_ : 0.0, turn_share_at(turn_[0], v_new, f_));
+    ++crossings_this_cycle;
     const Block& next = flow_into_next(ring, out);
     crossed_ = 2;
     const double carry = leftover;
