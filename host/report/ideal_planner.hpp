@@ -1,4 +1,4 @@
-// ideal_planner.hpp — the yardstick issue 14 measures machine time against: a LinuxCNC/grbl-class planner
+// ideal_planner.hpp — the yardstick issue 14 measures machine time against: a LinuxCNC/grbl-class
 // planner with unlimited look-ahead that passes every junction at its junction-deviation speed
 // for the path tolerance, as if that junction stood alone. It is a model of another controller's
 // planner, not pcnc's: `bench_ideal_planner` and tools/bench_surfacing.sh print its time beside
