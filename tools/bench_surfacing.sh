@@ -39,8 +39,11 @@ SHARED=$(cd .. && pwd)/shared
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 # heartbeat timeouts of 2 s instead of 0.1 s: on a busy machine a starved process would end a
-# run early as "host lost" (a shorter machine time); they change no figure of a run that completes
+# run early as "host lost" (a shorter machine time); they change no figure of a run that completes.
+# A state directory of its own: the work offsets a program run before left in the user's state
+# (G10 L2, G92 ...: docs/gcode.md) would move --fit's transform and every figure
 sed -e "s#^shm_name = .*#shm_name = \"/pcnc-bench-surf-$$\"#" -e "s#^host_timeout_s = .*#host_timeout_s = 2.0#" \
+    -e "s#^\# state_dir = .*#state_dir = \"$TMP/state\"#" \
     -e "s#^rt_timeout_s = .*#rt_timeout_s = 2.0#" configs/desktop-mill.toml >"$TMP/mill.toml"
 MILL=$TMP/mill.toml
 TOL=0.005
