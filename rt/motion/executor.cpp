@@ -535,7 +535,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const double v_old = v_;
   v_ = v_new;
   double leftover = 0.0;
-  int crossings_this_cycle = 0;
+  double crossed_in_cycle = 0.0;  // the largest share of the junctions this cycle crosses
   bool at_end = advance(blk, v_new * dt_, leftover) || (stop_at_end && v_new > 0.0 && v_new * dt_ >= remaining);
   while (at_end) {
     if (!flows_after(0)) {
@@ -560,8 +560,8 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
     }
     // flowing junction: carry the distance left over into the next block
     // the cycle after it keeps the share of every junction this cycle crossed
-    crossed_share_ = std::max(crossings_this_cycle > 0 ? crossed_share_ : 0.0, turn_share_at(turn_[0], v_new, f_));
-    ++crossings_this_cycle;
+    crossed_in_cycle = std::max(crossed_in_cycle, turn_share_at(turn_[0], v_new, f_));
+    crossed_share_ = crossed_in_cycle;
     const Block& next = flow_into_next(ring, out);
     crossed_ = 2;
     const double carry = leftover;

@@ -52,10 +52,7 @@ double junction_speed_cap(const Vec3& dir_end, const Vec3& dir_start, const std:
 
 TurnShare turn_share(const Vec3& dir_end, const Vec3& dir_start, const std::array<double, kAxes>& axis_accel, double dt,
                      double window_half) {
-  double worst = 0.0;  // max_i |Δu_i| / a_i
-  for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
-    worst = std::fmax(worst, std::fabs(dir_start[i] - dir_end[i]) / axis_accel[i]);
-  }
+  const double worst = 1.0 / axis_cap(dir_start - dir_end, axis_accel);  // max_i |Δu_i| / a_i (0 if tangent)
   if (window_half > 0.0) return {1.5 * worst / (2.0 * window_half), 2};
   return {worst / dt, 1};
 }
