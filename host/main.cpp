@@ -22,6 +22,7 @@
 #include "service/job_runner.hpp"
 #include "config/surface_file.hpp"
 #include "gcode/program.hpp"
+#include "service/pause_prompt.hpp"
 #include "service/progress_update.hpp"
 #include "report/run_report.hpp"
 #include "report/run_summary.hpp"
@@ -55,7 +56,7 @@ int main(int argc, char** argv) {
                "feeds) before anything moves, preprocesses each move into a block and feeds pcnc-rt through the "
                "4-slot shared-memory ring. pcnc-rt must be running with the same config."};
   std::string config_path = pcnc::default_config_path();
-  std::string run_file, contouring, offset, summary_path, tool_table, surface, log_level = "warn";
+  std::string run_file, contouring, offset, summary_path, tool_table, surface, log_level = "warn", pauses = "continue";
   int progress_fd = -1;
   bool fit = false, serve = false, quiet = false;
   double tolerance = -1.0;
@@ -83,6 +84,12 @@ int main(int argc, char** argv) {
                  "write progress lines (\"progress LINE TOTAL_LINES MACHINE_TIME_S PLANNED_DONE_S PLANNED_TOTAL_S\") to this file "
                  "descriptor while "
                  "running (for launchers: pcnc run shows them as a progress bar)");
+  app.add_option("--pauses", pauses,
+                 "--run: what the program's M0/M1 do. continue: the machine comes to rest there and goes on (no one "
+                 "can resume a --run job from the control socket); ask: it waits at rest for the answer to a \"pause LINE "
+                 "M0\" line on --progress-fd (\"resume\" or \"stop\")")
+      ->check(CLI::IsMember({"continue", "ask"}))
+      ->capture_default_str();
   app.add_option("--wait-rt", wait_rt_s, "seconds to wait for pcnc-rt's segment")->capture_default_str();
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "--run: print no G-code warnings (errors still go to stderr)");
@@ -93,6 +100,11 @@ int main(int argc, char** argv) {
   if (run_file.empty() == !serve) {
     std::fprintf(stderr, "pcnc-host: give either --run FILE or --serve (see --help)\n");
     return 2;
+  }
+
+  if (pauses == "ask" && progress_fd < 0) {
+    std::fprintf(stderr, "pcnc-host: --pauses ask needs --progress-fd (the launcher answers there)\n");
+    return pcnc::kExitBadInput;
   }
 
   pcnc::on_stop_signals(on_signal);
@@ -200,6 +212,13 @@ int main(int argc, char** argv) {
         // best effort: a full pipe skips an update, a reader that went away ends them
         if (write(progress_fd, line.data(), line.size()) < 0 && errno != EAGAIN && errno != EINTR) progress_fd = -1;
       };
+    }
+    if (pauses == "ask") {
+      runner.set_program_pauses(pcnc::ProgramPauses::kAsk, [&](const pcnc::PauseAt& at) {
+        return pcnc::ask_over_progress_channel(progress_fd, at, g_interrupt);
+      });
+    } else {
+      runner.set_program_pauses(pcnc::ProgramPauses::kContinue);
     }
     report.job = runner.run(run_file, options, check, g_interrupt, on_progress);
     const pcnc::WorkState work_before = options.work ? *options.work : pcnc::default_work_state(config);

@@ -71,6 +71,15 @@ TEST(PlannedTime, RunProgressBarTakesItsFractionAndEtaFromThePlan) {
   EXPECT_DOUBLE_EQ(back->planned_total_s, 80.0);
   EXPECT_TRUE(parse_progress_update("progress 1 2 3")) << "an update without the plan is still read";
   EXPECT_FALSE(parse_progress_update("progress 1 2 3 4 -5"));
+  // a program pause under pcnc run --pauses ask: the same channel, a line of its own
+  const auto pause = parse_pause_request(format_pause_request({417, true}));
+  ASSERT_TRUE(pause);
+  EXPECT_EQ(pause->line, 417u);
+  EXPECT_TRUE(pause->optional);
+  EXPECT_FALSE(parse_pause_request("pause 3 M2"));
+  EXPECT_FALSE(parse_pause_request("pause 3 M0 x"));
+  EXPECT_FALSE(parse_progress_update(format_pause_request({3, false}))) << "a pause is not a progress update";
+  EXPECT_FALSE(parse_pause_request(format_progress_update(u))) << "nor an update a pause";
 
   // A quarter of the plan done in 10 s of wall time: the rest at that pace is 30 s, whatever the
   // line count says (line 12 of 500).

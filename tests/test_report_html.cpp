@@ -57,6 +57,11 @@ RunSummary sample_summary() {
   s.refill_p50_us = 12.25;
   s.refill_p99_us = 87.5;
   s.refill_max_us = 301.0;
+  s.pauses = 2;
+  s.pauses_mode = "continue";
+  s.pause_lines = {17, 402};
+  s.smoothing_min_tolerance_mm = 0.005;
+  s.smoothing_max_tolerance_mm = 0.01;
   Status& st = s.final_status;
   st.state = MachineState::kIdle;
   st.program_done = 1;
@@ -236,6 +241,35 @@ TEST(RunReport, TerminalReportNamesACornerTolerance) {
   EXPECT_NE(merged.find("3 stops (path tolerance 10.0 um"), std::string::npos) << merged;
 }
 
+TEST(RunReport, TerminalReportStatesThePausesAndTheToleranceTheCurvesWereFittedTo) {
+  RunReport r;
+  r.program = "part.nc";
+  r.path_tolerance_mm = 0.005;
+  const std::string none = format_run_report(r);
+  EXPECT_EQ(none.find("pauses"), std::string::npos) << "no line without pauses";
+  EXPECT_NE(none.find("smoothing         tolerance 5.0 um: 0 G1 moves"), std::string::npos) << none;
+  r.job.pauses = 3;
+  r.job.pauses_mode = "continue";
+  r.job.pause_lines = {12, 40, 77};
+  r.check.smoothed_curves = 4;
+  r.check.smoothed_moves = 90;
+  r.check.smoothing_min_tolerance_mm = 0.01;  // G64 P0.01 in the program
+  r.check.smoothing_max_tolerance_mm = 0.01;
+  const std::string text = format_run_report(r);
+  EXPECT_NE(text.find("  pauses            3 (M0/M1 on lines 12, 40, 77): the machine came to rest there and went on "
+                      "(--pauses continue)\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("smoothing         tolerance 10.0 um (G64 P): 90 G1 moves"), std::string::npos) << text;
+  r.check.smoothing_min_tolerance_mm = 0.002;
+  r.job.pauses = 40;  // more than the lines kept
+  r.job.pauses_mode = "ask";
+  const std::string range = format_run_report(r);
+  EXPECT_NE(range.find("tolerance 2.0-10.0 um (G64 P)"), std::string::npos) << range;
+  EXPECT_NE(range.find("40 (M0/M1 on lines 12, 40, 77, ...): the machine waited at rest for the operator"), std::string::npos)
+      << range;
+}
+
 TEST(RunSummary, JsonRoundTrip) {
   const RunSummary a = sample_summary();
   const RunSummary b = run_summary_from_json(nlohmann::json::parse(to_json(a).dump()));
@@ -244,10 +278,20 @@ TEST(RunSummary, JsonRoundTrip) {
   EXPECT_EQ(b.final_status.junction_flows, 876u);
   EXPECT_DOUBLE_EQ(b.final_status.program_time_s, 47.8915);
   EXPECT_DOUBLE_EQ(b.transform.scale, 0.25);
+  EXPECT_EQ(b.pauses, 2u);
+  EXPECT_EQ(b.pauses_mode, "continue");
+  EXPECT_EQ(b.pause_lines, (std::vector<std::uint32_t>{17, 402}));
+  EXPECT_DOUBLE_EQ(b.smoothing_max_tolerance_mm, 0.01);
+  EXPECT_DOUBLE_EQ(b.smoothing_min_tolerance_mm, 0.005);
   nlohmann::json broken = to_json(a);
   nlohmann::json older = to_json(a);  // a summary written before path_tolerance_mm existed
   older.erase("path_tolerance_mm");
-  EXPECT_EQ(run_summary_from_json(older).path_tolerance_mm, 0.0);
+  older["job"].erase("pauses");  // nor pauses, nor the smoothing's tolerances
+  older["check"].erase("smoothing_tolerance_mm");
+  const RunSummary old_one = run_summary_from_json(older);
+  EXPECT_EQ(old_one.path_tolerance_mm, 0.0);
+  EXPECT_EQ(old_one.pauses, 0u);
+  EXPECT_EQ(old_one.smoothing_max_tolerance_mm, 0.0);
   broken["status"].erase("underruns");
   EXPECT_THROW(run_summary_from_json(broken), nlohmann::json::exception);
   const Vec3 rms = rms_following_error(a.final_status);
@@ -299,6 +343,8 @@ TEST(ReportHtml, FiguresEqualTheSummary) {
   ReportPage merging = sample_page();
   merging.summary.path_tolerance_mm = 0.01;
   EXPECT_EQ(span(render_report_html(merging), "path-tolerance"), "10.0");
+  EXPECT_EQ(span(html, "pauses"), "2");  // M0/M1 gone on from (pcnc run --pauses)
+  EXPECT_NE(html.find("M0/M1 on lines 17, 402"), std::string::npos);
   EXPECT_EQ(span(html, "final-x"), "12.5001");
   EXPECT_EQ(span(html, "last-point-z"), "20.5000");
   EXPECT_EQ(span(html, "result"), "completed");

@@ -19,6 +19,8 @@
 #include <string>
 #include <thread>
 
+#include "service/progress_update.hpp"
+
 namespace pcnc {
 namespace {
 
@@ -59,6 +61,29 @@ pid_t spawn(const std::string& path, const std::vector<std::string>& args, int k
     _exit(127);
   }
   return pid;
+}
+
+// At a program pause (pcnc run --pauses ask): true when the operator pressed Enter; false
+// when stdin ended or failed (no one can answer), a stop signal came, or the host went away
+// (the progress channel `fd` hung up).
+bool wait_for_enter(int fd) {
+  for (;;) {
+    if (g_signal) return false;
+    pollfd p[2] = {{STDIN_FILENO, POLLIN, 0}, {fd, 0, 0}};
+    const int ready = poll(p, 2, 100);
+    if (ready < 0 && errno != EINTR) return false;
+    if (ready <= 0) continue;
+    if (p[1].revents & (POLLHUP | POLLERR)) return false;
+    if (p[0].revents & (POLLIN | POLLHUP)) {
+      char c = 0;  // a byte at a time: what follows the Enter is the next pause's answer
+      const ssize_t n = read(STDIN_FILENO, &c, 1);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      if (c == '\n') return true;
+    } else if (p[0].revents & (POLLERR | POLLNVAL)) {
+      return false;
+    }
+  }
 }
 
 std::string describe_end(int status) {
@@ -221,6 +246,11 @@ int launch_pair(const LaunchOptions& options) {
           options.on_progress_line(line);
           // "done": the host waits for this answer before it prints its report
           if (line == "done" && write(fd, "ok\n", 3) < 0) break;
+          // a program pause under --pauses ask: the machine waits at rest for the operator
+          if (parse_pause_request(line)) {
+            const char* answer = wait_for_enter(fd) ? "resume\n" : "stop\n";
+            if (write(fd, answer, std::strlen(answer)) < 0) break;
+          }
         }
       }
       close(fd);

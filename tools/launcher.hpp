@@ -29,7 +29,9 @@ struct LaunchOptions {
   double rt_start_timeout_s = 10.0;    // how long pcnc-rt may take to create the segment
   // When set, pcnc-host gets a socket (--progress-fd N) and each line it writes there is
   // handed to this function, from a reader thread, until the host exits. After the line
-  // "done" the launcher answers "ok" (the host waits for it before printing its report).
+  // "done" the launcher answers "ok" (the host waits for it before printing its report); after
+  // "pause LINE M0|M1" (pcnc-host --pauses ask) it waits for Enter on stdin and answers
+  // "resume", or "stop" when stdin ends, a stop signal comes or the host goes away.
   std::function<void(std::string_view line)> on_progress_line;
   bool supervise = false;              // pcnc serve: restart a process that died on its own
   int max_restarts = 5;                // per process, within restart_window_s

@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   // ---- run ----
   auto* run = app.add_subcommand("run", "start pcnc-rt and pcnc-host, run FILE to the end, print a run report");
   std::string file, config_path = pcnc::default_config_path(), clock = "real", contouring, offset, trace, report, summary, tool_table,
-      surface, tolerance;
+      surface, tolerance, pauses;
   bool fit = false, quiet = false, verbose = false;
   run->add_option("FILE", file, "G-code program, or a ruled-surface program in the JSON file form (a .json file: pcnc ruled --json, docs/ruled-surface.md), run as the G-code form the host makes of it")->required()->check(CLI::ExistingFile);
   run->add_option("--config", config_path, "machine configuration (TOML)")->capture_default_str();
@@ -58,6 +58,11 @@ int main(int argc, char** argv) {
                   "following error over time; built after both processes have ended from the compact trace pcnc-rt keeps "
                   "for it, or from the CSV when --trace is given)");
   run->add_option("--summary", summary, "also write the run's figures as JSON (check, transform, job, final status)");
+  run->add_option("--pauses", pauses,
+                  "what the program's M0/M1 do (pcnc run serves no control socket to resume from). ask: the machine "
+                  "waits at rest and Enter continues (Ctrl-C stops); continue: it comes to rest there and goes on. "
+                  "Default: ask under the real clock with a terminal on stdin, continue otherwise")
+      ->check(CLI::IsMember({"ask", "continue"}));
   run->add_flag("-q,--quiet", quiet, "stderr: errors only (no G-code warnings, no progress, no process log)");
   run->add_flag("-v,--verbose", verbose, "stderr: the processes' informational log too");
   run->callback([&] {
@@ -114,6 +119,8 @@ int main(int argc, char** argv) {
       if (summary_file.empty()) summary_file = scratch + "/summary.json";
     }
     if (!trace.empty()) lo.rt_args.insert(lo.rt_args.end(), {"--trace", trace});
+    if (pauses.empty()) pauses = clock == "real" && isatty(STDIN_FILENO) ? "ask" : "continue";
+    lo.host_args.insert(lo.host_args.end(), {"--pauses", pauses});
     if (!contouring.empty()) lo.host_args.insert(lo.host_args.end(), {"--contouring", contouring});
     if (!offset.empty()) lo.host_args.insert(lo.host_args.end(), {"--offset", offset});
     if (fit) lo.host_args.push_back("--fit");
@@ -126,10 +133,15 @@ int main(int argc, char** argv) {
     }
     // progress: a bar when our stderr is a terminal, plain lines every few seconds otherwise
     pcnc::ProgressDisplay display(stderr, pcnc::ProgressDisplay::is_terminal(stderr));
-    if (!quiet) lo.on_progress_line = [&display](std::string_view line) {
+    // (the channel is needed for --pauses ask even when --quiet hides the progress)
+    if (!quiet || pauses == "ask") lo.on_progress_line = [&display, quiet](std::string_view line) {
       if (line == "done") {
         display.finish();
-      } else if (const auto u = pcnc::parse_progress_update(line)) {
+      } else if (const auto p = pcnc::parse_pause_request(line)) {
+        display.finish();  // the launcher now waits for Enter
+        std::fprintf(stderr, "pcnc: the program paused at line %u (%s): the machine waits at rest; press Enter to "
+                             "continue, Ctrl-C to stop\n", p->line, p->optional ? "M1, optional stop" : "M0");
+      } else if (const auto u = pcnc::parse_progress_update(line); u && !quiet) {
         display.update(*u);
       }
     };

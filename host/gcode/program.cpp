@@ -221,6 +221,8 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.smoothed_curves = pipeline.smoothing().curves;
     result.smoothed_blocks = pipeline.smoothed_blocks();
     result.max_path_deviation_mm = pipeline.smoothing().max_deviation_mm;
+    result.smoothing_min_tolerance_mm = pipeline.smoothing().min_tolerance_mm;
+    result.smoothing_max_tolerance_mm = pipeline.smoothing().max_tolerance_mm;
     result.assumed_probe_lines = pipeline.interpreter().assumed_probe_lines();
   } catch (const ProgramRefused& e) {
     sink.error(e.diagnostic.line, e.diagnostic.column, e.diagnostic.message);

@@ -128,6 +128,8 @@ void Smoother::fit_range(std::size_t first, std::size_t last) {
   stats_.moves += last - first;
   stats_.curves += 1;
   stats_.max_deviation_mm = std::max(stats_.max_deviation_mm, fit.deviation);
+  stats_.min_tolerance_mm = stats_.curves == 1 ? tolerance : std::min(stats_.min_tolerance_mm, tolerance);
+  stats_.max_tolerance_mm = std::max(stats_.max_tolerance_mm, tolerance);
 }
 
 }  // namespace pcnc

@@ -39,6 +39,10 @@ struct SmoothingStats {
   std::uint64_t moves = 0;         // programmed G1 moves replaced by curves
   std::uint64_t curves = 0;        // curves made of them
   double max_deviation_mm = 0.0;   // largest measured distance of a curve from its programmed moves
+  // The path tolerances the curves were fitted to (G64 P, --tolerance or the config's): the
+  // least and the largest; 0 without curves.
+  double min_tolerance_mm = 0.0;
+  double max_tolerance_mm = 0.0;
 };
 
 class Smoother {

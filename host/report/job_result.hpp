@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "ipc/latency_histogram.hpp"
 #include "ipc/status.hpp"
@@ -36,6 +37,13 @@ struct JobResult {
   std::uint64_t lines_read = 0;
   LatencyHistogram refill_latency;  // host slot-refill latency, µs
   double wall_time_s = 0.0;
+  // The program's pauses (M0/M1) the run went on from without a resume command from the
+  // control socket (pcnc run --pauses): how many, how (ProgramPauses' name: "continue" or
+  // "ask"), and the source lines of the first kMaxPauseLines.
+  std::uint64_t pauses = 0;
+  std::string pauses_mode;
+  std::vector<std::uint32_t> pause_lines;
+  static constexpr std::size_t kMaxPauseLines = 32;
 };
 
 }  // namespace pcnc

@@ -480,13 +480,27 @@ std::string render_report_html(const ReportPage& page) {
                                           : std::string()) +
                        "; the top view draws the programmed contour dashed over the tool centre path"});
     }
+    if (s.pauses > 0) {
+      std::string lines;
+      for (std::size_t i = 0; i < s.pause_lines.size(); ++i) lines += (i ? ", " : "") + std::to_string(s.pause_lines[i]);
+      if (s.pauses > s.pause_lines.size()) lines += ", …";
+      r.push_back({"pauses", num("pauses", std::to_string(s.pauses)) + " M0/M1 on line" + (s.pauses > 1 ? "s " : " ") + lines,
+                   s.pauses_mode == "ask" ? "the machine waited at rest for the operator (pcnc run --pauses ask)"
+                                          : "the machine came to rest there and went on (pcnc run --pauses continue)"});
+    }
     r.push_back({"smoothing",
                  num("smoothed-moves", std::to_string(s.smoothed_moves)) + " G1 moves into " +
                      num("smoothed-blocks", std::to_string(s.smoothed_blocks)) + " blocks (" +
                      num("smoothed-curves", std::to_string(s.smoothed_curves)) + " curves)",
                  "the commanded path keeps at most " +
                      num("path-deviation", fixed(s.max_path_deviation_mm * 1000.0, 2)) +
-                     " µm from the programmed moves (measured on each curve)"});
+                     " µm from the programmed moves (measured on each curve)" +
+                     (s.smoothed_curves > 0 ? "; fitted to a tolerance of " +
+                                                  (s.smoothing_max_tolerance_mm > s.smoothing_min_tolerance_mm
+                                                       ? fixed(s.smoothing_min_tolerance_mm * 1000.0, 1) + "–"
+                                                       : std::string()) +
+                                                  num("smoothing-tolerance", fixed(s.smoothing_max_tolerance_mm * 1000.0, 1)) + " µm"
+                                            : std::string())});
     groups.push_back({"Program", r});
   }
   // accuracy

@@ -2,6 +2,7 @@
 #include "report/run_report.hpp"
 
 #include <cstdio>
+#include <string>
 
 #include "report/run_summary.hpp"
 
@@ -24,14 +25,31 @@ std::string format_run_report(const RunReport& r) {
     corner = c;
   }
   {
-    char c[256];
+    // the tolerance the curves were fitted to: the run's, or what the program's G64 P set
+    const double lo = r.check.smoothed_curves > 0 ? r.check.smoothing_min_tolerance_mm : r.path_tolerance_mm;
+    const double hi = r.check.smoothed_curves > 0 ? r.check.smoothing_max_tolerance_mm : r.path_tolerance_mm;
+    char tol[64];
+    if (hi > lo) {
+      std::snprintf(tol, sizeof tol, "%.1f-%.1f um (G64 P)", lo * 1000.0, hi * 1000.0);
+    } else {
+      std::snprintf(tol, sizeof tol, "%.1f um%s", hi * 1000.0, hi != r.path_tolerance_mm ? " (G64 P)" : "");
+    }
+    char c[320];
     std::snprintf(c, sizeof c,
-                  "  smoothing         tolerance %.1f um: %llu G1 moves smoothed into %llu blocks (%llu curves), path "
+                  "  smoothing         tolerance %s: %llu G1 moves smoothed into %llu blocks (%llu curves), path "
                   "max %.2f um from the programmed moves\n",
-                  r.path_tolerance_mm * 1000.0, static_cast<unsigned long long>(r.check.smoothed_moves),
+                  tol, static_cast<unsigned long long>(r.check.smoothed_moves),
                   static_cast<unsigned long long>(r.check.smoothed_blocks),
                   static_cast<unsigned long long>(r.check.smoothed_curves), r.check.max_path_deviation_mm * 1000.0);
     smoothing = c;
+  }
+  std::string pauses;
+  if (r.job.pauses > 0) {
+    pauses = "  pauses            " + std::to_string(r.job.pauses) + " (M0/M1 on line" + (r.job.pauses > 1 ? "s " : " ");
+    for (std::size_t i = 0; i < r.job.pause_lines.size(); ++i) pauses += (i ? ", " : "") + std::to_string(r.job.pause_lines[i]);
+    if (r.job.pauses > r.job.pause_lines.size()) pauses += ", ...";
+    pauses += r.job.pauses_mode == "ask" ? "): the machine waited at rest for the operator (--pauses ask)\n"
+                                         : "): the machine came to rest there and went on (--pauses continue)\n";
   }
   char buf[4096];
   int n = std::snprintf(
@@ -60,7 +78,7 @@ std::string format_run_report(const RunReport& r) {
       rms[2] * 1000.0, s.max_contour_error * 1000.0, rms_contour_error(s) * 1000.0,
       static_cast<unsigned long long>(s.underruns), r.job.refill_latency.quantile(0.99), s.timing.compute_p99_us, s.timing.compute_max_us,
       s.timing.wake_p99_us, s.timing.wake_max_us, static_cast<unsigned long long>(s.timing.overruns));
-  return std::string(buf, static_cast<std::size_t>(n > 0 ? n : 0)) + smoothing;
+  return std::string(buf, static_cast<std::size_t>(n > 0 ? n : 0)) + pauses + smoothing;
 }
 
 }  // namespace pcnc

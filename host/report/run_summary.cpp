@@ -190,6 +190,8 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.smoothed_curves = r.check.smoothed_curves;
   s.smoothed_blocks = r.check.smoothed_blocks;
   s.max_path_deviation_mm = r.check.max_path_deviation_mm;
+  s.smoothing_min_tolerance_mm = r.check.smoothing_min_tolerance_mm;
+  s.smoothing_max_tolerance_mm = r.check.smoothing_max_tolerance_mm;
   s.rapid_lines = r.check.rapid_lines;
   s.plan = r.check.plan;
   s.tcp_tool_length_mm = r.check.tcp_tool_length_mm;
@@ -203,6 +205,9 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.end = to_string(r.job.end);
   s.message = r.job.message;
   s.blocks_sent = r.job.blocks_sent;
+  s.pauses = r.job.pauses;
+  s.pauses_mode = r.job.pauses_mode;
+  s.pause_lines = r.job.pause_lines;
   s.lines_read = r.job.lines_read;
   s.wall_time_s = r.job.wall_time_s;
   s.refill_count = r.job.refill_latency.count();
@@ -241,6 +246,7 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"smoothed_curves", s.smoothed_curves},
                 {"smoothed_blocks", s.smoothed_blocks},
                 {"max_path_deviation_mm", s.max_path_deviation_mm},
+                {"smoothing_tolerance_mm", {s.smoothing_min_tolerance_mm, s.smoothing_max_tolerance_mm}},
                 {"rapid_lines", rapid_lines_json(s.rapid_lines)},
                 {"tcp_tool_length_mm", s.tcp_tool_length_mm},
                 {"plan", std::move(plan)}}},
@@ -256,6 +262,7 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"refill_max_us", s.refill_max_us}}},
               {"status", status_json(s.final_status)}};
   if (!s.time_by_cause.empty()) j["time_by_cause"] = s.time_by_cause;
+  if (s.pauses > 0) j["job"]["pauses"] = {{"count", s.pauses}, {"mode", s.pauses_mode}, {"lines", s.pause_lines}};
   if (s.comp_entries > 0) {
     j["check"]["cutter_comp"] = {{"entries", s.comp_entries},
                                  {"programmed_moves", s.comp_moves_in},
@@ -297,6 +304,10 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.smoothed_curves = c.value("smoothed_curves", std::uint64_t{0});
   s.smoothed_blocks = c.value("smoothed_blocks", std::uint64_t{0});
   s.max_path_deviation_mm = c.value("max_path_deviation_mm", 0.0);
+  if (c.contains("smoothing_tolerance_mm")) {  // absent in older summaries
+    s.smoothing_min_tolerance_mm = c.at("smoothing_tolerance_mm").at(0).get<double>();
+    s.smoothing_max_tolerance_mm = c.at("smoothing_tolerance_mm").at(1).get<double>();
+  }
   if (c.contains("rapid_lines")) s.rapid_lines = rapid_lines_from(c.at("rapid_lines"));  // absent in older summaries
   s.tcp_tool_length_mm = c.value("tcp_tool_length_mm", 0.0);  // absent before the report used it
   if (c.contains("cutter_comp")) {  // absent without G41/G42
@@ -322,6 +333,12 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
   s.refill_p50_us = b.at("refill_p50_us").get<double>();
   s.refill_p99_us = b.at("refill_p99_us").get<double>();
   s.refill_max_us = b.at("refill_max_us").get<double>();
+  if (b.contains("pauses")) {  // absent without pauses gone on from
+    const json& p = b.at("pauses");
+    s.pauses = p.at("count").get<std::uint64_t>();
+    s.pauses_mode = p.at("mode").get<std::string>();
+    s.pause_lines = p.at("lines").get<std::vector<std::uint32_t>>();
+  }
   s.final_status = status_from(j.at("status"));
   if (j.contains("time_by_cause")) s.time_by_cause = j.at("time_by_cause").get<std::map<std::string, double>>();
   return s;

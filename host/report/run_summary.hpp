@@ -41,6 +41,8 @@ struct RunSummary {
   // measured distance of a curve from the programmed moves (mm)
   std::uint64_t smoothed_moves = 0, smoothed_curves = 0, smoothed_blocks = 0;
   double max_path_deviation_mm = 0.0;
+  double smoothing_min_tolerance_mm = 0.0;  // the tolerances the curves were fitted to (0 without curves)
+  double smoothing_max_tolerance_mm = 0.0;
   // source lines that hold a rapid block, from the blocks check made (what the run sent):
   // the report draws those parts of the path as rapids
   std::vector<LineRange> rapid_lines;
@@ -60,6 +62,9 @@ struct RunSummary {
   // the job
   std::string end;            // to_string(JobEnd)
   std::string message;
+  std::uint64_t pauses = 0;                 // M0/M1 gone on from without the control socket (pcnc run --pauses)
+  std::string pauses_mode;                  // "continue" or "ask" ("" with none)
+  std::vector<std::uint32_t> pause_lines;   // their source lines (the first 32)
   std::uint64_t blocks_sent = 0;
   std::uint64_t lines_read = 0;
   double wall_time_s = 0.0;

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <deque>
+#include <optional>
 #include <utility>
 
 #include "gcode/planned_time.hpp"
@@ -24,6 +25,15 @@ std::string fault_text(const Status& s) {
   return m;
 }
 }  // namespace
+
+const char* to_string(ProgramPauses p) {
+  switch (p) {
+    case ProgramPauses::kWait: return "wait";
+    case ProgramPauses::kContinue: return "continue";
+    case ProgramPauses::kAsk: return "ask";
+  }
+  return "?";
+}
 
 JobRunner::JobRunner(RtLink& link, const MachineConfig& config) : link_(link), config_(config) {}
 
@@ -113,8 +123,27 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
   std::deque<std::pair<std::uint64_t, double>> in_flight;  // (seq, planned time up to and including it)
   std::uint64_t filled = 0;
   double planned_sent = 0.0, planned_done = 0.0;
+  // The program's pauses (M0/M1): noted for the report; under kContinue sent as a dwell of
+  // 0 s (the same stop at rest, and the machine goes on at once: machine time stays
+  // deterministic); under kAsk remembered by sequence number until the rt stands there.
+  std::deque<std::pair<std::uint64_t, PauseAt>> pauses_ahead;
+  auto note_pause = [&](Block& b) {
+    if (b.kind != BlockKind::kPause || pauses_ == ProgramPauses::kWait) return;
+    const PauseAt at{b.line, b.optional_stop != 0};
+    ++result.pauses;
+    result.pauses_mode = to_string(pauses_);
+    if (result.pause_lines.size() < JobResult::kMaxPauseLines) result.pause_lines.push_back(at.line);
+    if (pauses_ == ProgramPauses::kContinue) {
+      b.kind = BlockKind::kDwell;
+      b.dwell_s = 0.0;
+      b.optional_stop = 0;
+    } else {
+      pauses_ahead.emplace_back(filled + 1, at);  // the seq the feeder gives it
+    }
+  };
   auto next_block = [&](Block& b) {
     if (!source.next(b)) return false;
+    note_pause(b);
     planned_sent += planned_time_s(b);
     in_flight.emplace_back(++filled, planned_sent);
     return true;
@@ -139,8 +168,43 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     progress(p);
   };
 
+  // kAsk: when the rt stands at one of the program's pauses, ask; resume, or stop the program
+  // there. Checked while the feeder waits for a slot and while the end is awaited.
+  std::atomic<bool> halt{false};  // the interrupt, or a pause the ask function declined
+  std::optional<PauseAt> declined;
+  auto answer_pause = [&] {
+    if (interrupt.load()) halt = true;
+    if (pauses_ahead.empty() || halt.load()) return;
+    const Status s = link_.status();
+    while (!pauses_ahead.empty() && pauses_ahead.front().first < s.block_seq) pauses_ahead.pop_front();
+    if (pauses_ahead.empty() || s.state != MachineState::kPaused || s.block_seq != pauses_ahead.front().first) return;
+    const PauseAt at = pauses_ahead.front().second;
+    pauses_ahead.pop_front();
+    if (ask_ && ask_(at) && !interrupt.load()) {
+      Command resume;
+      resume.kind = CommandKind::kResume;
+      link_.send(resume);
+    } else {
+      declined = at;
+      halt = true;
+    }
+  };
+  feeder.set_while_waiting(answer_pause);
+  auto stop_here = [&](JobEnd end, std::string why) {
+    Command stop;
+    stop.kind = CommandKind::kStop;
+    link_.send(stop);
+    wait_until_state([&](const Status& s) { return s.state != MachineState::kStopping && s.state != MachineState::kRunning; },
+                     std::atomic<bool>{false}, 10.0, st);
+    return finish(end, std::move(why));
+  };
+  auto declined_text = [&] {
+    return std::string("stopped at the ") + (declined->optional ? "M1" : "M0") + " on line " + std::to_string(declined->line) +
+           ": the operator did not resume";
+  };
+
   for (;;) {
-    const FeedResult r = feeder.push(next_block, &interrupt);
+    const FeedResult r = feeder.push(next_block, &halt);
     if (r == FeedResult::kEndOfInput && source.resume && !interrupt.load()) {
       bool more = false;
       const std::string why = source.resume(interrupt, more);
@@ -160,7 +224,7 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     }
     if (r == FeedResult::kEndOfInput) break;
     if (r == FeedResult::kRtLost) return finish(JobEnd::kRtLost, "pcnc-rt stopped responding");
-    if (r == FeedResult::kAborted || interrupt.load()) break;
+    if (r == FeedResult::kAborted || interrupt.load() || halt.load()) break;
     note_started();
     report_progress();
     // A fault flushes the ring on the rt side; stop feeding at once.
@@ -179,14 +243,9 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
         interrupt, 0.1, st);
     note_started();
     if (ended) break;
-    if (interrupt.load()) {
-      Command stop;
-      stop.kind = CommandKind::kStop;
-      link_.send(stop);
-      wait_until_state([&](const Status& s) { return s.state != MachineState::kStopping && s.state != MachineState::kRunning; },
-                       std::atomic<bool>{false}, 10.0, st);
-      return finish(JobEnd::kInterrupted, "interrupted: stopped along the path");
-    }
+    answer_pause();
+    if (interrupt.load()) return stop_here(JobEnd::kInterrupted, "interrupted: stopped along the path");
+    if (declined) return stop_here(JobEnd::kStopped, declined_text());
     if (!link_.rt_alive()) return finish(JobEnd::kRtLost, "pcnc-rt stopped responding");
     report_progress();
   }

@@ -36,6 +36,20 @@ struct BlockSource {
   std::function<std::string(const std::atomic<bool>& interrupt, bool& more)> resume;
 };
 
+/// What the program's M0/M1 (and a tool change with gcode.pause_on_tool_change) do in a run.
+enum class ProgramPauses {
+  kWait,      // the rt waits at rest for a resume command (the service: the operator resumes over the socket)
+  kContinue,  // the block is sent as a dwell of 0 s: the machine comes to rest there and goes on (pcnc run, no operator)
+  kAsk,       // the rt waits at rest; the runner calls the ask function, which says whether to resume or stop
+};
+const char* to_string(ProgramPauses p);
+
+/// A program pause the rt reached: its source line, and whether it is an M1.
+struct PauseAt {
+  std::uint32_t line = 0;
+  bool optional = false;
+};
+
 class JobRunner {
  public:
   JobRunner(RtLink& link, const MachineConfig& config);
@@ -54,6 +68,13 @@ class JobRunner {
   void set_staging(bool on) { staging_ = on; }
   /// Called with every probe result of run()'s program so far, as each arrives (docs/probe.md).
   void set_on_probe_result(std::function<void(const ProbeResults&)> fn) { on_probe_result_ = std::move(fn); }
+  /// What M0/M1 do (default kWait). kAsk: `ask` is called from this thread while the rt waits
+  /// at rest at the pause; it returns true to resume, false to stop the program there. It
+  /// should return false when the run's interrupt is raised.
+  void set_program_pauses(ProgramPauses mode, std::function<bool(const PauseAt&)> ask = {}) {
+    pauses_ = mode;
+    ask_ = std::move(ask);
+  }
   /// Called once the rt has taken the program start (the program is under way).
   void set_on_started(std::function<void()> fn) { on_started_ = std::move(fn); }
 
@@ -66,6 +87,8 @@ class JobRunner {
   std::function<void()> on_started_;
   std::function<void(const ProbeResults&)> on_probe_result_;
   bool staging_ = true;
+  ProgramPauses pauses_ = ProgramPauses::kWait;
+  std::function<bool(const PauseAt&)> ask_;
 };
 
 }  // namespace pcnc

@@ -7,6 +7,9 @@
 // blocks the machine has done (gcode/planned_time.hpp): the bar's fraction and ETA. When the job
 // has ended the host writes "done\n" and waits (briefly) for "ok\n" from the launcher, which
 // has then cleared its progress display: the run report that follows starts on a clean line.
+// Under `--pauses ask` the host writes "pause LINE M0|M1\n" when the machine stands at one of
+// the program's pauses and waits for the launcher's answer, "resume\n" or "stop\n" (the
+// operator pressed Enter, or cannot answer).
 //
 // May include: the C++ library only (tools/ reads it too).
 #pragma once
@@ -47,6 +50,26 @@ inline std::optional<ProgressUpdate> parse_progress_update(std::string_view line
   if (!(in >> std::ws).eof()) return std::nullopt;
   if (!(u.planned_done_s >= 0.0) || !(u.planned_total_s >= 0.0)) return std::nullopt;
   return u;
+}
+
+/// "pause LINE M0\n" (or M1): the machine stands at the program's pause on LINE.
+struct PauseRequest {
+  std::uint32_t line = 0;
+  bool optional = false;  // M1
+};
+
+inline std::string format_pause_request(const PauseRequest& p) {
+  return "pause " + std::to_string(p.line) + (p.optional ? " M1\n" : " M0\n");
+}
+
+inline std::optional<PauseRequest> parse_pause_request(std::string_view line) {
+  std::istringstream in{std::string(line)};
+  std::string word, m;
+  PauseRequest p;
+  if (!(in >> word) || word != "pause" || !(in >> p.line >> m) || (m != "M0" && m != "M1")) return std::nullopt;
+  if (!(in >> std::ws).eof()) return std::nullopt;
+  p.optional = m == "M1";
+  return p;
 }
 
 }  // namespace pcnc

@@ -55,6 +55,7 @@ FeedResult RingFeeder::wait_for_slot(const std::atomic<bool>* abort) {
     if (shm.slot_freed.wait_until([&] { return slot_free(); }, check_period_s_, spin_ns_)) {
       return FeedResult::kPushed;
     }
+    if (while_waiting_) while_waiting_();
     if (abort && abort->load()) return FeedResult::kAborted;
     if (!link_.rt_alive()) return FeedResult::kRtLost;
   }

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "ipc/latency_histogram.hpp"
@@ -60,6 +61,10 @@ class RingFeeder {
   /// for its input (a streamed program): blocks it made are never held back in staging while
   /// it waits for lines, so the machine runs everything received.
   void set_staging(bool on) { staging_ = on; }
+
+  /// Called every check period while the feeder waits for a slot, before it looks at the
+  /// abort flag (the job runner answers a program pause here, and raises the flag).
+  void set_while_waiting(std::function<void()> fn) { while_waiting_ = std::move(fn); }
 
   /// Restart numbering for a new program (the rt expects seq 1 after kProgramStart).
   void reset_sequence() { seq_ = 0; }
@@ -125,6 +130,7 @@ class RingFeeder {
   std::size_t staged_head_ = 0;
   std::size_t staged_count_ = 0;
   bool input_ended_ = false;  // fill returned false
+  std::function<void()> while_waiting_;
 };
 
 }  // namespace pcnc
