@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "gcode/interpreter_text.hpp"
 
@@ -35,6 +36,8 @@ struct Cycle {
   int n = 2;           // drill axis
   Vec3 hole{};         // the first hole before its increment (G91) or the hole (G90)
   Vec3 increment{};    // G91: added to the hole before each repeat (plane axes only)
+  double d_radius = 0.0, d_angle = 0.0;  // G91 polar: added to the hole's before each repeat (mm, rad)
+  bool polar_steps = false;
   double r = 0.0;      // R level
   double bottom = 0.0; // bottom level
   double p = 0.0;      // dwell, s
@@ -133,7 +136,7 @@ CycleResult resolve(const CycleInput& in, const CannedCycleModal& modal, double 
   const std::string g = g_name(in.code10);
   const auto n = static_cast<std::size_t>(in.normal_axis);
   const char drill = axis_name(in.normal_axis);
-  if (!in.has[0] && !in.has[1] && !in.has[2]) {
+  if (!in.has[0] && !in.has[1] && !in.has[2] && !in.has_radius && !in.has_angle) {
     return failure(0, g + " with no X, Y or Z word; expected the hole position or the " +
                           std::string(1, drill) + " bottom level on a canned-cycle line");
   }
@@ -168,6 +171,27 @@ CycleResult resolve(const CycleInput& in, const CannedCycleModal& modal, double 
     c.bottom = z_word;
     for (std::size_t i = 0; i < 3; ++i) {
       if (i != n && in.has[i]) c.hole[i] = in.axis[i];
+    }
+  }
+  if (in.has_radius || in.has_angle) {
+    const double deg = std::numbers::pi / 180.0;
+    const bool at_origin = std::hypot(c.hole[0], c.hole[1]) <= 1e-9;
+    if (in.incremental) {
+      if (at_origin) {
+        return failure(in.has_radius ? '@' : '^', g + ": polar coordinates (@ ^) in G91 at the origin: the current "
+                                                      "point has no angle; expected G90, or a hole off the origin first");
+      }
+      c.polar_steps = true;
+      c.d_radius = in.has_radius ? in.radius : 0.0;
+      c.d_angle = in.has_angle ? in.angle_deg * deg : 0.0;
+    } else {
+      if (at_origin && !in.has_angle) {
+        return failure('@', g + ": @ without ^ at the origin: the current point has no angle; expected ^ (degrees) too");
+      }
+      const double r = in.has_radius ? in.radius : std::hypot(c.hole[0], c.hole[1]);
+      const double a = in.has_angle ? in.angle_deg * deg : std::atan2(c.hole[1], c.hole[0]);
+      c.hole[0] = r * std::cos(a);
+      c.hole[1] = r * std::sin(a);
     }
   }
   if (c.r < c.bottom) {
@@ -237,6 +261,12 @@ CycleResult expand_canned_cycle(const CycleInput& in, CannedCycleModal& modal, s
   Vec3 hole = c.hole;
   for (long rep = 0; rep < c.repeats; ++rep) {
     hole = hole + c.increment;
+    if (c.polar_steps) {  // about the origin: the radius and the angle grow by their steps
+      const double r = std::hypot(hole[0], hole[1]) + c.d_radius;
+      const double a = std::atan2(hole[1], hole[0]) + c.d_angle;
+      hole[0] = r * std::cos(a);
+      hole[1] = r * std::sin(a);
+    }
     Vec3 p = hole;
     if (rep == 0 && current > c.r) {  // across at the current level, then down to R
       p[n] = current;

@@ -63,6 +63,12 @@ struct CycleInput {
   bool has_r = false, has_p = false, has_q = false, has_l = false;
   double r = 0.0, p = 0.0, q = 0.0;
   long l = 1;  // repeats; the reader has already refused a non-integer L
+  // LinuxCNC's polar coordinates for the hole (G17 only, X and Y absent: the interpreter
+  // refuses the rest): @ the distance from the origin (mm), ^ the angle from +X (degrees). In
+  // G90 they place the hole (the one not written keeps the current point's); in G91 each repeat
+  // adds them to the previous hole's, turning about the origin.
+  bool has_radius = false, has_angle = false;
+  double radius = 0.0, angle_deg = 0.0;
 
   double peck_clearance = kPeckClearanceMm;  // G73/G83 small rapid, mm
 };

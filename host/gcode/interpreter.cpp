@@ -126,6 +126,10 @@ bool Interpreter::check_words(const ParsedLine& l) {
 
   std::uint32_t allowed = bit('N') | bit('F') | bit('S') | bit('T');
   if (nonmodal == 280 || nonmodal == 300 || is_straight(motion) || is_arc(motion) || is_probe(motion)) allowed |= kAxisBits;
+  // polar coordinates (@ ^) name the end point of a move or a hole (LinuxCNC), nothing else
+  const bool takes_axes = nonmodal == 280 || nonmodal == 300 || nonmodal == 100 || nonmodal == 520 || nonmodal == 530 ||
+                          nonmodal >= 920 || l.g[kGToolLength] == 431;
+  if (!takes_axes && (is_straight(motion) || is_arc(motion) || is_probe(motion) || is_cycle(motion))) allowed |= kPolarBits;
   // the machine's rotary joints move with G0/G1 only (not G53, G28/G30, arcs, probes or cycles)
   if (is_straight(motion) && nonmodal != 280 && nonmodal != 300 && nonmodal != 530 && nonmodal != 100 &&
       nonmodal != 520 && nonmodal < 920 && l.g[kGToolLength] != 431) {
@@ -162,11 +166,17 @@ bool Interpreter::check_words(const ParsedLine& l) {
 
   const std::uint32_t extra = l.present & ~allowed;
   if (extra == 0) return true;
-  for (int i = 0; i < 26; ++i) {
+  for (int i = 0; i < kWordSlots; ++i) {
     if (!((extra >> i) & 1u)) continue;
-    const char c = static_cast<char>('A' + i);
+    const char c = i == word_slot('@') ? '@' : i == word_slot('^') ? '^' : static_cast<char>('A' + i);
     const int col = l.col[static_cast<std::size_t>(i)];
     switch (c) {
+      case '@':
+      case '^':
+        return fail(l, col,
+                    std::string(1, c) + " (polar " + (c == '@' ? "radius" : "angle") +
+                        ") with no move that uses it; expected polar coordinates only for the end point of G0, G1, G2, "
+                        "G3, G38.x or a canned cycle's hole (not with G10, G28, G30, G52, G53, G92 or G43.1)");
       case 'A':
       case 'B':
       case 'C':
@@ -308,6 +318,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
                 g_name(nonmodal) + " and " + g_name(motion_word) +
                     " both use the axis words; expected them on separate lines");
   }
+  if ((l.present & kPolarBits) != 0 && !polar_words_fit(l, motion_, normal_axis_)) return false;
   if (tcp_) {
     const bool other = nonmodal == 280 || nonmodal == 300 || nonmodal == 530 || motion_word == 52 || motion_word == 62 ||
                        ((is_arc(motion_) || is_probe(motion_) || is_cycle(motion_)) && (axis_words(l) || motion_word >= 0));

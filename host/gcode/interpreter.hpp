@@ -164,7 +164,8 @@ class Interpreter : public SystemParameters {
   Vec3 to_machine(const Vec3& q) const { return frame_.scale * q + frame_.offset; }
   Vec3 to_job(const Vec3& m) const { return (1.0 / frame_.scale) * (m - frame_.offset); }
   Move base_move(MoveKind kind, const ParsedLine& l, int column) const;
-  bool axis_words(const ParsedLine& l) const { return (l.present & kAxisBits) != 0; }
+  bool axis_words(const ParsedLine& l) const { return (l.present & (kAxisBits | kPolarBits)) != 0; }
+  bool polar_words_fit(const ParsedLine& l, int motion, int normal);  // interpreter_motion.cpp
   // The message is built only for the first occurrence of its key (repeats are just counted).
   template <class MakeMessage>
   void warn(const ParsedLine& l, int column, std::string_view key, MakeMessage&& make) {
@@ -176,8 +177,9 @@ class Interpreter : public SystemParameters {
     return false;
   }
 
-  static constexpr std::uint32_t bit(char c) { return 1u << (c - 'A'); }
+  static constexpr std::uint32_t bit(char c) { return 1u << word_slot(c); }
   static constexpr std::uint32_t kAxisBits = (1u << ('X' - 'A')) | (1u << ('Y' - 'A')) | (1u << ('Z' - 'A'));
+  static constexpr std::uint32_t kPolarBits = (1u << word_slot('@')) | (1u << word_slot('^'));
 
   const MachineConfig& config_;
   JobFrame frame_;

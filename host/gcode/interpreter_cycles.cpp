@@ -15,7 +15,8 @@ using namespace interp;
 
 bool Interpreter::cycle(const ParsedLine& l, int motion, bool first_of_series, MoveList& out) {
   const double u = inches_ ? kInch : 1.0;
-  const int column = l.g[kGMotion] == motion ? l.g_col[kGMotion] : l.column(l.has('X') ? 'X' : l.has('Y') ? 'Y' : 'Z');
+  const int column = l.g[kGMotion] == motion ? l.g_col[kGMotion]
+                     : l.column(l.has('X') ? 'X' : l.has('Y') ? 'Y' : l.has('@') ? '@' : l.has('^') ? '^' : 'Z');
   if (inverse_time_ && !inverse_time_check(l, column, motion)) return false;
   CycleInput in{};
   in.code10 = motion;
@@ -29,6 +30,10 @@ bool Interpreter::cycle(const ParsedLine& l, int motion, bool first_of_series, M
     in.has[static_cast<std::size_t>(i)] = l.has(c);
     in.axis[static_cast<std::size_t>(i)] = l.has(c) ? l.get(c) * u : 0.0;
   }
+  in.has_radius = l.has('@');
+  in.radius = l.has('@') ? l.get('@') * u : 0.0;
+  in.has_angle = l.has('^');
+  in.angle_deg = l.has('^') ? l.get('^') : 0.0;
   in.has_r = l.has('R');
   in.r = l.has('R') ? l.get('R') * u : 0.0;
   in.has_p = l.has('P');

@@ -1,6 +1,9 @@
 // interpreter_motion.cpp — straight moves (G0/G1, G53): the axis words of a line in the
 // program's units (G20/G21), distance mode (G90/G91) and offsets (G54-G59.3, G92/G52, tool
-// length), turned into machine millimetres; and the feed a move runs at.
+// length), turned into machine millimetres, polar coordinates (@ ^) among them; and the feed a
+// move runs at.
+#include <cmath>
+#include <numbers>
 #include <string>
 
 #include "gcode/interpreter.hpp"
@@ -64,7 +67,51 @@ Vec3 Interpreter::axis_target(const ParsedLine& l, const Vec3& from, std::uint8_
       known = static_cast<std::uint8_t>(known | (1u << i));
     }
   }
+  if ((l.present & kPolarBits) != 0) {
+    // LinuxCNC's polar coordinates (G17 only, never with X or Y: polar_words_fit): @ is the
+    // distance from the current coordinate system's origin in the XY plane, ^ the angle from
+    // +X in degrees; the one not written keeps the current point's. In G91 both are added to
+    // the current point's.
+    const Vec3 p = q - wofs;
+    double r = std::hypot(p[0], p[1]);
+    double a = std::atan2(p[1], p[0]);
+    const double deg = std::numbers::pi / 180.0;
+    if (l.has('@')) r = incremental_ ? r + l.get('@') * u : l.get('@') * u;
+    if (l.has('^')) a = incremental_ ? a + l.get('^') * deg : l.get('^') * deg;
+    q[0] = wofs[0] + r * std::cos(a);
+    q[1] = wofs[1] + r * std::sin(a);
+    if (!incremental_ && l.has('@') && l.has('^')) known = static_cast<std::uint8_t>(known | 3u);
+    for (const char c : {'@', '^'}) {
+      if (l.has(c) && (first_col == 0 || l.column(c) < first_col)) first_col = l.column(c);
+    }
+  }
   return q;
+}
+
+// Polar coordinates (@ ^) on this line: only in the XY plane, never with X or Y, and (but for a
+// canned cycle, whose repeats check their own holes) with an angle defined: not G91 at the
+// origin, nor @ alone there in G90.
+bool Interpreter::polar_words_fit(const ParsedLine& l, int motion, int normal) {
+  const int col = l.has('@') ? l.column('@') : l.column('^');
+  if (normal != 2) {
+    return fail(l, col, "polar coordinates (@ ^) in the " + std::string(plane_name(normal)) +
+                            " plane; expected G17: they name a point in the XY plane");
+  }
+  if (l.has('X') || l.has('Y')) {
+    return fail(l, l.column(l.has('X') ? 'X' : 'Y'), std::string(1, l.has('X') ? 'X' : 'Y') +
+                                                          " word with polar coordinates (@ ^); expected either X and Y or @ and ^");
+  }
+  if (is_cycle(motion)) return true;
+  const Vec3 p = program_point();
+  if (std::hypot(p[0], p[1]) > 1e-9) return true;
+  if (incremental_) {
+    return fail(l, col, "polar coordinates (@ ^) in G91 at the origin: the current point has no angle; expected G90, "
+                        "or a move off the origin first");
+  }
+  if (!l.has('^')) {
+    return fail(l, col, "@ without ^ at the origin: the current point has no angle; expected ^ (degrees) too");
+  }
+  return true;
 }
 
 bool Interpreter::straight(const ParsedLine& l, int motion, bool g53, MoveList& out) {

@@ -87,7 +87,7 @@ class LineLexer {
       if (c_.at_end()) return true;
       const char* at = c_.p;
       const char ch = upper(*c_.p);
-      if (ch >= 'A' && ch <= 'Z') {
+      if ((ch >= 'A' && ch <= 'Z') || ch == '@' || ch == '^') {  // @ ^: LinuxCNC's polar radius and angle
         ++c_.p;
         if (ch == 'O') return o_word(at, out);
         double v = 0.0;

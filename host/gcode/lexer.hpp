@@ -26,7 +26,7 @@
 namespace pcnc {
 
 struct Word {
-  char letter = 0;  // 'A'..'Z'
+  char letter = 0;  // 'A'..'Z', or LinuxCNC's polar words '@' and '^'
   int column = 0;   // 1-based column of the letter
   double value = 0.0;
 };

@@ -74,7 +74,7 @@ bool parse_line(const LexedLine& lexed, int line_no, ParsedLine& out, Diagnostic
       out.m_groups |= 1u << group;
       out.m_col[static_cast<std::size_t>(group)] = static_cast<std::int16_t>(w.column > 32767 ? 32767 : w.column);
     } else {
-      const auto i26 = static_cast<std::size_t>(w.letter - 'A');
+      const auto i26 = static_cast<std::size_t>(word_slot(w.letter));
       const std::uint32_t bit = 1u << i26;
       if (out.present & bit) {
         sink.error(line_no, w.column,
