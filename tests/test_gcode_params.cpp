@@ -345,6 +345,17 @@ TEST(GcodeMessages, DebugSeesTheLinesOwnAssignment) {
   EXPECT_EQ(l.messages[0], "7.000000");
 }
 
+TEST(GcodeMessages, Parameter5599SwitchesDebugMessagesOffAndOn) {
+  // LinuxCNC: #5599 = 0 hides (DEBUG,...), 1 (its value at start) shows them; MSG is not affected
+  const Listing l = list_program("#2=#5599\n(DEBUG,a #2)\n#5599=0\n(DEBUG,b)\n(MSG,c)\n#5599=1\n(DEBUG,d)\nM2\n");
+  ASSERT_TRUE(l.result.ok) << l.first_error();
+  ASSERT_EQ(l.messages.size(), 3u);
+  EXPECT_EQ(l.messages[0], "a 1.000000");
+  EXPECT_EQ(l.messages[1], "c");
+  EXPECT_EQ(l.messages[2], "d");
+  EXPECT_TRUE(list_program("#5598=1\nM2\n").has_error("read-only")) << "its neighbours stay read-only";
+}
+
 TEST(GcodeMessages, NestedCommentsAreAcceptedWithAWarningNamingTheColumn) {
   const Listing l = list_program("T1 M6 (HSS Twist Drill, 0.5mm (R))\nG0 X1\nM2\n");
   ASSERT_TRUE(l.result.ok) << l.first_error();

@@ -157,6 +157,11 @@ void MoveSource::message(int line_no) {
     interp_.set_probe_log(first == std::string::npos ? std::string() : name.substr(first, last - first + 1));
     return;
   }
+  if (lexed_.message == MessageKind::kDebug) {  // #5599 = 0 hides them (LinuxCNC)
+    double shown = 1.0;
+    std::string why;
+    if (params_.read(ParameterStore::kDebugOutput, shown, why) && shown == 0.0) return;
+  }
   ProgramMessage m;
   m.kind = lexed_.message;
   m.line = line_no;

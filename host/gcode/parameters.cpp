@@ -3,7 +3,9 @@
 
 namespace pcnc {
 
-ParameterStore::ParameterStore() : numbered_(static_cast<std::size_t>(kMaxReadable) + 1, 0.0) {}
+ParameterStore::ParameterStore() : numbered_(static_cast<std::size_t>(kMaxReadable) + 1, 0.0) {
+  numbered_[kDebugOutput] = 1.0;
+}
 
 std::string ParameterStore::normalize(std::string_view name) {
   std::string s;
@@ -61,10 +63,10 @@ bool ParameterStore::exists(std::string_view name) const {
 }
 
 bool ParameterStore::write(int number, double value, std::string& why) {
-  if (number < 1 || number > kMaxNumbered) {
+  if ((number < 1 || number > kMaxNumbered) && number != kDebugOutput) {
     why = number > kMaxNumbered && number <= kMaxReadable
               ? "parameter #" + std::to_string(number) + " is read-only; expected a parameter from #1 to #" +
-                    std::to_string(kMaxNumbered)
+                    std::to_string(kMaxNumbered) + " (or #5599, the (DEBUG,...) switch)"
               : "parameter #" + std::to_string(number) + " does not exist; expected #1 to #" +
                     std::to_string(kMaxNumbered);
     return false;

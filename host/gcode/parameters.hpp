@@ -38,6 +38,7 @@ class ParameterStore {
  public:
   static constexpr int kMaxNumbered = 5399;    // #1 .. #5399 can be written (#5400+ are computed)
   static constexpr int kMaxReadable = 5602;    // the highest number a program may read
+  static constexpr int kDebugOutput = 5599;    // writable too: 1 (at start) shows (DEBUG,...), 0 hides them (LinuxCNC)
   static constexpr int kLocalNumbered = 30;    // #1-#30: subroutine arguments, local
   static constexpr int kMaxCallDepth = 64;     // nested subroutine calls (recursion limit)
   static constexpr std::size_t kMaxNames = 100000;
