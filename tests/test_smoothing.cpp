@@ -76,7 +76,7 @@ TEST(Smoothing, ARealCornerStaysACornerBetweenTwoCurves) {
 
 // Two 1 mm moves turning 8° (under the smoothing angle): the rt passes their junction as a corner
 // at its junction-deviation speed for 5 µm (about 64 mm/s on the desktop mill). A curve within
-// the tolerance rounds it no wider, so at a feed of 100 mm/s the moves stay lines, passed as a
+// the tolerance rounds it about as tightly, so at a feed of 100 mm/s the moves stay lines, passed as a
 // corner; at 10 mm/s the corner does not bind and they become one curve as before.
 TEST(Smoothing, TwoMovesWhoseCornerIsSlowerThanTheirFeedStayLines) {
   const Vec3 a{1, 1, 0}, b{2, 1, 0};

@@ -36,9 +36,9 @@ bool Smoother::within_travel(const NurbsCurve& c) const {
   return true;
 }
 
-// Two moves fitted alone make a rounded corner: within the tolerance its tightest radius is at
-// most the junction-deviation circle's (spiral_lines.ngc's pairs: the curve's 99.6 mm/s at the
-// axes' acceleration against the corner's 99.9), the rt's schedule gives the normal part only a
+// Two moves fitted alone make a rounded corner: within the tolerance its tightest radius is
+// about the junction-deviation circle's (spiral_lines.ngc's pairs: the curve's 99.6 mm/s at the
+// axes' acceleration against the corner's 99.9; not a bound proven for every pair), the rt's schedule gives the normal part only a
 // share of the acceleration, and the curve's end tangents leave the chords (by 0.6° there),
 // which sharpens the corners at its ends. Where the corner is slower than the feed, the rt's
 // corner (blended within the tolerance) is the faster way through.

@@ -19,9 +19,10 @@
 //   * where the fit cannot stay within the tolerance, the run is cut at the worst programmed
 //     point (a corner kept) and both parts are fitted again; a single move stays a line, and
 //     so do two moves whose junction the rt passes slower than their feed as a corner (its
-//     junction-deviation speed for the tolerance): a curve within the tolerance can round that
-//     junction no wider than the corner's circle and the rt runs it at a share of the
-//     acceleration, and its end tangents leave the chords, sharpening the corners at its ends;
+//     junction-deviation speed for the tolerance): a curve within the tolerance rounds that
+//     junction about as tightly as the corner's circle (measured on spiral_lines.ngc's pairs),
+//     the rt runs it at a share of the acceleration, and its end tangents leave the chords,
+//     sharpening the corners at its ends;
 //   * at most kMaxRun moves per curve;
 //   * the fits of one run cost at most kFitWork times its points (a bound on the cut-and-refit
 //     recursion, which a run that fails near one end again and again would make quadratic):
