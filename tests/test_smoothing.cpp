@@ -74,6 +74,30 @@ TEST(Smoothing, ARealCornerStaysACornerBetweenTwoCurves) {
   EXPECT_EQ(out[1].line_marks->back().line, 40);
 }
 
+// Two 1 mm moves turning 8° (under the smoothing angle): the rt passes their junction as a corner
+// at its junction-deviation speed for 5 µm (about 64 mm/s on the desktop mill). A curve within
+// the tolerance rounds it about as tightly, so at a feed of 100 mm/s the moves stay lines, passed as a
+// corner; at 10 mm/s the corner does not bind and they become one curve as before.
+TEST(Smoothing, TwoMovesWhoseCornerIsSlowerThanTheirFeedStayLines) {
+  const Vec3 a{1, 1, 0}, b{2, 1, 0};
+  const double h = 8.0 * M_PI / 180.0;
+  const Vec3 c = b + Vec3{std::cos(h), std::sin(h), 0.0};
+  for (const double feed : {100.0, 10.0}) {
+    const std::vector<Move> in{test::line_move(a, b, 1, feed, true, 0.005), test::line_move(b, c, 2, feed, true, 0.005)};
+    const std::vector<Move> out = smooth(in);
+    if (feed > 64.0) {
+      ASSERT_EQ(out.size(), 2u);
+      EXPECT_EQ(out[0].kind, MoveKind::kLine);
+      EXPECT_EQ(out[1].kind, MoveKind::kLine);
+      EXPECT_EQ(out[0].end, b);
+    } else {
+      ASSERT_EQ(out.size(), 1u);
+      EXPECT_EQ(out[0].kind, MoveKind::kNurbs);
+      EXPECT_EQ(out[0].end, c);
+    }
+  }
+}
+
 // A zigzag of 3 mm moves turning 9° each (under the smoothing angle) at 0.5 µm: no cubic with
 // knots at most about two per move follows it, so every fit fails and the run is cut again and
 // again, down to the programmed lines, in order (the cut-and-refit recursion has a work bound

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "gcode/spline_fit_memo.hpp"
+#include "geometry/junction_deviation.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/spline_fit.hpp"
 
@@ -17,6 +18,7 @@ Smoother::Smoother(const MachineConfig& config)
   for (std::size_t i = 0; i < static_cast<std::size_t>(kAxes); ++i) {
     travel_min_[i] = config.axes[i].travel_min_mm;
     travel_max_[i] = config.axes[i].travel_max_mm;
+    accel_[i] = config.axes[i].max_accel_mm_s2;
   }
 }
 
@@ -32,6 +34,19 @@ bool Smoother::within_travel(const NurbsCurve& c) const {
     }
   }
   return true;
+}
+
+// Two moves fitted alone make a rounded corner: within the tolerance its tightest radius is
+// about the junction-deviation circle's (spiral_lines.ngc's pairs: the curve's 99.6 mm/s at the
+// axes' acceleration against the corner's 99.9; not a bound proven for every pair), the rt's schedule gives the normal part only a
+// share of the acceleration, and the curve's end tangents leave the chords (by 0.6° there),
+// which sharpens the corners at its ends. Where the corner is slower than the feed, the rt's
+// corner (blended within the tolerance) is the faster way through.
+bool Smoother::corner_binds(std::size_t k) const {
+  const Move& m = run_[k];
+  const double v = junction_deviation_speed(normalized(m.end - m.start), normalized(run_[k + 1].end - run_[k + 1].start),
+                                            accel_, m.path_tolerance_mm);
+  return v < m.feed_mm_s;
 }
 
 bool Smoother::smoothable(const Move& m) const {
@@ -85,7 +100,8 @@ void Smoother::flush_run() {
 // Move k of the run goes from points_[k] to points_[k + 1].
 void Smoother::fit_range(std::size_t first, std::size_t last) {
   const std::size_t count = last - first + 1;
-  if (last - first < 2 || count > fit_work_left_) {  // a single move, or the run's work spent: lines
+  // a single move, two whose corner binds, or the run's work spent: lines
+  if (last - first < 2 || (last - first == 2 && corner_binds(first)) || count > fit_work_left_) {
     for (std::size_t k = first; k < last; ++k) out_.push_back(run_[k]);
     return;
   }

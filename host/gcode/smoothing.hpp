@@ -17,7 +17,12 @@
 //   * a junction turning more than motion.smoothing_angle_deg is a real corner: the run ends
 //     there (the rt passes it at the junction-deviation speed for the tolerance);
 //   * where the fit cannot stay within the tolerance, the run is cut at the worst programmed
-//     point (a corner kept) and both parts are fitted again; a single move stays a line;
+//     point (a corner kept) and both parts are fitted again; a single move stays a line, and
+//     so do two moves whose junction the rt passes slower than their feed as a corner (its
+//     junction-deviation speed for the tolerance): a curve within the tolerance rounds that
+//     junction about as tightly as the corner's circle (measured on spiral_lines.ngc's pairs),
+//     the rt runs it at a share of the acceleration, and its end tangents leave the chords,
+//     sharpening the corners at its ends;
 //   * at most kMaxRun moves per curve;
 //   * the fits of one run cost at most kFitWork times its points (a bound on the cut-and-refit
 //     recursion, which a run that fails near one end again and again would make quadratic):
@@ -30,6 +35,7 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "geometry/axis_caps.hpp"
 #include "gcode/move.hpp"
 
 namespace pcnc {
@@ -64,9 +70,11 @@ class Smoother {
   void flush_run();
   void fit_range(std::size_t first, std::size_t last);  // points first..last of the run
   bool within_travel(const NurbsCurve& c) const;
+  bool corner_binds(std::size_t k) const;  // moves k and k + 1's junction, as a corner, below their feed
 
   double cos_corner_;
   Vec3 travel_min_{}, travel_max_{};  // the axes' travel: a curve never leaves it
+  AxisLimits accel_{};                // the axes' accelerations (the junction-deviation speed)
   std::size_t fit_work_left_ = 0;  // points the run's remaining fits may still take
   std::vector<Move> run_;      // the run's moves (null moves dropped)
   std::vector<Vec3> points_;   // the run's start and each move's end
