@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "gcode_test_util.hpp"
 
@@ -16,6 +17,15 @@ using test::run_program;
 using test::wide_config;
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+// The ends of the feed moves: a canned cycle's hole bottoms.
+std::vector<Vec3> feed_ends(const test::RunResult& r) {
+  std::vector<Vec3> ends;
+  for (const Block& b : r.motion()) {
+    if (b.kind == BlockKind::kLine) ends.push_back(b.end);
+  }
+  return ends;
+}
 
 void expect_xy(const Vec3& p, double x, double y, double tol = 1e-9) {
   EXPECT_NEAR(p[0], x, tol);
@@ -79,10 +89,7 @@ TEST(Polar, IncrementalCannedCycleRepeatsTurnAboutTheOrigin) {
   // LinuxCNC's bolt circle: six holes 60 degrees apart on a 30 mm circle (the sixth where it started)
   const auto r = run_program("G21 G17 G90\nG0 X30 Y0 Z10\nG91 G81 R-8 Z-5 ^60 L6 F300\nM2\n", wide_config());
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
-  std::vector<Vec3> bottoms;  // the ends of the feeds down
-  for (const Block& b : r.motion()) {
-    if (b.kind == BlockKind::kLine) bottoms.push_back(b.end);
-  }
+  const std::vector<Vec3> bottoms = feed_ends(r);
   ASSERT_EQ(bottoms.size(), 6u);
   for (std::size_t k = 0; k < 6; ++k) {
     const double a = 60.0 * static_cast<double>(k + 1) * kDeg;
@@ -92,10 +99,7 @@ TEST(Polar, IncrementalCannedCycleRepeatsTurnAboutTheOrigin) {
   // a row along 33 degrees, 10 mm apart: the radius grows, the angle stays
   const auto row = run_program("G21 G17 G90\nG0 @10 ^33 Z10\nG91 G81 @10 R-8 Z-5 L3 F300\nM2\n", wide_config());
   ASSERT_TRUE(row.check.ok) << (row.first_error() ? row.first_error()->message : "");
-  std::vector<Vec3> holes;
-  for (const Block& b : row.motion()) {
-    if (b.kind == BlockKind::kLine) holes.push_back(b.end);
-  }
+  const std::vector<Vec3> holes = feed_ends(row);
   ASSERT_EQ(holes.size(), 3u);
   for (std::size_t k = 0; k < 3; ++k) {
     const double rad = 10.0 * static_cast<double>(k + 2);
@@ -106,10 +110,7 @@ TEST(Polar, IncrementalCannedCycleRepeatsTurnAboutTheOrigin) {
 TEST(Polar, AbsoluteCannedCycleDrillsAtThePolarPointAndAModalLineMayHoldOnlyTheAngle) {
   const auto r = run_program("G21 G17 G90 G98\nG0 X25 Y0 Z10\nG81 R2 Z-1 F300\n^120\n^240\nM2\n", wide_config());
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
-  std::vector<Vec3> holes;
-  for (const Block& b : r.motion()) {
-    if (b.kind == BlockKind::kLine) holes.push_back(b.end);
-  }
+  const std::vector<Vec3> holes = feed_ends(r);
   ASSERT_EQ(holes.size(), 3u);
   expect_xy(holes[0], 25.0, 0.0);
   expect_xy(holes[1], 25 * std::cos(120 * kDeg), 25 * std::sin(120 * kDeg));
