@@ -190,7 +190,7 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     }
   };
   feeder.set_while_waiting(answer_pause);
-  auto stop_here = [&](JobEnd end, std::string why) {
+  auto stop_here = [&](JobEnd end, std::string why) {  // a controlled stop along the path, then the end
     Command stop;
     stop.kind = CommandKind::kStop;
     link_.send(stop);
@@ -209,13 +209,8 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
       bool more = false;
       const std::string why = source.resume(interrupt, more);
       if (!why.empty()) {  // e.g. G38.2 without contact: the program ends here
-        Command stop;
-        stop.kind = CommandKind::kStop;
-        link_.send(stop);
-        wait_until_state([&](const Status& s) { return s.state != MachineState::kStopping && s.state != MachineState::kRunning; },
-                         std::atomic<bool>{false}, 10.0, st);
         result.blocks_sent = feeder.pushed();
-        return finish(JobEnd::kStopped, why);
+        return stop_here(JobEnd::kStopped, why);
       }
       if (more) {
         feeder.resume_input();
