@@ -165,6 +165,7 @@ TEST(GcodeSubs, NestedDefinitionsAndStrayKeywordsAreRefused) {
   EXPECT_TRUE(list_program("o1 sub\nG0 X1\nM2\n").has_error("has no endsub"));
   EXPECT_TRUE(list_program("o1 endsub\nM2\n").has_error("outside a subroutine"));
   EXPECT_TRUE(list_program("o<nowhere> call\nM2\n").has_error("unknown subroutine o<nowhere>"));
+  EXPECT_TRUE(list_program("o<nowhere> call\nM2\n").has_error("or in nowhere.ngc beside it")) << "where LinuxCNC's files go";
 }
 
 TEST(GcodeSubs, FanucM98CallsASubprogramLTimes) {

@@ -257,9 +257,10 @@ void ControlFlow::call(const OWord& o, int line) {
   const LineReader::Position ret = tell();  // before find_sub reads ahead
   LineReader::Position body{};
   if (!find_sub(o.label, false, body)) {
+    const bool named = !o.label.empty() && !(o.label[0] >= '0' && o.label[0] <= '9');
     return fail(line, o.column,
-                "unknown subroutine " + name_of(o.label) + "; expected " + name_of(o.label) +
-                    " sub ... endsub in this file");
+                "unknown subroutine " + name_of(o.label) + "; expected " + name_of(o.label) + " sub ... endsub in this file" +
+                    (named ? " or in " + o.label + ".ngc beside it" : std::string()));
   }
   if (!params_.push_call(o.args.data(), static_cast<int>(o.args.size()))) {
     return fail(line, o.column,
