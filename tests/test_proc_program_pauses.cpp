@@ -1,10 +1,15 @@
 // test_proc_program_pauses.cpp — a program's M0/M1 under `pcnc run`, which serves no control
-// socket to resume from (docs/gcode.md, "Pauses in pcnc run"): --pauses continue comes to rest
+// socket to resume from (docs/gcode.md, "Pauses under `pcnc run`"): --pauses continue comes to rest
 // there and goes on, exactly as a dwell of 0 s would; --pauses ask waits at rest for Enter on
-// stdin and stops the program there when no one answers. Both real processes run.
+// stdin and stops the program there when no one answers or a stop signal comes. Both real
+// processes run.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/stat.h>
 
+#include <chrono>
 #include <fstream>
+#include <thread>
 #include <nlohmann/json.hpp>
 #include <regex>
 
@@ -93,6 +98,33 @@ TEST(ProgramPauses, AskWaitsForEnterAndStopsThereWhenNoOneAnswers) {
   EXPECT_TRUE(has(one.out, "result            stopped: stopped at the M1 on line 5: the operator did not resume")) << one.out;
   const auto at = commanded_xy(one.out);
   EXPECT_NEAR(at.first, 12.5 + 2.0, 1e-4);
+  EXPECT_NEAR(at.second, 12.5 + 1.0, 1e-4);
+}
+
+TEST(ProgramPauses, AStopSignalWhileTheOperatorIsAskedStopsTheProgramAtThePause) {
+  const std::string dir = make_temp_dir("asksig");
+  const std::string config = write_test_config(dir, "asksig");
+  const std::string prog = write_program(dir, "asksig.ngc", "M0", "M1");
+  // stdin: a FIFO that the shell also holds open for writing, so it never ends and never speaks
+  const std::string fifo = dir + "/stdin";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  BackgroundProcess run = start_process(
+      {"/bin/sh", "-c", "exec 3<>\"$4\"; exec \"$0\" run \"$1\" --clock virtual --config \"$2\" --pauses \"$3\" < \"$4\"",
+       pcnc_exe(), prog, config, "ask", fifo},
+      dir + "/pcnc");
+  Reaped reaped{run};
+  bool asked = false;
+  for (int i = 0; i < 600 && !asked; ++i) {  // up to 60 s
+    asked = has(run.err(), "paused at line 3 (M0)");
+    if (!asked) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_TRUE(asked) << run.err();
+  kill(run.pid, SIGTERM);
+  const int code = wait_for(run, 60);
+  EXPECT_EQ(code, 128 + SIGTERM) << run.out() << run.err();
+  EXPECT_TRUE(has(run.out(), "result            interrupted: stopped along the path")) << run.out();
+  const auto at = commanded_xy(run.out());
+  EXPECT_NEAR(at.first, 12.5 + 1.0, 1e-4) << "the machine stays at the M0 on line 3";
   EXPECT_NEAR(at.second, 12.5 + 1.0, 1e-4);
 }
 

@@ -239,7 +239,7 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     note_started();
     if (ended) break;
     answer_pause();
-    if (interrupt.load()) return stop_here(JobEnd::kInterrupted, "interrupted: stopped along the path");
+    if (interrupt.load()) return stop_here(JobEnd::kInterrupted, "stopped along the path");
     if (declined) return stop_here(JobEnd::kStopped, declined_text());
     if (!link_.rt_alive()) return finish(JobEnd::kRtLost, "pcnc-rt stopped responding");
     report_progress();
