@@ -245,11 +245,13 @@ int launch_pair(const LaunchOptions& options) {
           pending.erase(0, nl + 1);
           options.on_progress_line(line);
           // "done": the host waits for this answer before it prints its report
-          if (line == "done" && write(fd, "ok\n", 3) < 0) break;
+          // (MSG_NOSIGNAL: a host that has gone is EPIPE, not a SIGPIPE that would end pcnc
+          // itself with status 141 in place of the run's)
+          if (line == "done" && send(fd, "ok\n", 3, MSG_NOSIGNAL) < 0) break;
           // a program pause under --pauses ask: the machine waits at rest for the operator
           if (parse_pause_request(line)) {
             const char* answer = wait_for_enter(fd) ? "resume\n" : "stop\n";
-            if (write(fd, answer, std::strlen(answer)) < 0) break;
+            if (send(fd, answer, std::strlen(answer), MSG_NOSIGNAL) < 0) break;
           }
         }
       }
