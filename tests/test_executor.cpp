@@ -378,6 +378,27 @@ struct Crossings {
   int tight = 0;
 };
 
+// A zigzag in the XY plane under M21, built move by move from a rapid to `start`: each move
+// turns the heading by `turn` (rad, signed) and goes `len` mm; the directions are kept for
+// check_zigzag_run, whose `first` line is that of blocks()[1].
+struct Zigzag {
+  ProgramBuilder p;
+  std::vector<Vec3> dirs;
+  Vec3 at;
+  double heading = 0.0;
+  Zigzag(const MachineConfig& c, const Vec3& start) : p(c, test::home(c)), at(start) { p.rapid(start).contouring(true); }
+  Vec3 end_of(double turn, double len) const {
+    return at + len * Vec3{std::cos(heading + turn), std::sin(heading + turn), 0.0};
+  }
+  void go(double turn, double len, double feed) {
+    heading += turn;
+    const Vec3 d{std::cos(heading), std::sin(heading), 0.0};
+    at = at + len * d;
+    p.line(at, feed);
+    dirs.push_back(d);
+  }
+};
+
 Crossings check_zigzag_run(const std::vector<Sample>& s, std::uint32_t first, const std::vector<Vec3>& dirs,
                            const MachineConfig& c, const std::string& what) {
   const double dt = c.cycle_period_s(), f = c.motion.junction_velocity_step_fraction;
@@ -411,26 +432,16 @@ TEST(Executor, FlowingJunctionsAreCrossedWithinTheirCapsWhileBraking) {
   // the stop rule's margin (docs/rt-executor.md, "Speed law").
   MachineConfig c = cfg();
   c.motion.path_tolerance_mm = 0.0;
-  const Vec3 start{1.5, 12.5, 20.0};
-  ProgramBuilder p(c, test::home(c));
-  p.rapid(start).contouring(true);
-  std::vector<Vec3> dirs;
-  double heading = 0.0;
-  Vec3 at = start;
+  Zigzag z(c, {1.5, 12.5, 20.0});
   for (int i = 0; i < 60; ++i) {
     const double turn = (0.5 + 9.0 * static_cast<double>(i % 10) / 9.0) * std::numbers::pi / 180.0;
-    heading += (i % 2 == 0 ? 1.0 : -1.0) * turn;
     // long enough to brake from cap to cap within one segment, then segments of a few cycles
     // each, across which the look-ahead's backward pass must plan the braking
     const double len = (i < 30 ? 0.2 : 0.03) * (1.0 + 0.75 * static_cast<double>(i % 3));
-    const Vec3 d{std::cos(heading), std::sin(heading), 0.0};
-    at = at + len * d;
-    p.line(at, 80.0);
-    dirs.push_back(d);
+    z.go((i % 2 == 0 ? 1.0 : -1.0) * turn, len, 80.0);
   }
-  p.end();
-  // the zigzag's first block follows the rapid
-  const Crossings x = check_zigzag_run(execute(c, p.blocks()), p.blocks()[1].line, dirs, c, "zigzag");
+  z.p.end();
+  const Crossings x = check_zigzag_run(execute(c, z.p.blocks()), z.p.blocks()[1].line, z.dirs, c, "zigzag");
   EXPECT_GT(x.count, 50);
   EXPECT_GT(x.tight, 20);  // the caps bind: the executor runs up to them
 }
@@ -498,12 +509,7 @@ TEST(Executor, RandomZigzagsAreCrossedWithinTheirCaps) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int crossings = 0, tight = 0;
   for (int program = 0; program < 40; ++program) {
-    const Vec3 start{2.0, 12.5, 20.0};
-    ProgramBuilder p(c, test::home(c));
-    p.rapid(start).contouring(true);
-    std::vector<Vec3> dirs;
-    double heading = 0.0;
-    Vec3 at = start;
+    Zigzag z(c, {2.0, 12.5, 20.0});
     const double feed = 20.0 + 80.0 * unit(rng);
     int micro = 0;  // moves left in a run of micro moves
     for (int i = 0; i < 40; ++i) {
@@ -511,18 +517,16 @@ TEST(Executor, RandomZigzagsAreCrossedWithinTheirCaps) {
       // 0.1-10 µm, as CAM output has (one cycle may cross several, and more than the ring holds)
       if (micro == 0 && unit(rng) < 0.1) micro = 3 + static_cast<int>(6.0 * unit(rng));
       const double turn = (micro > 0 ? 0.0 : 0.2 + 9.6 * unit(rng)) * std::numbers::pi / 180.0;
-      heading += (unit(rng) < 0.5 ? 1.0 : -1.0) * turn;
+      const double signed_turn = (unit(rng) < 0.5 ? 1.0 : -1.0) * turn;
       const double len = micro > 0 ? std::pow(10.0, -4.0 + 2.0 * unit(rng)) : std::pow(10.0, -2.5 + 2.5 * unit(rng));
       if (micro > 0) --micro;
-      const Vec3 d{std::cos(heading), std::sin(heading), 0.0};
-      if ((at + len * d)[0] > 23.0 || (at + len * d)[1] < 2.0 || (at + len * d)[1] > 23.0) break;
-      at = at + len * d;
-      p.line(at, feed);
-      dirs.push_back(d);
+      const Vec3 e = z.end_of(signed_turn, len);
+      if (e[0] > 23.0 || e[1] < 2.0 || e[1] > 23.0) break;
+      z.go(signed_turn, len, feed);
     }
-    p.end();
+    z.p.end();
     for (const std::size_t feed_limit : {kRingSlots, std::size_t{3}, std::size_t{2}, std::size_t{1}}) {
-      const Crossings x = check_zigzag_run(execute(c, p.blocks(), nullptr, feed_limit), p.blocks()[1].line, dirs, c,
+      const Crossings x = check_zigzag_run(execute(c, z.p.blocks(), nullptr, feed_limit), z.p.blocks()[1].line, z.dirs, c,
                                            "program " + std::to_string(program) + " ring " + std::to_string(feed_limit));
       crossings += x.count;
       tight += x.tight;

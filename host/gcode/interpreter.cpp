@@ -127,9 +127,8 @@ bool Interpreter::check_words(const ParsedLine& l) {
   std::uint32_t allowed = bit('N') | bit('F') | bit('S') | bit('T');
   if (nonmodal == 280 || nonmodal == 300 || is_straight(motion) || is_arc(motion) || is_probe(motion)) allowed |= kAxisBits;
   // polar coordinates (@ ^) name the end point of a move or a hole (LinuxCNC), nothing else
-  const bool takes_axes = nonmodal == 280 || nonmodal == 300 || nonmodal == 100 || nonmodal == 520 || nonmodal == 530 ||
-                          nonmodal >= 920 || l.g[kGToolLength] == 431;
-  if (!takes_axes && (is_straight(motion) || is_arc(motion) || is_probe(motion) || is_cycle(motion))) allowed |= kPolarBits;
+  if (!takes_axis_words(l) && nonmodal != 530 && (is_straight(motion) || is_arc(motion) || is_probe(motion) || is_cycle(motion)))
+    allowed |= kPolarBits;
   // the machine's rotary joints move with G0/G1 only (not G53, G28/G30, arcs, probes or cycles)
   if (is_straight(motion) && nonmodal != 280 && nonmodal != 300 && nonmodal != 530 && nonmodal != 100 &&
       nonmodal != 520 && nonmodal < 920 && l.g[kGToolLength] != 431) {
@@ -310,10 +309,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if (motion_word >= 0) motion_ = motion_word == 800 ? -1 : motion_word;
   if (motion_word >= 0 && !is_cycle(motion_word)) cycle_.end_series();  // G0-G3, G80: the series ends
   bool ok = true;
-  // Words that take the axis words for themselves: no motion on their line (LinuxCNC).
-  const bool uses_axes = nonmodal == 280 || nonmodal == 300 || nonmodal == 100 || nonmodal == 520 ||
-                         nonmodal == 920 || l.g[kGToolLength] == 431;
-  if (uses_axes && motion_word >= 0 && motion_word != 800 && axis_words(l)) {
+  if (takes_axis_words(l) && motion_word >= 0 && motion_word != 800 && axis_words(l)) {
     return fail(l, l.g_col[kGMotion],
                 g_name(nonmodal) + " and " + g_name(motion_word) +
                     " both use the axis words; expected them on separate lines");
