@@ -3,7 +3,9 @@
 // --trace`; the traced commanded path stays within the tolerance of the programmed polyline
 // (measured here against the programmed segments, not the curve the host made), the summary
 // says how many moves were smoothed into how many blocks, and smoothing takes less machine
-// time than the seed's rule (tolerance 0).
+// time than the seed's rule (tolerance 0). A chain of short tangent arcs is packed into exact
+// curves (host/gcode/arc_packing.hpp): the traced path stays on the programmed arcs, the ring
+// carries fewer blocks, and the chain runs in less machine time than as arcs.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +13,7 @@
 #include <sstream>
 
 #include "geometry/spline_fit.hpp"
+#include <nlohmann/json.hpp>
 #include "subprocess.hpp"
 #include "test_paths.hpp"
 
@@ -108,6 +111,91 @@ TEST(PcncRunSmoothing, TheCommandedPathStaysWithinTheToleranceOfTheProgrammedPol
   EXPECT_LT(t_smooth, t_seed);
   std::cout << "[ figures  ] wave of 160 G1 moves: smoothed " << t_smooth << " s (commanded path " << dev * 1000.0
             << " um from the polyline), seed rule " << t_seed << " s\n";
+}
+
+// A chain of 120 tangent arcs of 6° on radii 5.5-6.5 mm (0.6 mm each), G3 with I J, in
+// program coordinates: each arc's center, radius and start angle for the check.
+struct ProgramArc {
+  double cx, cy, r, a0;
+};
+
+std::string arc_chain_text(std::vector<ProgramArc>& arcs) {
+  std::ostringstream o;
+  o.precision(6);
+  // a lead-in along +X, tangent to the first arc: the only corner is the rapid's, on line 2
+  o << std::fixed << "G21 G90 G17 G54 M21\nG00 X-2 Y-6 Z-1\nG01 X0 F6000\n";
+  double x = 0.0, y = -6.0, heading = 0.0;
+  const double sweep = 6.0 * M_PI / 180.0;
+  for (int k = 0; k < 120; ++k) {
+    const double r = 6.0 + 0.5 * std::sin(0.1 * k);
+    const double cx = x - r * std::sin(heading), cy = y + r * std::cos(heading);  // left of travel
+    const double a0 = std::atan2(y - cy, x - cx);
+    const double ex = cx + r * std::cos(a0 + sweep), ey = cy + r * std::sin(a0 + sweep);
+    o << "G03 X" << ex << " Y" << ey << " I" << cx - x << " J" << cy - y << "\n";
+    arcs.push_back({cx, cy, r, a0});
+    x = ex;
+    y = ey;
+    heading += sweep;
+  }
+  o << "M30\n";
+  return o.str();
+}
+
+TEST(PcncRunSmoothing, AChainOfShortArcsIsPackedExactlyAndRunsFaster) {
+  const std::string dir = make_temp_dir("arcpack");
+  const std::string config = write_test_config(dir, "arcpack");
+  const std::string prog = dir + "/arcs.ngc";
+  std::vector<ProgramArc> arcs;
+  std::ofstream(prog) << arc_chain_text(arcs);
+
+  const TracedRun packed = run_traced(dir, config, prog, "0.005");
+  ASSERT_EQ(packed.r.exit_code, 0) << packed.r.out << packed.r.err;
+  // every commanded point of the arcs' lines on one of the programmed arcs (machine coordinates:
+  // the desktop mill's G54 is 12.5, 12.5, 25), within 0.2 um: the rt rounds each flowing
+  // junction between blocks of different curvature within its blend budget, here by up to
+  // 0.08 um, as it does between the arc blocks themselves (at F600, not packed, the same)
+  {
+    std::ifstream in(packed.trace);
+    std::string line;
+    std::getline(in, line);
+    double worst = 0.0;
+    int rows = 0;
+    while (std::getline(in, line)) {
+      std::stringstream ss(line);
+      std::string f[13];
+      for (auto& v : f) std::getline(ss, v, ',');
+      if (std::stoi(f[1]) < 4 || std::stoi(f[1]) > 123) continue;  // the G03 lines are 4..123
+      const double px = std::stod(f[3]) - 12.5, py = std::stod(f[4]) - 12.5;
+      double d = 1e300;
+      for (const ProgramArc& a : arcs) {
+        double phi = std::remainder(std::atan2(py - a.cy, px - a.cx) - a.a0, 2.0 * M_PI);
+        if (phi < -1e-6 || phi > 6.0 * M_PI / 180.0 + 1e-6) continue;
+        d = std::min(d, std::abs(std::hypot(px - a.cx, py - a.cy) - a.r));
+      }
+      worst = std::max(worst, d);
+      ++rows;
+    }
+    EXPECT_GT(rows, 500);
+    EXPECT_LT(worst, 2e-4) << "the packed curves are the programmed arcs";
+  }
+  std::ifstream sj(packed.summary);
+  const nlohmann::json summary = nlohmann::json::parse(sj);
+  EXPECT_EQ(summary.at("check").at("packed_arcs").get<int>(), 120);
+  const int blocks = summary.at("check").at("packed_blocks").get<int>();
+  EXPECT_GE(blocks, 120 / 15);  // at most 15 arcs of 2 control points each in a 32-point block
+  EXPECT_LT(blocks, 20);
+  EXPECT_LT(summary.at("check").at("packed_max_deviation_mm").get<double>(), 1e-6);
+  EXPECT_NE(packed.r.out.find("120 arcs packed into"), std::string::npos) << packed.r.out;
+
+  // tolerance 0 (the seed's rule): the arcs run as arc blocks, 4 of them in the ring, slower
+  const TracedRun arcs_run = run_traced(dir, config, prog, "0");
+  ASSERT_EQ(arcs_run.r.exit_code, 0) << arcs_run.r.out << arcs_run.r.err;
+  std::ifstream sj0(arcs_run.summary);
+  EXPECT_EQ(nlohmann::json::parse(sj0).at("check").at("packed_arcs").get<int>(), 0);
+  const double t_packed = program_time(packed.r.out), t_arcs = program_time(arcs_run.r.out);
+  EXPECT_LT(t_packed, t_arcs);
+  std::cout << "[ figures  ] chain of 120 arcs of 0.6 mm: packed " << t_packed << " s in " << blocks
+            << " blocks, as arcs " << t_arcs << " s\n";
 }
 
 }  // namespace

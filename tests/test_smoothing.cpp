@@ -9,6 +9,7 @@
 #include "gcode/smoothing.hpp"
 #include "geometry/nurbs.hpp"
 #include "gcode_test_util.hpp"
+#include "move_stage.hpp"
 
 namespace pcnc {
 namespace {
@@ -31,16 +32,7 @@ std::vector<Move> bend(Vec3 from, double heading, int first_line, double tol = 0
 
 std::vector<Move> smooth(const std::vector<Move>& in, const MachineConfig& c) {
   Smoother s(c);
-  std::size_t next = 0;
-  auto pull = [&](Move& m) {
-    if (next >= in.size()) return false;
-    m = in[next++];
-    return true;
-  };
-  std::vector<Move> out;
-  Move m;
-  while (s.next(pull, m)) out.push_back(m);
-  return out;
+  return test::run_move_stage(s, in);
 }
 
 std::vector<Move> smooth(const std::vector<Move>& in) { return smooth(in, load_config(test::default_config())); }

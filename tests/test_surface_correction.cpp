@@ -15,6 +15,7 @@
 #include "gcode_test_util.hpp"
 #include "geometry/nurbs.hpp"
 #include "geometry/surface_fit.hpp"
+#include "move_stage.hpp"
 
 namespace pcnc {
 namespace {
@@ -30,16 +31,7 @@ std::shared_ptr<const BSplineSurface> wavy_surface(double (*z)(double, double) =
 }
 
 std::vector<Move> run_stage(SurfaceCorrection& stage, const std::vector<Move>& in) {
-  std::size_t i = 0;
-  auto pull = [&](Move& m) {
-    if (i >= in.size()) return false;
-    m = in[i++];
-    return true;
-  };
-  std::vector<Move> out;
-  Move m;
-  while (stage.next(pull, m)) out.push_back(m);
-  return out;
+  return test::run_move_stage(stage, in);
 }
 
 Move line(Vec3 a, Vec3 b, MoveKind k = MoveKind::kLine) {

@@ -55,6 +55,7 @@ struct Move {
   double dwell_s = 0.0;        // kDwell
   double path_tolerance_mm = 0.0;  // G64 P / --tolerance / motion.path_tolerance_mm when it was made (mm)
   bool smoothed = false;       // kNurbs made by the smoothing stage from a run of G1 moves
+  bool packed_arcs = false;    // kNurbs made by the arc-packing stage from a chain of arcs (exact)
   std::uint8_t probe_rule = 0; // kLine: a probing move G38.2-G38.5 (ipc/block.hpp ProbeRule); 0: none
 
   // kArc: center on the start point's level along the normal axis, radius (start radius),
@@ -86,7 +87,8 @@ struct Move {
   std::shared_ptr<const RuledModel> ruled;
 
   MoveComp comp;
-  // kNurbs made by smoothing (`smoothed`): the programmed moves' lines along the curve.
+  // kNurbs made by smoothing (`smoothed`) or packing (`packed_arcs`): the programmed moves'
+  // lines along the curve.
   std::shared_ptr<const std::vector<LineMark>> line_marks;
 };
 

@@ -7,6 +7,7 @@
 
 #include "gcode/nurbs_plan_memo.hpp"
 #include "gcode/nurbs_schedule.hpp"
+#include "gcode/arc_packing.hpp"
 
 namespace pcnc {
 namespace {
@@ -136,6 +137,9 @@ NurbsMoveBlocks plan_nurbs_move(const Move& m, const MachineConfig& config) {
   NurbsLimits lim = nurbs_limits(config, m.feed_mm_s);
   lim.samples_per_span = schedule_samples_per_span(curve);
   if (m.smoothed) lim.samples_per_span = std::min(lim.samples_per_span, kSmoothedSamplesPerSpan);
+  // Packed arcs (arc_packing.hpp) are circles: their curvature is constant between the knots,
+  // where the schedule takes the smaller limit of the two sides.
+  if (m.packed_arcs) lim.normal_accel_share = kPackedArcNormalShare;
   NurbsBlocks nb = plan_nurbs_blocks_memo(curve, lim);  // the check's plan, when the stream asks again
   if (!nb.error.empty()) {
     out.error = nb.error;

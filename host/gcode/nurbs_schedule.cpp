@@ -143,6 +143,18 @@ const char* to_string(FeedLimit limit) {
   return "?";
 }
 
+// The speed at which a kink (a tangent turning by at most kTangentKinkTurn at a knot, where
+// packed arcs join) steps each axis's velocity by at most kKinkStepShare of its acceleration
+// times one period: the rest of the cycle's acceleration stays the ramp's.
+double kink_speed(const Vec3& t_before, const Vec3& t_after, const NurbsLimits& lim) {
+  double v = kInf;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const double step = std::abs(t_after[i] - t_before[i]);
+    if (step > 1e-12) v = std::min(v, kKinkStepShare * lim.axis_accel_mm_s2[i] * lim.period_s / step);
+  }
+  return v;
+}
+
 FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, double v_start, double v_end) {
   FeedSchedule out;
   out.limits = lim;
@@ -190,6 +202,8 @@ FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, do
         fs.k_left = left.k;
         const SampleLimit sl_left = limit_at(left, lim);
         if (sl_left.speed < sl.speed) sl = sl_left;
+        const double kink = kink_speed(left.t, f.t, lim);
+        if (kink < sl.speed) sl = {kink, FeedLimit::kCorner};
       }
     }
     fs.limit = sl.speed;

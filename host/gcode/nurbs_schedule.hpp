@@ -33,6 +33,9 @@ constexpr double kNormalAccelShare = 0.7;
 /// acceleration takes (FeedSample::accel): the margin for the tangent and curvature turning
 /// between samples and the rt's parameter steps (see nurbs_schedule.cpp).
 constexpr double kTangentialAccelMargin = 0.95;
+/// The share of one cycle's acceleration (per axis) the velocity step at a kink of the curve
+/// may take (geometry/nurbs.hpp kTangentKinkTurn): the schedule caps the speed there to keep it.
+constexpr double kKinkStepShare = 0.1;
 
 struct NurbsLimits {
   double feed_mm_s = 0.0;             // programmed path feed

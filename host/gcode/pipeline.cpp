@@ -38,8 +38,10 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
       preflight_(config_, sink_, soft_limits),
       smoother_(config_),
       to_smoother_([this](Move& m) { return surface_ ? surface_->next(to_surface_, m) : comp_.next(from_source_, m); }),
+      packer_(config_),
+      to_packer_([this](Move& m) { return smoother_.next(to_smoother_, m); }),
       splitter_(config_),
-      to_splitter_([this](Move& m) { return smoother_.next(to_smoother_, m); }),
+      to_splitter_([this](Move& m) { return packer_.next(to_packer_, m); }),
       validator_(config_, frame.start, frame.rot_start),
       to_merge_([this](Move& m) { return checked_move(m); }),
       to_surface_([this](Move& m) { return comp_.next(from_source_, m); }) {
@@ -56,7 +58,7 @@ Pipeline::Pipeline(std::unique_ptr<LineReader> reader, const MachineConfig& conf
 
 // The interpreter's moves through the geometry stages, in their order; each links as
 // `<stage>.next(<pull from the stage before>, m)`: cutter compensation, then surface
-// correction (with --surface), then smoothing, then arc splitting.
+// correction (with --surface), then smoothing, then arc packing, then arc splitting.
 bool Pipeline::geometry_move(Move& m) { return splitter_.next(to_splitter_, m); }
 
 // ... then the preflight, which sees every move; a move without displacement ends there.
@@ -101,6 +103,7 @@ bool Pipeline::next(Block& out) {
       return false;
     }
     if (m.smoothed) smoothed_blocks_ += nb.blocks.size();
+    if (m.packed_arcs) packed_blocks_ += nb.blocks.size();
     nurbs_ = std::move(nb.blocks);
     nurbs_next_ = 1;
     out = nurbs_.front();

@@ -11,6 +11,7 @@
 //   CutterComp   G41/G42: the tool centre's path (LinuxCNC's moves)   (cutter_comp.hpp)
 //   SurfaceCorrection  --surface: Z by a measured surface, optional    (surface_correction.hpp)
 //   Smoother     runs of G1 moves -> curves within the path tolerance  (smoothing.hpp)
+//   ArcPacker    chains of short tangent arcs -> one exact NURBS curve  (arc_packing.hpp)
 //   ArcSplitter  M21 arcs in a plane of unequal axis limits -> pieces   (arc_split.hpp)
 //                whose speed caps follow the angles each sweeps
 //   Preflight    the whole program: soft limits, extents, feed time    (preflight.hpp)
@@ -35,6 +36,7 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "gcode/arc_packing.hpp"
 #include "gcode/arc_split.hpp"
 #include "gcode/block_validator.hpp"
 #include "gcode/cutter_comp.hpp"
@@ -93,6 +95,9 @@ class Pipeline {
   /// What smoothing did so far; `blocks` counts the ring blocks its curves became.
   const SmoothingStats& smoothing() const { return smoother_.stats(); }
   std::uint64_t smoothed_blocks() const { return smoothed_blocks_; }
+  /// What arc packing did so far; `packed_blocks` counts the ring blocks its curves became.
+  const ArcPackingStats& arc_packing() const { return packer_.stats(); }
+  std::uint64_t packed_blocks() const { return packed_blocks_; }
   const LineReader& reader() const { return *reader_; }
   std::uint64_t lines() const { return source_.lines(); }
 
@@ -110,8 +115,10 @@ class Pipeline {
   Preflight preflight_;
   Smoother smoother_;
   MovePull to_smoother_;        // the source's output, the smoother's input
+  ArcPacker packer_;
+  MovePull to_packer_;          // the smoother's output, the arc packer's input
   ArcSplitter splitter_;
-  MovePull to_splitter_;        // the smoother's output, the arc splitter's input
+  MovePull to_splitter_;        // the arc packer's output, the arc splitter's input
   SegmentMerger merge_;
   BlockValidator validator_;
   MovePull to_merge_;           // the preflight's output, the merge's input
@@ -121,6 +128,7 @@ class Pipeline {
   std::vector<Block> nurbs_;    // the blocks of the NURBS (or ruled) move being handed out (one move at a time)
   std::size_t nurbs_next_ = 0;
   std::uint64_t smoothed_blocks_ = 0;
+  std::uint64_t packed_blocks_ = 0;
 };
 
 }  // namespace pcnc

@@ -207,8 +207,10 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
       result.lines = static_cast<std::uint64_t>(std::max_element(places->begin(), places->end(), [](const SourcePlace& a, const SourcePlace& b) {
                        return a.line < b.line;
                      })->line);  // a made program: the last line of its file that it reached
-    // the programmed moves: a smoothed curve counts for the G1 moves it replaced
-    result.moves = pre.moves() + pipeline.smoothing().moves - pipeline.smoothing().curves;
+    // the programmed moves: a smoothed curve counts for the G1 moves it replaced, a packed one
+    // for its arcs
+    result.moves = pre.moves() + pipeline.smoothing().moves - pipeline.smoothing().curves +
+                   pipeline.arc_packing().arcs - pipeline.arc_packing().curves;
     result.last_point = pre.moves() > 0 ? pre.last_point() : frame.start;
     if (pre.moves() > 0) {
       result.min_point = pre.extents().min;
@@ -223,6 +225,10 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.max_path_deviation_mm = pipeline.smoothing().max_deviation_mm;
     result.smoothing_min_tolerance_mm = pipeline.smoothing().min_tolerance_mm;
     result.smoothing_max_tolerance_mm = pipeline.smoothing().max_tolerance_mm;
+    result.packed_arcs = pipeline.arc_packing().arcs;
+    result.packed_curves = pipeline.arc_packing().curves;
+    result.packed_blocks = pipeline.packed_blocks();
+    result.packed_max_deviation_mm = pipeline.arc_packing().max_deviation_mm;
     result.assumed_probe_lines = pipeline.interpreter().assumed_probe_lines();
   } catch (const ProgramRefused& e) {
     sink.error(e.diagnostic.line, e.diagnostic.column, e.diagnostic.message);

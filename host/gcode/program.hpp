@@ -92,6 +92,12 @@ struct CheckResult {
   double max_path_deviation_mm = 0.0;
   double smoothing_min_tolerance_mm = 0.0;  // the tolerances the curves were fitted to (G64 P may change it)
   double smoothing_max_tolerance_mm = 0.0;
+  // Arc packing (gcode/arc_packing.hpp): arcs packed into exact curves, the curves, their ring
+  // blocks, and the largest measured distance of a curve from its arcs.
+  std::uint64_t packed_arcs = 0;
+  std::uint64_t packed_curves = 0;
+  std::uint64_t packed_blocks = 0;
+  double packed_max_deviation_mm = 0.0;
   std::vector<LineRange> rapid_lines;  // source lines holding a rapid block, ascending runs (ok only)
   // What caps each block's speed and how its junctions are passed, per run of lines (ok
   // only): the run report attributes the trace's time to these causes (gcode/time_cause.hpp).

@@ -42,6 +42,16 @@ std::string format_run_report(const RunReport& r) {
                   static_cast<unsigned long long>(r.check.smoothed_blocks),
                   static_cast<unsigned long long>(r.check.smoothed_curves), r.check.max_path_deviation_mm * 1000.0);
     smoothing = c;
+    if (r.check.packed_arcs > 0) {
+      std::snprintf(c, sizeof c,
+                    "  arc packing       %llu arcs packed into %llu blocks (%llu curve%s, exact: max %.3f um from "
+                    "the arcs)\n",
+                    static_cast<unsigned long long>(r.check.packed_arcs),
+                    static_cast<unsigned long long>(r.check.packed_blocks),
+                    static_cast<unsigned long long>(r.check.packed_curves), r.check.packed_curves == 1 ? "" : "s",
+                    r.check.packed_max_deviation_mm * 1000.0);
+      smoothing += c;
+    }
   }
   std::string pauses;
   if (r.job.pauses > 0) {

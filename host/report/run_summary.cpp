@@ -192,6 +192,10 @@ RunSummary make_run_summary(const RunReport& r, const MachineConfig& config, con
   s.max_path_deviation_mm = r.check.max_path_deviation_mm;
   s.smoothing_min_tolerance_mm = r.check.smoothing_min_tolerance_mm;
   s.smoothing_max_tolerance_mm = r.check.smoothing_max_tolerance_mm;
+  s.packed_arcs = r.check.packed_arcs;
+  s.packed_curves = r.check.packed_curves;
+  s.packed_blocks = r.check.packed_blocks;
+  s.packed_max_deviation_mm = r.check.packed_max_deviation_mm;
   s.rapid_lines = r.check.rapid_lines;
   s.plan = r.check.plan;
   s.tcp_tool_length_mm = r.check.tcp_tool_length_mm;
@@ -247,6 +251,10 @@ nlohmann::json to_json(const RunSummary& s) {
                 {"smoothed_blocks", s.smoothed_blocks},
                 {"max_path_deviation_mm", s.max_path_deviation_mm},
                 {"smoothing_tolerance_mm", {s.smoothing_min_tolerance_mm, s.smoothing_max_tolerance_mm}},
+                {"packed_arcs", s.packed_arcs},
+                {"packed_curves", s.packed_curves},
+                {"packed_blocks", s.packed_blocks},
+                {"packed_max_deviation_mm", s.packed_max_deviation_mm},
                 {"rapid_lines", rapid_lines_json(s.rapid_lines)},
                 {"tcp_tool_length_mm", s.tcp_tool_length_mm},
                 {"plan", std::move(plan)}}},
@@ -308,6 +316,11 @@ RunSummary run_summary_from_json(const nlohmann::json& j) {
     s.smoothing_min_tolerance_mm = c.at("smoothing_tolerance_mm").at(0).get<double>();
     s.smoothing_max_tolerance_mm = c.at("smoothing_tolerance_mm").at(1).get<double>();
   }
+  // absent in summaries written before arc packing existed
+  s.packed_arcs = c.value("packed_arcs", std::uint64_t{0});
+  s.packed_curves = c.value("packed_curves", std::uint64_t{0});
+  s.packed_blocks = c.value("packed_blocks", std::uint64_t{0});
+  s.packed_max_deviation_mm = c.value("packed_max_deviation_mm", 0.0);
   if (c.contains("rapid_lines")) s.rapid_lines = rapid_lines_from(c.at("rapid_lines"));  // absent in older summaries
   s.tcp_tool_length_mm = c.value("tcp_tool_length_mm", 0.0);  // absent before the report used it
   if (c.contains("cutter_comp")) {  // absent without G41/G42

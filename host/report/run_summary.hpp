@@ -43,6 +43,10 @@ struct RunSummary {
   double max_path_deviation_mm = 0.0;
   double smoothing_min_tolerance_mm = 0.0;  // the tolerances the curves were fitted to (0 without curves)
   double smoothing_max_tolerance_mm = 0.0;
+  // arc packing: arcs packed into exact curves, the curves, their ring blocks, and the largest
+  // measured distance of a curve from its arcs (mm)
+  std::uint64_t packed_arcs = 0, packed_curves = 0, packed_blocks = 0;
+  double packed_max_deviation_mm = 0.0;
   // source lines that hold a rapid block, from the blocks check made (what the run sent):
   // the report draws those parts of the path as rapids
   std::vector<LineRange> rapid_lines;

@@ -678,7 +678,7 @@ std::vector<double> corner_knots(const NurbsCurve& curve) {
     if (multiplicity(curve.knots, t) < p) continue;  // C1 there: no corner possible
     const Vec3 before = nurbs_tangent(v, std::nextafter(t, lo), false);
     const Vec3 after = nurbs_tangent(v, t, true);
-    if (dot(before, after) < 1.0 - 1e-12) corners.push_back(t);
+    if (dot(before, after) < std::cos(kTangentKinkTurn)) corners.push_back(t);
   }
   return corners;
 }

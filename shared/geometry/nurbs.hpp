@@ -154,8 +154,14 @@ NurbsCurve insert_knot(const NurbsCurve& curve, double u, int times = 1);
 /// parametrisation, knots [a..b]).
 NurbsCurve nurbs_segment(const NurbsCurve& curve, double a, double b);
 
+/// The largest turn (rad) of the tangent at an interior knot that is a kink, not a corner: a
+/// chain of programmed arcs packed into one curve (host/gcode/arc_packing.hpp) joins within it,
+/// as CAM's rounded arc ends do. The feed schedule passes a kink without stopping, at a speed
+/// whose velocity step stays within a share of one cycle's acceleration (nurbs_schedule.hpp).
+constexpr double kTangentKinkTurn = 1e-3;
+
 /// Interior knots where the curve has a corner: multiplicity >= degree and the tangent
-/// direction differs on the two sides (more than about 1e-6 rad).
+/// direction turning there by more than kTangentKinkTurn.
 std::vector<double> corner_knots(const NurbsCurve& curve);
 
 /// Splits a valid curve at interior knots into consecutive pieces of at most `max_points`
