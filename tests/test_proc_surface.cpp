@@ -49,15 +49,19 @@ TEST(ProcSurface, FitThenCheckWithTheSurface) {
   EXPECT_EQ(page.find("http://"), page.find("http://www.w3.org/2000/svg"));  // nothing from the network
 
   write(dir + "/p.ngc", "G21 G90\nG0 X-8 Y-8 Z-2\nG1 X8 Y8 F300\nG2 X-8 Y8 I-8 J0\nM2\n");
-  const ProcessResult plain = run_process({pcnc_bin(), "check", dir + "/p.ngc", "--print-moves"});
-  const ProcessResult corrected =
-      run_process({pcnc_bin(), "check", dir + "/p.ngc", "--surface", dir + "/S.json", "--print-moves"});
+  // its own config and state: the program is placed by the config's G54, not by what other
+  // runs on this machine stored as G54
+  const std::string config = write_test_config(dir, "surface_check");
+  const ProcessResult plain = run_process({pcnc_bin(), "check", dir + "/p.ngc", "--config", config, "--print-moves"});
+  const ProcessResult corrected = run_process(
+      {pcnc_bin(), "check", dir + "/p.ngc", "--config", config, "--surface", dir + "/S.json", "--print-moves"});
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   ASSERT_EQ(corrected.exit_code, 0) << corrected.err;
   EXPECT_EQ(plain.out.find("arc") != std::string::npos, true);
   EXPECT_EQ(corrected.out.find("arc"), std::string::npos) << "arcs become lines";
   EXPECT_NE(plain.out, corrected.out);
-  const ProcessResult checked = run_process({pcnc_bin(), "check", dir + "/p.ngc", "--surface", dir + "/S.json"});
+  const ProcessResult checked =
+      run_process({pcnc_bin(), "check", dir + "/p.ngc", "--config", config, "--surface", dir + "/S.json"});
   EXPECT_EQ(checked.exit_code, 0) << checked.err;
   EXPECT_NE(checked.out.find("OK"), std::string::npos);
 }
@@ -112,10 +116,13 @@ TEST(ProcSurface, RefusalsExitTwoNamingTheCause) {
 
   write(dir + "/p.ngc", "G0 X1\nM2\n");
   write(dir + "/broken.json", "{\"format\": \"pcnc-bspline-surface\", \"version\": 1}");
-  const ProcessResult check = run_process({pcnc_bin(), "check", dir + "/p.ngc", "--surface", dir + "/broken.json"});
+  const std::string config = write_test_config(dir, "surface_refusals");  // its own state, as above
+  const ProcessResult check =
+      run_process({pcnc_bin(), "check", dir + "/p.ngc", "--config", config, "--surface", dir + "/broken.json"});
   EXPECT_EQ(check.exit_code, 2);
   EXPECT_NE(check.err.find("broken.json: missing key"), std::string::npos) << check.err;
-  const ProcessResult missing = run_process({pcnc_bin(), "check", dir + "/p.ngc", "--surface", dir + "/none.json"});
+  const ProcessResult missing =
+      run_process({pcnc_bin(), "check", dir + "/p.ngc", "--config", config, "--surface", dir + "/none.json"});
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("none.json"), std::string::npos) << missing.err;
 }
