@@ -143,6 +143,7 @@ const char* to_string(FeedLimit limit) {
   return "?";
 }
 
+namespace {
 // The speed at which a kink (a tangent turning by at most kTangentKinkTurn at a knot, where
 // packed arcs join) steps each axis's velocity by at most kKinkStepShare of its acceleration
 // times one period: the rest of the cycle's acceleration stays the ramp's.
@@ -154,6 +155,7 @@ double kink_speed(const Vec3& t_before, const Vec3& t_after, const NurbsLimits& 
   }
   return v;
 }
+}  // namespace
 
 FeedSchedule plan_nurbs_feed(const NurbsCurve& curve, const NurbsLimits& lim, double v_start, double v_end) {
   FeedSchedule out;
