@@ -62,6 +62,10 @@ RunSummary sample_summary() {
   s.pause_lines = {17, 402};
   s.smoothing_min_tolerance_mm = 0.005;
   s.smoothing_max_tolerance_mm = 0.01;
+  s.packed_arcs = 603;
+  s.packed_curves = 1;
+  s.packed_blocks = 41;
+  s.packed_max_deviation_mm = 2.5e-10;
   Status& st = s.final_status;
   st.state = MachineState::kIdle;
   st.program_done = 1;
@@ -261,6 +265,14 @@ TEST(RunReport, TerminalReportStatesThePausesAndTheToleranceTheCurvesWereFittedT
             std::string::npos)
       << text;
   EXPECT_NE(text.find("smoothing         tolerance 10.0 um (G64 P): 90 G1 moves"), std::string::npos) << text;
+  EXPECT_EQ(text.find("arc packing"), std::string::npos) << "no line without packed arcs";
+  r.check.packed_arcs = 603;
+  r.check.packed_curves = 1;
+  r.check.packed_blocks = 41;
+  const std::string packed = format_run_report(r);
+  EXPECT_NE(packed.find("  arc packing       603 arcs packed into 41 blocks (1 curve, exact: max 0.000 um from the arcs)\n"),
+            std::string::npos)
+      << packed;
   r.check.smoothing_min_tolerance_mm = 0.002;
   r.job.pauses = 40;  // more than the lines kept
   r.job.pauses_mode = "ask";
@@ -283,12 +295,18 @@ TEST(RunSummary, JsonRoundTrip) {
   EXPECT_EQ(b.pause_lines, (std::vector<std::uint32_t>{17, 402}));
   EXPECT_DOUBLE_EQ(b.smoothing_max_tolerance_mm, 0.01);
   EXPECT_DOUBLE_EQ(b.smoothing_min_tolerance_mm, 0.005);
+  EXPECT_EQ(b.packed_arcs, 603u);
+  EXPECT_EQ(b.packed_curves, 1u);
+  EXPECT_EQ(b.packed_blocks, 41u);
+  EXPECT_DOUBLE_EQ(b.packed_max_deviation_mm, 2.5e-10);
   nlohmann::json broken = to_json(a);
   nlohmann::json older = to_json(a);  // a summary written before path_tolerance_mm existed
   older.erase("path_tolerance_mm");
   older["job"].erase("pauses");  // nor pauses, nor the smoothing's tolerances
   older["check"].erase("smoothing_tolerance_mm");
+  for (const char* k : {"packed_arcs", "packed_curves", "packed_blocks", "packed_max_deviation_mm"}) older["check"].erase(k);
   const RunSummary old_one = run_summary_from_json(older);
+  EXPECT_EQ(old_one.packed_arcs, 0u);
   EXPECT_EQ(old_one.path_tolerance_mm, 0.0);
   EXPECT_EQ(old_one.pauses, 0u);
   EXPECT_EQ(old_one.smoothing_max_tolerance_mm, 0.0);
@@ -325,6 +343,10 @@ TEST(ReportHtml, FiguresEqualTheSummary) {
   EXPECT_EQ(span(html, "blocks-sent"), "1201");
   EXPECT_EQ(span(html, "junction-flows"), "876");
   EXPECT_EQ(span(html, "junction-stops"), "324");
+  EXPECT_EQ(span(html, "packed-arcs"), "603");
+  EXPECT_EQ(span(html, "packed-blocks"), "41");
+  EXPECT_EQ(span(html, "packed-curves"), "1");
+  EXPECT_EQ(span(html, "packed-deviation"), "0.000");
   EXPECT_EQ(span(html, "ferr-max-x"), "4.12");
   EXPECT_EQ(span(html, "ferr-max-y"), "3.77");
   EXPECT_EQ(span(html, "ferr-max-z"), "1.51");

@@ -11,7 +11,7 @@
 // Rules (docs/smoothing.md, "Chains of short arcs"):
 //   * a chain is consecutive arcs under M21 with a path tolerance > 0, in one plane at one
 //     level (no helix), the same feed, tolerance and frame, each joining the one before within
-//     kArcJoinTurn (geometry/nurbs.hpp kTangentKinkTurn: the curve's feed schedule passes such
+//     kTangentKinkTurn (geometry/nurbs.hpp: the curve's feed schedule passes such
 //     a kink without stopping, at a speed whose velocity step stays within a share of a cycle's
 //     acceleration);
 //   * only arcs the ring would slow: packed, an arc runs at most at its curve's centripetal cap

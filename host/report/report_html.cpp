@@ -505,7 +505,7 @@ std::string render_report_html(const ReportPage& page) {
       r.push_back({"arc packing",
                    num("packed-arcs", std::to_string(s.packed_arcs)) + " arcs into " +
                        num("packed-blocks", std::to_string(s.packed_blocks)) + " blocks (" +
-                       num("packed-curves", std::to_string(s.packed_curves)) + " curves)",
+                       num("packed-curves", std::to_string(s.packed_curves)) + (s.packed_curves == 1 ? " curve)" : " curves)"),
                    "chains of short arcs as exact rational curves, so the ring holds enough of them: at most " +
                        num("packed-deviation", fixed(s.packed_max_deviation_mm * 1000.0, 3)) +
                        " µm from the programmed arcs (measured on each curve)"});
