@@ -190,8 +190,25 @@ int main(int argc, char** argv) {
     options.start_position = initial.commanded;
     options.start_rotary = initial.rot_commanded;
 
+    if (progress_fd >= 0) {
+      signal(SIGPIPE, SIG_IGN);  // the progress reader may go away before we do
+      fcntl(progress_fd, F_SETFL, fcntl(progress_fd, F_GETFL) | O_NONBLOCK);  // never wait for the reader
+    }
+    // The check of a long program: its progress for the launcher's display, and a stop signal
+    // ends it there (nothing has moved).
+    options.on_check_progress = [&](const pcnc::CheckProgress& c) {
+      if (g_interrupt.load()) throw pcnc::CheckInterrupted("the check was interrupted by a stop signal before the end of the program");
+      if (progress_fd < 0) return;
+      const std::string line = pcnc::format_check_progress(c);
+      if (write(progress_fd, line.data(), line.size()) < 0 && errno != EAGAIN && errno != EINTR) progress_fd = -1;
+    };
     pcnc::CheckResult check = pcnc::check_program(run_file, config, options);
+    options.on_check_progress = nullptr;  // a probing run's checks of the rest report nothing
     print_diagnostics(check, quiet);
+    if (check.interrupted) {
+      std::fprintf(stderr, "pcnc-host: the check of %s was interrupted; nothing was moved\n", run_file.c_str());
+      return pcnc::kExitSignalBase + SIGINT;
+    }
     if (!check.ok) {
       std::fprintf(stderr, "pcnc-host: %s has errors; nothing was moved\n", run_file.c_str());
       return 2;
@@ -202,8 +219,6 @@ int main(int argc, char** argv) {
     report.path_tolerance_mm = config.motion.path_tolerance_mm;
     std::function<void(const pcnc::JobProgress&)> on_progress;
     if (progress_fd >= 0) {
-      signal(SIGPIPE, SIG_IGN);  // the progress reader may go away before we do
-      fcntl(progress_fd, F_SETFL, fcntl(progress_fd, F_GETFL) | O_NONBLOCK);  // never wait for the reader
       const std::uint64_t total_lines = check.lines;
       const double planned_total = check.planned_time_s;
       on_progress = [&, total_lines, planned_total](const pcnc::JobProgress& p) {

@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,7 @@
 #include <vector>
 
 #include "check.hpp"
+#include "gcode/move_source.hpp"
 #include "gcode_test_util.hpp"
 
 namespace pcnc {
@@ -286,6 +289,114 @@ TEST(Pipeline, CheckRecordsTheLinesOfRapidBlocks) {
   EXPECT_EQ(r.rapid_lines[1].first, 5u);
   EXPECT_EQ(r.rapid_lines[1].last, 5u);
   EXPECT_EQ(r.blocks, 6u);  // five moves and the End block
+}
+
+// ---- progress of a long check (gcode/check_progress.hpp) ----
+
+// A program of `n` short G1 moves on a spiral (smoothing makes curves of them), in memory.
+std::string long_program(int n) {
+  std::string text = "G21 G90 G17\nG0 X0 Y0 Z1\nG1 Z0 F600\n";
+  char line[96];
+  for (int i = 0; i < n; ++i) {
+    const double a = 0.01 * i, r = 2.0 + 0.0005 * i;
+    std::snprintf(line, sizeof line, "G1 X%.4f Y%.4f\n", r * std::cos(a), r * std::sin(a));
+    text += line;
+  }
+  return text + "G0 Z1\nM2\n";
+}
+
+// The check reports its progress as it reads: the --fit pass, then the check, each line and
+// byte count moving forward within the text, the blocks made so far; and a report changes
+// nothing the check finds.
+TEST(CheckProgress, ReportsBothPassesInOrderAndChangesNothing) {
+  const std::string text = long_program(6000);
+  const MachineConfig c = test::wide_config();
+  JobOptions plain;
+  plain.fit = true;
+  const CheckResult quiet = check_program_text(text, "p.ngc", c, plain);
+  ASSERT_TRUE(quiet.ok) << first_error(quiet);
+
+  std::vector<CheckProgress> seen;
+  JobOptions o = plain;
+  o.check_progress_interval_s = 0.0;  // every MoveSource::kLineHookEvery lines
+  o.on_check_progress = [&](const CheckProgress& p) { seen.push_back(p); };
+  const CheckResult r = check_program_text(text, "p.ngc", c, o);
+  ASSERT_TRUE(r.ok) << first_error(r);
+  EXPECT_FALSE(r.interrupted);
+  EXPECT_EQ(r.blocks, quiet.blocks);
+  EXPECT_EQ(r.moves, quiet.moves);
+  EXPECT_DOUBLE_EQ(r.planned_time_s, quiet.planned_time_s);
+  EXPECT_EQ(r.transform.scale, quiet.transform.scale);
+
+  const std::size_t lines = 6005;  // run once each: both passes report every 1024 lines
+  const std::size_t per_pass = lines / MoveSource::kLineHookEvery;
+  ASSERT_EQ(seen.size(), 2 * per_pass);
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    const CheckProgress& p = seen[i];
+    const std::size_t k = i % per_pass + 1;  // the k-th report of its pass
+    EXPECT_EQ(p.pass, i < per_pass ? CheckPass::kFit : CheckPass::kCheck) << i;
+    EXPECT_EQ(p.line, k * MoveSource::kLineHookEvery) << i << ": the report comes as that line runs";
+    EXPECT_EQ(p.total_bytes, text.size());
+    // the bytes read end with the line reached
+    ASSERT_LE(p.bytes_read, text.size());
+    ASSERT_GT(p.bytes_read, 0u);
+    EXPECT_EQ(text[p.bytes_read - 1], '\n') << i;
+    EXPECT_EQ(static_cast<std::uint64_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(p.bytes_read), '\n')), p.line) << i;
+    EXPECT_NEAR(p.fraction(), static_cast<double>(p.bytes_read) / static_cast<double>(text.size()), 1e-15);
+    if (p.pass == CheckPass::kFit) {
+      EXPECT_EQ(p.blocks, 0u);
+    }
+    if (i > per_pass) {
+      EXPECT_GE(p.blocks, seen[i - 1].blocks);
+    }
+  }
+  EXPECT_GT(seen.back().blocks, 0u);
+  EXPECT_LE(seen.back().blocks, r.blocks);
+  EXPECT_GT(seen.back().fraction(), 0.8);
+
+  // the default interval: reports at least 0.1 s of wall time apart (none at all when the
+  // check is quicker than that)
+  std::vector<std::chrono::steady_clock::time_point> when;
+  JobOptions timed = plain;
+  timed.on_check_progress = [&](const CheckProgress&) { when.push_back(std::chrono::steady_clock::now()); };
+  (void)check_program_text(text, "p.ngc", c, timed);
+  for (std::size_t i = 1; i < when.size(); ++i) EXPECT_GE(when[i] - when[i - 1], std::chrono::milliseconds(100));
+}
+
+// A handler that throws CheckInterrupted ends the check where it is: it fails with that one
+// error at the line reached, makes no more blocks, and says it was interrupted.
+TEST(CheckProgress, AnInterruptedCheckFailsAtTheLineReachedAndMakesNoMoreBlocks) {
+  const std::string text = long_program(6000);
+  const MachineConfig c = test::wide_config();
+  for (const bool fit : {false, true}) {
+    JobOptions o;
+    o.fit = fit;
+    o.check_progress_interval_s = 0.0;
+    int reports = 0;
+    std::uint64_t stopped_at = 0, blocks_then = 0;
+    o.on_check_progress = [&](const CheckProgress& p) {
+      if (++reports < 3) return;  // the third report: in the check pass without --fit, the fit pass with it
+      stopped_at = p.line;
+      blocks_then = p.blocks;
+      throw CheckInterrupted("stopped by the test");
+    };
+    std::uint64_t blocks_seen = 0;
+    const CheckResult r = check_program_text(text, "p.ngc", c, o, [&](const Block&) { ++blocks_seen; });
+    EXPECT_FALSE(r.ok);
+    EXPECT_TRUE(r.interrupted);
+    EXPECT_EQ(reports, 3);
+    EXPECT_EQ(stopped_at, 3 * MoveSource::kLineHookEvery);
+    ASSERT_EQ(r.diagnostics.size(), 1u) << first_error(r);
+    EXPECT_EQ(r.diagnostics[0].severity, Diagnostic::Severity::kError);
+    EXPECT_EQ(r.diagnostics[0].message, "stopped by the test");
+    EXPECT_EQ(static_cast<std::uint64_t>(r.diagnostics[0].line), stopped_at);
+    EXPECT_EQ(blocks_seen, blocks_then) << "no block after the interruption";
+    if (fit) {
+      EXPECT_EQ(blocks_seen, 0u) << "interrupted in the fit pass: no block made at all";
+    } else {
+      EXPECT_GT(blocks_seen, 0u);
+    }
+  }
 }
 
 }  // namespace

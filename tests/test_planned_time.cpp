@@ -130,5 +130,24 @@ TEST(StatusWatch, ShowsBothCoordinatesTheOffsetAndTheTimeLeft) {
   EXPECT_FALSE(watch_progress(watched(0.0, 0.0, 1.0))) << "no plan, no bar";
 }
 
+// While the service checks the program (phase preflight), the watch shows the check's progress
+// in the bar's place, and the block keeps its height.
+TEST(StatusWatch, ShowsTheChecksProgressBeforeTheProgramRuns) {
+  json s = watched(0.0, 0.0, 0.0);
+  s["state"] = "IDLE";
+  s["job"] = json{{"active", true}, {"file", "/p/big.ngc"}, {"phase", "preflight"},
+                  {"check_pass", "check"}, {"check_line", 270336}, {"check_fraction", 0.452}};
+  EXPECT_EQ(watch_check(s), "checking  [#############.................]  45.2 %  line 270336");
+  const auto lines = format_watch(s);
+  EXPECT_EQ(lines.size(), format_watch(watched(30.0, 120.0, 40.0)).size());
+  EXPECT_EQ(lines.back(), watch_check(s));
+  EXPECT_NE(format_watch_line(s).find("  checking  [#"), std::string::npos) << format_watch_line(s);
+  s["job"]["check_pass"] = "fit";
+  EXPECT_EQ(watch_check(s).rfind("measuring for --fit  [", 0), 0u) << watch_check(s);
+  s["job"].erase("check_fraction");
+  EXPECT_EQ(watch_check(s), "") << "no check under way: nothing";
+  EXPECT_EQ(format_watch(s).back(), "");
+}
+
 }  // namespace
 }  // namespace pcnc

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ipc/segment.hpp"
@@ -163,6 +165,30 @@ TEST(ExitCodes, ARefusedProgramExits2FromTheHostAndTheService) {
   const ProcessResult host = run_process({host_exe(), "--config", pair.config(), "--run", bad}, 60);
   EXPECT_EQ(host.exit_code, 2) << host.out << host.err;
   EXPECT_TRUE(has(host.err, "nothing was moved")) << host.err;
+}
+
+// Ctrl-C while `pcnc run` checks a long program (nine million lines run in a loop) ends the
+// check there, not after it: the error names the line reached, nothing moves, exit 130.
+TEST(ExitCodes, CtrlCDuringTheCheckOfALongProgramExits130AndMovesNothing) {
+  const std::string dir = make_temp_dir("xcheck");
+  const std::string config = write_test_config(dir, "xcheck");
+  const std::string program =
+      write_program(dir, "long.ngc",
+                    "G21 G90 G17\nG0 X0 Y0 Z-0.5\nG1 Z-1 F600\n#1=0\no100 while [#1 LT 3000000]\n"
+                    "G1 X[[#1 MOD 20]*0.1] Y[[#1 MOD 7]*0.1]\n#1=[#1+1]\no100 endwhile\nG0 Z-0.5\nM2\n");
+  const std::string summary = dir + "/s.json";
+  BackgroundProcess run =
+      start_process({pcnc_exe(), "run", program, "--clock", "virtual", "--config", config, "--summary", summary}, dir + "/run");
+  Reaped reaped{run};
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(kill(run.pid, SIGINT), 0);
+  const int code = wait_for(run, 60);
+  EXPECT_EQ(code, 130) << run.err();
+  EXPECT_TRUE(has(run.err(), "long.ngc:")) << run.err();
+  EXPECT_TRUE(has(run.err(), ": error: the check was interrupted by a stop signal before the end of the program")) << run.err();
+  EXPECT_TRUE(has(run.err(), "interrupted; nothing was moved")) << run.err();
+  EXPECT_FALSE(has(run.out(), "run report")) << run.out();
+  EXPECT_FALSE(std::filesystem::exists(summary)) << "no run, no summary";
 }
 
 TEST(ExitCodes, NoServiceOrNoRtExits3) {

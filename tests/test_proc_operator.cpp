@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 #include <thread>
 
 #include "config/config.hpp"
@@ -179,6 +180,46 @@ TEST(ServiceOperator, MdiAndTouchOffAreRefusedWhileAProgramRunsAndStatusHasThePl
   ASSERT_TRUE(p.call("stop").contains("result"));
   s = p.wait_status([](const json& x) { return idle(x) && x["last_job"].is_object(); }, 20);
   EXPECT_EQ(s["state"], "IDLE");
+}
+
+// A program whose check runs a long time: three million loop iterations (nine million lines
+// run) of short moves just below program zero.
+std::string long_check_program(const std::string& dir) {
+  return write_program(dir, "long-check.ngc",
+                       "G21 G90 G17\nG0 X0 Y0 Z-0.5\nG1 Z-1 F600\n#1=0\no100 while [#1 LT 3000000]\n"
+                       "G1 X[[#1 MOD 20]*0.1] Y[[#1 MOD 7]*0.1]\n#1=[#1+1]\no100 endwhile\nG0 Z-0.5\nM2\n");
+}
+
+// While the service checks a long program, status shows how far the check has got, and `stop`
+// ends the check there: the run is refused with that reason and nothing moves.
+TEST(ServiceOperator, StopDuringTheCheckOfALongProgramEndsItAndNothingMoves) {
+  ServicePair p("op-check");
+  ASSERT_TRUE(p.start("virtual")) << p.host_log();
+  const json before = p.status();
+  const std::string prog = long_check_program(p.dir());
+  auto run = std::async(std::launch::async, [&] { return p.call("run", {{"file", prog}}, 120); });
+  const json s = p.wait_status([](const json& x) { return x["job"].contains("check_line"); }, 60);
+  ASSERT_TRUE(s["job"].contains("check_line")) << s.dump();
+  EXPECT_EQ(s["job"]["phase"], "preflight");
+  EXPECT_EQ(s["job"]["check_pass"], "check");
+  EXPECT_GT(s["job"]["check_line"].get<int>(), 0);
+  const double f = s["job"]["check_fraction"].get<double>();
+  EXPECT_GT(f, 0.0);
+  EXPECT_LE(f, 1.0);
+  EXPECT_EQ(s["state"], "IDLE") << "nothing moves during the check";
+
+  const json stop = p.call("stop");
+  ASSERT_TRUE(stop.contains("result")) << stop.dump();
+  const json reply = run.get();
+  ASSERT_EQ(error_code(reply), rpc::kRefused) << reply.dump();
+  EXPECT_NE(reply["error"]["message"].get<std::string>().find("stopped during the preflight check; nothing was moved"),
+            std::string::npos)
+      << reply.dump();
+  const json after = p.wait_status([](const json& x) { return idle(x); }, 10);
+  EXPECT_TRUE(idle(after)) << after.dump();
+  EXPECT_EQ(after["last_job"], before["last_job"]) << "no job ran";
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(pos(after["commanded"], a), pos(before["commanded"], a));
+  EXPECT_EQ(after["blocks_done"], before["blocks_done"]);
 }
 
 TEST(ServiceOperator, CtlMdiAndTouchOff) {

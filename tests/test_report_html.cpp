@@ -7,12 +7,14 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <thread>
 
 #include "progress.hpp"
 #include "report/report_html.hpp"
@@ -468,6 +470,66 @@ TEST(Progress, PlainLinesWhenNotATerminal) {
   EXPECT_NE(text.find("pcnc: line 200/1000 (20.0 %)"), std::string::npos) << text;
   EXPECT_EQ(text.find('\r'), std::string::npos) << "no terminal control in a log";
   EXPECT_EQ(text.find("\x1b["), std::string::npos);
+}
+
+// The check's progress: the line the host writes (pcnc run), and the bar and log line that show it.
+TEST(Progress, TheChecksProgressLineBarAndLog) {
+  CheckProgress c;
+  c.pass = CheckPass::kCheck;
+  c.line = 12345;
+  c.bytes_read = 452;
+  c.total_bytes = 1000;
+  c.blocks = 777;
+  const std::string line = format_check_progress(c);
+  EXPECT_EQ(line, "checking check 12345 452 1000 777\n");
+  const auto back = parse_check_progress(line);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->pass, CheckPass::kCheck);
+  EXPECT_EQ(back->line, 12345u);
+  EXPECT_EQ(back->bytes_read, 452u);
+  EXPECT_EQ(back->total_bytes, 1000u);
+  EXPECT_EQ(back->blocks, 777u);
+  EXPECT_EQ(parse_check_progress("checking fit 1 2 3 0")->pass, CheckPass::kFit);
+  EXPECT_FALSE(parse_check_progress("checking run 1 2 3 4"));
+  EXPECT_FALSE(parse_check_progress("checking check 1 2 3"));
+  EXPECT_FALSE(parse_check_progress("checking check 1 2 3 4 5"));
+  EXPECT_FALSE(parse_check_progress("progress 1 2 3"));
+  EXPECT_FALSE(parse_progress_update(line)) << "the run's display does not take it for a run update";
+
+  EXPECT_DOUBLE_EQ(c.fraction(), 0.452);
+  EXPECT_DOUBLE_EQ(CheckProgress{}.fraction(), 0.0) << "no size: no fraction";
+  const std::string bar = format_check_bar(c, 12.0, 15.0, 10);
+  EXPECT_EQ(bar, "checking  [####......]  45.2 %  line 12345  elapsed 0:12  left 0:15");
+  c.pass = CheckPass::kFit;
+  EXPECT_EQ(format_check_bar(c, 3.0, std::nullopt, 0), "measuring for --fit   45.2 %  line 12345  elapsed 0:03  left ?");
+  EXPECT_EQ(format_check_log(c, 3.0, std::nullopt),
+            "pcnc: measuring for --fit line 12345 (45.2 % of the file), elapsed 0:03, unknown time left");
+
+  // the display: plain lines (not a terminal), the time left from the pace of the pass
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  {
+    ProgressDisplay d(f, false, 0.0);  // every update logs
+    CheckProgress p;
+    p.total_bytes = 1000;
+    p.bytes_read = 100;
+    p.line = 10;
+    d.checking(p);  // first sight of the pass: no pace yet
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    p.bytes_read = 300;
+    p.line = 30;
+    d.checking(p);  // 20 % in at least 50 ms: 70 % left at that pace
+    d.finish();
+  }
+  std::rewind(f);
+  char buf[512];
+  std::string text;
+  while (std::fgets(buf, sizeof buf, f)) text += buf;
+  std::fclose(f);
+  EXPECT_NE(text.find("pcnc: checking line 10 (10.0 % of the file)"), std::string::npos) << text;
+  EXPECT_NE(text.find("unknown time left\npcnc: checking line 30 (30.0 % of the file)"), std::string::npos) << text;
+  EXPECT_NE(text.find("about 0:0"), std::string::npos) << "a guess once the pass has gone on: " << text;
+  EXPECT_EQ(text.find('\r'), std::string::npos) << "no terminal control in a log";
 }
 
 // ---- headless Chromium: the page renders and is not blank ----

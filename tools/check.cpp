@@ -10,6 +10,7 @@
 #include "config/config.hpp"
 #include "config/exit_status.hpp"
 #include "gcode/program.hpp"
+#include "progress.hpp"
 
 namespace pcnc {
 namespace {
@@ -44,7 +45,7 @@ std::optional<std::array<double, 3>> parse_xyz(const std::string& text) {
   return v;
 }
 
-int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream& err) {
+int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream& err, std::FILE* progress) {
   MachineConfig config;
   try {
     config = load_config(o.config_path.empty() ? default_config_path() : o.config_path);
@@ -99,7 +100,15 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
   job.on_message = [&](const ProgramMessage& m) {
     if (!o.quiet) err << o.file << ":" << m.line << ": " << (m.kind == MessageKind::kPrint ? "print" : "message") << ": " << m.text << "\n";
   };
+  // progress on stderr while a long program is checked (a bar on a terminal, else a line every
+  // 5 s), cleared before the verdict; none with --quiet
+  std::optional<ProgressDisplay> display;
+  if (!o.quiet && progress != nullptr) {
+    display.emplace(progress, ProgressDisplay::is_terminal(progress));
+    job.on_check_progress = [&display](const CheckProgress& c) { display->checking(c); };
+  }
   const CheckResult r = check_program(o.file, config, job);
+  if (display) display->finish();
   std::size_t errors = 0, warnings = 0;
   for (const Diagnostic& d : r.diagnostics) {
     const bool is_error = d.severity == Diagnostic::Severity::kError;
@@ -181,7 +190,7 @@ void add_check_subcommand(CLI::App& app, int& exit_code) {
   sub->add_option("--surface", opts->surface,
                   "correct Z of every move by this measured surface (`pcnc surface fit`'s file; docs/surface.md)");
   sub->add_flag("-q,--quiet", opts->quiet, "print only errors and the verdict");
-  sub->callback([opts, &exit_code] { exit_code = run_check_command(*opts, std::cout, std::cerr); });
+  sub->callback([opts, &exit_code] { exit_code = run_check_command(*opts, std::cout, std::cerr, stderr); });
 }
 
 }  // namespace pcnc

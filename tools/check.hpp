@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <cstdio>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -34,9 +35,11 @@ struct CheckCommandOptions {
   bool quiet = false;  // only errors and the verdict
 };
 
-/// Runs the check; writes the report and blocks to `out`, diagnostics to `err`.
-/// Exit status: 0 program OK, 1 program has errors, 2 bad options or unreadable config.
-int run_check_command(const CheckCommandOptions& options, std::ostream& out, std::ostream& err);
+/// Runs the check; writes the report and blocks to `out`, diagnostics to `err`, and the
+/// progress of a long check to `progress` (tools/progress.hpp; null: none; none with --quiet).
+/// Exit status: 0 program OK, 2 program has errors, bad options or unreadable config.
+int run_check_command(const CheckCommandOptions& options, std::ostream& out, std::ostream& err,
+                      std::FILE* progress = nullptr);
 
 /// Registers the `check` subcommand on `app`; its callback stores the exit status in `exit_code`.
 void add_check_subcommand(CLI::App& app, int& exit_code);

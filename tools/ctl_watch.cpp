@@ -53,6 +53,20 @@ std::optional<WatchProgress> watch_progress(const json& s) {
   return p;
 }
 
+// While the service checks a program before it runs (`job.phase` preflight, docs/protocol.md):
+// "checking  [#########.....................]  30.2 %  line 12345"; empty otherwise.
+std::string watch_check(const json& s) {
+  const json job = s.value("job", json::object());
+  if (!job.is_object() || !job.value("active", false) || !job.contains("check_fraction")) return {};
+  const double f = std::clamp(job.value("check_fraction", 0.0), 0.0, 1.0);
+  const int width = 30;
+  const int filled = static_cast<int>(std::floor(f * width));
+  return fmt_text("%s  [%s%s] %5.1f %%  line %llu", job.value("check_pass", "check") == "fit" ? "measuring for --fit" : "checking",
+                  std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                  std::string(static_cast<std::size_t>(width - filled), '.').c_str(), 100.0 * f,
+                  static_cast<unsigned long long>(job.value("check_line", 0ull)));
+}
+
 std::vector<std::string> format_watch(const json& s) {
   std::vector<std::string> out;
   const json job = s.value("job", json::object());
@@ -97,6 +111,8 @@ std::vector<std::string> format_watch(const json& s) {
                       std::string(static_cast<std::size_t>(width - filled), '.').c_str(), 100.0 * p->fraction,
                       p->remaining_s ? format_duration(*p->remaining_s).c_str() : "?",
                       format_duration(s.value("program_time_s", 0.0)).c_str()));
+  } else if (const std::string c = watch_check(s); !c.empty()) {
+    out.push_back(c);
   } else {
     out.push_back("");  // the block keeps its height
   }
@@ -115,6 +131,8 @@ std::string format_watch_line(const json& s) {
                          s.value("path_speed", 0.0), s.value("feed_override_percent", 100.0));
   if (const auto p = watch_progress(s)) {
     line += fmt_text("  %.1f %% left %s", 100.0 * p->fraction, p->remaining_s ? format_duration(*p->remaining_s).c_str() : "?");
+  } else if (const std::string c = watch_check(s); !c.empty()) {
+    line += "  " + c;
   }
   return line;
 }

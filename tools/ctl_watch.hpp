@@ -18,6 +18,10 @@ struct WatchProgress {
 /// Nothing without a job under way that has a plan (status job.planned_time_s).
 std::optional<WatchProgress> watch_progress(const nlohmann::json& status);
 
+/// While the service checks the program before it runs (status job.check_fraction): "checking
+/// [###...] 30.2 %  line 12345" (or "measuring for --fit ..."); empty otherwise.
+std::string watch_check(const nlohmann::json& status);
+
 /// The terminal block: the same number of lines for every status with the rt attached.
 std::vector<std::string> format_watch(const nlohmann::json& status);
 /// The piped form: one line.

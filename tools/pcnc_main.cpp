@@ -143,6 +143,8 @@ int main(int argc, char** argv) {
                              "continue, Ctrl-C to stop\n", p->line, p->optional ? "M1, optional stop" : "M0");
       } else if (const auto u = pcnc::parse_progress_update(line); u && !quiet) {
         display.update(*u);
+      } else if (const auto c = pcnc::parse_check_progress(line); c && !quiet) {
+        display.checking(*c);  // the host checks the program before anything moves
       }
     };
     // three.js is the same in every report: packed while the processes run (this process only

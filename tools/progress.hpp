@@ -1,5 +1,8 @@
 // progress.hpp — how far `pcnc run` has got, shown to the user while the program runs.
 //
+// Before the machine moves, the program is checked (pcnc check; pcnc run's host): that pass
+// reports its own progress (gcode/check_progress.hpp), shown the same way.
+//
 // pcnc-host reports its progress as one text line per update on a pipe the launcher gives
 // it (--progress-fd); the launcher (pcnc) parses the lines and shows them on its own stderr:
 // on a terminal a bar redrawn in place (line, percent, elapsed, time left); otherwise —
@@ -14,6 +17,7 @@
 #include <string>
 #include <string_view>
 
+#include "gcode/check_progress.hpp"
 #include "service/progress_update.hpp"  // the pipe line format (ProgressUpdate)
 
 namespace pcnc {
@@ -33,6 +37,14 @@ std::string format_progress_log(const ProgressView& v, const ProgressUpdate& u);
 /// 75 -> "1:15", 3725 -> "1:02:05"
 std::string format_duration(double seconds);
 
+/// The check's progress (pcnc check, and pcnc run before anything moves): `elapsed_s` since the
+/// command started, `left_s` the estimate for the rest of this pass (none yet).
+/// "checking  [#########.........]  45.2 %  line 12345  elapsed 0:12  left 0:15"
+/// (--fit's pass: "measuring for --fit" in place of "checking")
+std::string format_check_bar(const CheckProgress& c, double elapsed_s, std::optional<double> left_s, int bar_width);
+/// "pcnc: checking line 12345 (45.2 % of the file), elapsed 0:12, about 0:15 left"
+std::string format_check_log(const CheckProgress& c, double elapsed_s, std::optional<double> left_s);
+
 /// Shows updates on `out`. `terminal`: redraw one line in place (\r, erase to end of line);
 /// else print a log line at most every `log_interval_s` of wall time.
 class ProgressDisplay {
@@ -41,6 +53,10 @@ class ProgressDisplay {
   /// The terminal decision for a stream: isatty(fileno(out)) and TERM is not "dumb".
   static bool is_terminal(std::FILE* out);
   void update(const ProgressUpdate& u);
+  /// The check's progress: the same bar (or log line) with the pass, the line reached and the
+  /// part of the program's text read; the estimate of the time left is per pass, from the pace
+  /// since the pass was first seen.
+  void checking(const CheckProgress& c);
   /// Clears the bar (terminal) so that the run report starts on a clean line.
   void finish();
 
@@ -51,6 +67,11 @@ class ProgressDisplay {
   std::chrono::steady_clock::time_point start_;
   std::optional<std::chrono::steady_clock::time_point> last_log_;
   bool drawn_ = false;
+  // the check pass being shown: when it was first seen and how far it was then
+  std::optional<CheckPass> pass_;
+  std::chrono::steady_clock::time_point pass_start_{};
+  double pass_fraction0_ = 0.0;
+  void show(const std::string& bar_text, const std::string& log_text, double elapsed_s);
 };
 
 }  // namespace pcnc

@@ -110,6 +110,7 @@ void MoveSource::read_line() {
   }
   const int line_no = static_cast<int>(std::min<std::uint64_t>(reader.line_number(), 0x7fffffff));
   last_line_ = line_no;
+  if (line_hook_ && (executed_ + 1) % kLineHookEvery == 0) line_hook_();
   if (++executed_ > max_executed_) {
     const int loop = flow_.innermost_loop_line();
     sink_.error(loop > 0 ? loop : line_no, 0,

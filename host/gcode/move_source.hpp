@@ -52,6 +52,10 @@ class MoveSource {
 
   /// Called for each message comment as its line runs (none by default).
   void set_message_handler(MessageHandler handler) { on_message_ = std::move(handler); }
+  /// Called after every kLineHookEvery lines run (loops and subroutines counted as they run):
+  /// the progress of a long check. The hook may throw; the exception leaves next().
+  static constexpr std::uint64_t kLineHookEvery = 1024;
+  void set_line_hook(std::function<void()> hook) { line_hook_ = std::move(hook); }
 
   std::uint64_t lines() const { return reader_.line_number(); }
   std::uint64_t executed_lines() const { return executed_; }
@@ -77,6 +81,7 @@ class MoveSource {
   ParsedLine parsed_;
   MoveList pending_;
   MessageHandler on_message_;
+  std::function<void()> line_hook_;
   std::uint64_t executed_ = 0;
   std::uint64_t max_executed_ = 0;
   int pos_ = 0;

@@ -82,6 +82,9 @@ class Pipeline {
   }
   /// Message comments ((MSG,...), (DEBUG,...), (PRINT,...)) as their lines run.
   void set_message_handler(MessageHandler handler) { source_.set_message_handler(std::move(handler)); }
+  /// Called every MoveSource::kLineHookEvery lines the program runs (the progress of a long
+  /// check, program.cpp); the hook may throw to end the pipeline's work.
+  void set_progress_hook(std::function<void()> hook) { source_.set_line_hook(std::move(hook)); }
   /// The offsets and stored positions as the program has left them so far.
   WorkState work_state() const { return source_.interpreter().work_state(); }
   /// The interpreter as it stands (probing: the sync point, the assumed probes, the probe log).

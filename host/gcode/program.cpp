@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -124,6 +125,32 @@ void tidy(std::vector<LineRange>& runs) {
   runs = std::move(joined);
 }
 
+// Hands the pipeline's progress to options.on_check_progress (none: nothing is reported), at
+// most every check_progress_interval_s of wall time and not before the check has run that
+// long, so a short check reports nothing. `blocks`: the check pass's count of blocks (null in the fit pass);
+// `reached`: the line of the last report (where a CheckInterrupted from the handler is put).
+void report_progress(Pipeline& pipeline, const JobOptions& options, const DiagnosticSink& sink, CheckPass pass,
+                     const std::uint64_t* blocks, int& reached) {
+  if (!options.on_check_progress) return;
+  using Clock = std::chrono::steady_clock;
+  const auto interval = std::chrono::duration<double>(std::max(0.0, options.check_progress_interval_s));
+  pipeline.set_progress_hook([&pipeline, &sink, &handler = options.on_check_progress, pass, blocks, &reached,
+                              interval, last = Clock::now()]() mutable {
+    const Clock::time_point now = Clock::now();
+    if (now - last < interval) return;
+    last = now;
+    const LineReader& r = pipeline.reader();
+    CheckProgress p;
+    p.pass = pass;
+    p.line = static_cast<std::uint64_t>(std::max(0, sink.file_line(static_cast<int>(std::min<std::uint64_t>(r.line_number(), 0x7fffffff)))));
+    p.bytes_read = r.bytes_read();
+    p.total_bytes = r.total_bytes();
+    p.blocks = blocks ? *blocks : 0;
+    reached = static_cast<int>(std::min<std::uint64_t>(p.line, 0x7fffffff));
+    handler(p);
+  });
+}
+
 // --fit: the transform that brings the program's own points into the travel, measured by a
 // pass of the pipeline up to the preflight (no soft limits, no blocks, diagnostics dropped).
 // It measures the programmed moves (no smoothing: tolerance 0 whatever G64 P says), so that the
@@ -135,12 +162,13 @@ void tidy(std::vector<LineRange>& runs) {
 // after the inverse kinematics, the angles never scaled; a TCP-off move that turns a joint is
 // refused at its line (`sink`), and the transform is left as it was.
 Transform fit_transform(const Input& in, const std::string& name, const MachineConfig& config,
-                        const JobOptions& options, Transform t, DiagnosticSink& sink) {
+                        const JobOptions& options, Transform t, DiagnosticSink& sink, int& reached) {
   DiagnosticSink scratch(name);
   MachineConfig programmed = config;
   set_operator_tolerance(programmed.motion, 0.0);
   const JobFrame frame = make_frame(programmed, options, t);
   Pipeline measure(in.open(name, programmed, frame), programmed, frame, scratch, false);
+  report_progress(measure, options, scratch, CheckPass::kFit, nullptr, reached);
   std::vector<FitPose> poses;
   double tool_length = 0.0;
   if (config.rotary_mask() != 0) measure.collect_fit_poses(&poses, &tool_length);
@@ -176,17 +204,19 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
                         const JobOptions& options, const std::function<void(const Block&)>* on_block) {
   CheckResult result;
   DiagnosticSink sink(name);
+  int reached = 0;  // the line of the last progress report
   try {
     Transform t;
     t.offset = start_work(config, options).g5x[0];
     if (options.fit) {
-      t = fit_transform(in, name, config, options, t, sink);
+      t = fit_transform(in, name, config, options, t, sink, reached);
       if (options.offset)
         sink.warning(0, 0, "fit-offset", "--fit recentres the program: the --offset value is not used");
     }
     const JobFrame frame = make_frame(config, options, t);
     Pipeline pipeline(in.open(name, config, frame), config, frame, sink);
     if (options.on_message) pipeline.set_message_handler(options.on_message);
+    report_progress(pipeline, options, sink, CheckPass::kCheck, &result.blocks, reached);
     Block b;
     PlanRecorder plan(config);
     while (pipeline.next(b)) {
@@ -232,6 +262,9 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     result.assumed_probe_lines = pipeline.interpreter().assumed_probe_lines();
   } catch (const ProgramRefused& e) {
     sink.error(e.diagnostic.line, e.diagnostic.column, e.diagnostic.message);
+  } catch (const CheckInterrupted& e) {
+    result.interrupted = true;
+    sink.error(reached, 0, e.what());
   } catch (const std::exception& e) {
     sink.error(0, 0, e.what());
   }

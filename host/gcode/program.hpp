@@ -22,6 +22,7 @@
 #include "gcode/line_feed.hpp"
 #include "gcode/move.hpp"
 #include "gcode/move_source.hpp"
+#include "gcode/check_progress.hpp"
 #include "gcode/probe_results.hpp"
 #include "gcode/tool_table.hpp"
 #include "geometry/bspline_surface.hpp"
@@ -48,6 +49,10 @@ struct JobOptions {
   std::shared_ptr<const ProbeResults> probe;
   // (MSG,...), (DEBUG,...), (PRINT,...) as their lines run (in check and in the stream).
   MessageHandler on_message;
+  // check_program's progress on a long program (gcode/check_progress.hpp); may throw
+  // CheckInterrupted to end the check. None: no progress is reported.
+  CheckProgressHandler on_check_progress;
+  double check_progress_interval_s = 0.1;  // the least wall time between two reports (and before the first)
 };
 
 /// Completes `options` for a job on this machine: the work state from the state file
@@ -107,6 +112,9 @@ struct CheckResult {
   // Probing moves (docs/probe.md) whose result was not known: checked as if each touched at
   // its commanded end; their source lines.
   std::vector<int> assumed_probe_lines;
+  // The check was ended early by its progress handler (CheckInterrupted): ok is false, with
+  // one error at the line reached.
+  bool interrupted = false;
 };
 
 /// Pass 1: reads the whole file through the whole pipeline: parses, interprets, checks soft

@@ -187,7 +187,15 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
   // program whose content changed since.
   std::string hash_error;
   const std::string sha256 = sha256_file(rp.file, &hash_error);
+  opts.on_check_progress = check_progress_fn();
   CheckResult check = check_program(rp.file, cfg, opts);
+  opts.on_check_progress = nullptr;  // a probing run's checks of the rest report nothing
+  if (check.interrupted) {
+    spdlog::info("run {} stopped during its preflight", rp.file);
+    end_job(nullptr);  // no job ran
+    job_reply(client, id, Outcome::fail(refused(rp.file + ": stopped during the preflight check; nothing was moved")));
+    return;
+  }
   if (!check.ok) {
     std::size_t errors = 0;
     for (const auto& d : check.diagnostics) errors += d.severity == Diagnostic::Severity::kError;
@@ -316,6 +324,19 @@ void JobControl::mdi_job(ClientId client, const json& id, const std::string& tex
       client, id, l, cfg, started, "MDI",
       [&](JobRunner& runner) { return runner.run_source(source, contouring, interrupt_, progress_fn(check.planned_time_s)); },
       &ws, [sync](const JobRunner&) { return std::optional<WorkState>(sync->stream().work_state()); });
+}
+
+// The preflight's progress in the status object (`check_pass`, `check_line`, `check_fraction`:
+// how much of the program's text is read), and `stop` (or the service's shutdown) ends the
+// check there: a long program's check is not waited for.
+CheckProgressHandler JobControl::check_progress_fn() {
+  return [this](const CheckProgress& c) {
+    if (interrupt_.load()) throw CheckInterrupted("stopped during the preflight check");
+    std::lock_guard<std::mutex> lock(mutex_);
+    info_["check_pass"] = c.pass == CheckPass::kFit ? "fit" : "check";
+    info_["check_line"] = c.line;
+    info_["check_fraction"] = c.fraction();
+  };
 }
 
 // The job's progress in the status object; with the check's planned time, the planned time of

@@ -108,6 +108,7 @@ class JobControl {
                   const WorkState* work_before = nullptr,  // null: what the job leaves is not kept (resume)
                   const std::function<std::optional<WorkState>(const JobRunner&)>& work_after = {});
   std::function<void(const JobProgress&)> progress_fn(double planned_total_s = 0.0);
+  CheckProgressHandler check_progress_fn();
   void journal_failed(const std::string& why);
   void journal_probes(JobJournal& jj, const ProbeResults& r);  // docs/probe.md
   void journal_ok();

@@ -10,8 +10,12 @@
 // Under `--pauses ask` the host writes "pause LINE M0|M1\n" when the machine stands at one of
 // the program's pauses and waits for the launcher's answer, "resume\n" or "stop\n" (the
 // operator pressed Enter, or cannot answer).
+// Before anything moves, while the host checks the program (gcode/check_progress.hpp), it writes
+//   "checking fit|check LINE BYTES_READ TOTAL_BYTES BLOCKS\n"
+// at most ten times a second: the pass (--fit's measuring pass, then the check), the line
+// reached, how much of the program's text is read, and the blocks made so far.
 //
-// May include: the C++ library only (tools/ reads it too).
+// May include: the C++ library and gcode/check_progress.hpp (tools/ reads it too).
 #pragma once
 
 #include <cstdint>
@@ -20,6 +24,8 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+
+#include "gcode/check_progress.hpp"
 
 namespace pcnc {
 
@@ -50,6 +56,26 @@ inline std::optional<ProgressUpdate> parse_progress_update(std::string_view line
   if (!(in >> std::ws).eof()) return std::nullopt;
   if (!(u.planned_done_s >= 0.0) || !(u.planned_total_s >= 0.0)) return std::nullopt;
   return u;
+}
+
+inline std::string format_check_progress(const CheckProgress& c) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "checking %s %llu %llu %llu %llu\n", c.pass == CheckPass::kFit ? "fit" : "check",
+                static_cast<unsigned long long>(c.line), static_cast<unsigned long long>(c.bytes_read),
+                static_cast<unsigned long long>(c.total_bytes), static_cast<unsigned long long>(c.blocks));
+  return buf;
+}
+
+/// The check's progress in one line (without or with its newline); nothing when it is not one.
+inline std::optional<CheckProgress> parse_check_progress(std::string_view line) {
+  std::istringstream in{std::string(line)};
+  std::string word, pass;
+  CheckProgress c;
+  if (!(in >> word) || word != "checking" || !(in >> pass) || (pass != "fit" && pass != "check")) return std::nullopt;
+  c.pass = pass == "fit" ? CheckPass::kFit : CheckPass::kCheck;
+  if (!(in >> c.line >> c.bytes_read >> c.total_bytes >> c.blocks)) return std::nullopt;
+  if (!(in >> std::ws).eof()) return std::nullopt;
+  return c;
 }
 
 /// "pause LINE M0\n" (or M1): the machine stands at the program's pause on LINE.
