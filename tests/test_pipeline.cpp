@@ -2,6 +2,7 @@
 // streamed path (BlockStream) make the same blocks for every program of ../shared/gcode, and
 // check refuses a block the rt's block check would refuse, at the block's source line.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -289,6 +290,35 @@ TEST(Pipeline, CheckRecordsTheLinesOfRapidBlocks) {
   EXPECT_EQ(r.rapid_lines[1].first, 5u);
   EXPECT_EQ(r.rapid_lines[1].last, 5u);
   EXPECT_EQ(r.blocks, 6u);  // five moves and the End block
+}
+
+// A UTF-8 byte order mark before the first line (Notepad's "UTF-8") is the file's encoding,
+// not G-code: the program runs as without it, from a file and from text, and a column on line 1
+// counts from after it. Anywhere else those bytes are an error, as any stray byte is.
+TEST(Pipeline, AByteOrderMarkBeforeTheFirstLineIsNotPartOfTheProgram) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::string text = "G21 G90\r\nG0 X1 Y1 Z-1\r\nG1 X2 F300\r\nM30\r\n";
+  const MachineConfig c = test::wide_config();
+  std::vector<std::string> plain, marked, from_file;
+  const CheckResult a = check_program_text(text, "p.ngc", c, JobOptions{}, [&](const Block& b) { plain.push_back(format_block(b)); });
+  const CheckResult b = check_program_text(bom + text, "p.ngc", c, JobOptions{}, [&](const Block& x) { marked.push_back(format_block(x)); });
+  ASSERT_TRUE(a.ok) << first_error(a);
+  ASSERT_TRUE(b.ok) << first_error(b);
+  EXPECT_EQ(marked, plain);
+  const std::string path = (fs::temp_directory_path() / ("pcnc-bom-" + std::to_string(::getpid()) + ".ngc")).string();
+  std::ofstream(path, std::ios::binary) << bom << text;
+  const CheckResult f = check_program(path, c, JobOptions{}, [&](const Block& x) { from_file.push_back(format_block(x)); });
+  fs::remove(path);
+  ASSERT_TRUE(f.ok) << first_error(f);
+  EXPECT_EQ(from_file, plain);
+
+  const CheckResult bad = check_program_text(bom + "G21 Q1\nM30\n", "p.ngc", c, JobOptions{});
+  ASSERT_FALSE(bad.ok);
+  EXPECT_EQ(bad.diagnostics[0].line, 1);
+  EXPECT_EQ(bad.diagnostics[0].column, 5) << first_error(bad);
+  const CheckResult inside = check_program_text("G21\n" + bom + "G0 X1\nM30\n", "p.ngc", c, JobOptions{});
+  ASSERT_FALSE(inside.ok);
+  EXPECT_EQ(inside.diagnostics[0].line, 2) << first_error(inside);
 }
 
 // ---- progress of a long check (gcode/check_progress.hpp) ----

@@ -128,6 +128,15 @@ bool LineReader::hand_out(std::string_view l, std::string_view& line, bool& too_
 }
 
 bool LineReader::next(std::string_view& line, bool& too_long) {
+  if (!next_raw(line, too_long)) return false;
+  // A UTF-8 byte order mark before the first line (editors on Windows write one) is the file's
+  // encoding, not its text: columns count from after it.
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  if (line_no_ == 1 && line.substr(0, kBom.size()) == kBom) line.remove_prefix(kBom.size());
+  return true;
+}
+
+bool LineReader::next_raw(std::string_view& line, bool& too_long) {
   too_long = false;
   if (feed_) {
     if (!feed_->line_at(consumed_, line_no_, feed_line_)) return false;

@@ -3,7 +3,8 @@
 //
 // Reads the file in fixed chunks with read(2) and hands out string_views into its buffer: no
 // allocation per line, no iostreams. Lines end at '\n' (a '\r' before it is dropped). A line
-// longer than kMaxLine is cut there and flagged so the caller can report it.
+// longer than kMaxLine is cut there and flagged so the caller can report it. A UTF-8 byte
+// order mark before the first line is dropped.
 #pragma once
 
 #include <cstdint>
@@ -47,7 +48,8 @@ class LineReader {
   LineReader(const LineReader&) = delete;
   LineReader& operator=(const LineReader&) = delete;
 
-  /// Next line; false at end of input. `too_long` is set when the line was cut at kMaxLine.
+  /// Next line; false at end of input. `too_long` is set when the line was cut at kMaxLine. A
+  /// UTF-8 byte order mark at the start of the first line is not part of it.
   bool next(std::string_view& line, bool& too_long);
 
   /// Where the next line starts: saved by the control flow (a loop's head, a subroutine's
@@ -70,6 +72,7 @@ class LineReader {
   std::uint64_t total_bytes() const { return total_; }
 
  private:
+  bool next_raw(std::string_view& line, bool& too_long);  // next() before the byte order mark is dropped
   bool fill();  // reads more into the buffer; false at end of file
   bool hand_out(std::string_view l, std::string_view& line, bool& too_long);
   int fd_ = -1;
