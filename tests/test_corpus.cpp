@@ -6,6 +6,7 @@
 // Set PCNC_UPDATE_GOLDEN=1 to rewrite the golden listings after an intended change (then review
 // the diff before committing it).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -379,6 +380,23 @@ TEST(CheckCommand, FailingProgramExitsTwoAndNamesTheLine) {
       << r.err;
   EXPECT_NE(r.out.find("FAILED"), std::string::npos);
   EXPECT_EQ(r.out.find(" rapid "), std::string::npos) << "no block of a failed program is printed";
+}
+
+// More errors than are listed: the verdict counts them all, the list says how many it left out.
+TEST(CheckCommand, TheVerdictCountsTheErrorsBeyondTheListedOnes) {
+  const std::string path = (std::filesystem::temp_directory_path() / ("pcnc-many-errors-" + std::to_string(::getpid()) + ".ngc")).string();
+  {
+    std::ofstream f(path);
+    for (int i = 0; i < 60; ++i) f << "G1 X1 Q" << i << " F300\n";  // a Q word no code uses: one error a line
+    f << "M30\n";
+  }
+  CheckCommandOptions o;
+  o.file = path;
+  const CommandRun r = run_check(o);
+  std::filesystem::remove(path);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find(": FAILED: 61 lines, 60 errors; nothing would move"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("10 more errors not shown"), std::string::npos) << r.err;
 }
 
 TEST(CheckCommand, QuietPrintsOnlyErrorsAndVerdict) {

@@ -115,6 +115,7 @@ int run_check_command(const CheckCommandOptions& o, std::ostream& out, std::ostr
     (is_error ? errors : warnings)++;
     if (is_error || !o.quiet) err << format_diagnostic(d) << "\n";
   }
+  errors = static_cast<std::size_t>(r.error_count);  // with those beyond the shown ones
   if (!r.ok) {
     out << o.file << ": FAILED: " << r.lines << " lines, " << errors << " error" << (errors == 1 ? "" : "s")
         << "; nothing would move\n";

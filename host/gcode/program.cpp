@@ -269,6 +269,7 @@ CheckResult check_input(const Input& in, const std::string& name, const MachineC
     sink.error(0, 0, e.what());
   }
   result.ok = !sink.has_errors();
+  result.error_count = sink.error_count();
   result.diagnostics = sink.take();
   if (!result.ok) result.rapid_lines.clear(), result.plan.clear();
   tidy(result.rapid_lines);

@@ -112,6 +112,9 @@ struct CheckResult {
   // Probing moves (docs/probe.md) whose result was not known: checked as if each touched at
   // its commanded end; their source lines.
   std::vector<int> assumed_probe_lines;
+  // Every error the check found, also those beyond DiagnosticSink::kMaxErrors that
+  // `diagnostics` only counts in its last note.
+  std::uint64_t error_count = 0;
   // The check was ended early by its progress handler (CheckInterrupted): ok is false, with
   // one error at the line reached.
   bool interrupted = false;

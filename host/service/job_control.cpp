@@ -197,8 +197,7 @@ void JobControl::run_job(ClientId client, const json& id, const rpc::RunParams& 
     return;
   }
   if (!check.ok) {
-    std::size_t errors = 0;
-    for (const auto& d : check.diagnostics) errors += d.severity == Diagnostic::Severity::kError;
+    const auto errors = static_cast<std::size_t>(check.error_count);  // also those beyond the ones listed
     json data = {{"file", rp.file}, {"errors", diagnostics_json(check, Diagnostic::Severity::kError)}};
     spdlog::warn("run {} refused: preflight found {} error(s)", rp.file, errors);
     end_job(nullptr);  // no job ran
