@@ -327,7 +327,7 @@ INSTANTIATE_TEST_SUITE_P(
         RejectCase{"G33 Z-1 K1", "spindle-synchronized", 1, "G33"}, RejectCase{"G10 L2 P1 R30 X0", "rotation", 1, "R30"},
         RejectCase{"G43.2 H2", "G43.2", 1, "G43"}, RejectCase{"G43.2 H1", "G43.2", 1, "G43"},
         RejectCase{"G96 S100", "constant surface speed", 1, "G96"}, RejectCase{"G7", "lathe", 1, "G7"},
-        RejectCase{"G5 X1 Y1 I1 J1 P1 Q1", "splines", 1, "G5 "},
+        RejectCase{"G5 X1 Y1 I1 J1 P1 Q1", "no feed rate", 1, "G5 "},
         RejectCase{"G5.2 X0 Y0 P1 L3", "no feed rate", 1, "G5."},
         RejectCase{"G6.2 P1 K0 R1 F10", "NURBS order must be a whole number from 2 to 6", 1, "P1"},
         RejectCase{"G6.2 P4 K0 L3 F10", "L word with no G code", 1, "L3"}, RejectCase{"M60", "pallet", 1, "M60"},

@@ -277,7 +277,18 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{"G5.2 P1 L3 M2\nX1 Y1 P1\nG5.3", "on a line that opens a G5.2 NURBS curve", 3, 12},
         Bad{"G6.2 P3 L3 K0\nK0 X1 Y1\nK1\nK1", "L word with no G code", 3, 9},
         // a curve with no length
-        Bad{"G5.2 P1 L2\nX0 Y0 P1\nG5.3", "all its control points coincide", 3, 1}));
+        Bad{"G5.2 P1 L2\nX0 Y0 P1\nG5.3", "all its control points coincide", 3, 1},
+        // G5 and G5.1 splines: LinuxCNC's rules
+        Bad{"G5 X10 Y0 I3 J5", "G5 without both P and Q", 3, 1},
+        Bad{"G5 X10 Y0 I3 P1 Q1", "G5 with only one of I and J", 3, 11},
+        Bad{"G5 X10 Y0 P1 Q1", "G5 without I and J that does not follow a G5", 3, 1},
+        Bad{"G1 X1\nG5 X10 Y0 I1 J1 P1 Q1\nG1 X12\nG5 X14 P1 Q1", "does not follow a G5", 6, 1},
+        Bad{"G18 G5 X10 Z0 I1 J1 P1 Q1", "G5 spline outside the XY plane", 3, 5},
+        Bad{"G5 X10 Y0 Z1 I1 J1 P1 Q1", "Z word on a G5 spline", 3, 11},
+        Bad{"G5.1 X10 Y0", "G5.1 without I and J", 3, 1},
+        Bad{"G5.1 X10 Y0 I1 J1 P1", "P word with no G code that uses it", 3, 19},
+        Bad{"G93 G5 X10 Y0 I1 J1 P1 Q1 F1", "G5 spline in inverse time feed mode (G93) is not supported", 3, 5},
+        Bad{"G5 X0 Y0 I0 J0 P0 Q0", "control points all coincide", 3, 1}));
 
 TEST(NurbsGcode, EndOfFileInsideAGroupIsReportedAtItsOpening) {
   for (const char* p : {"G0 X0 Y0\nF100\nG5.2 P1 L3\nX1 Y1 P1\nX2 Y0 P1\n",
@@ -433,6 +444,60 @@ TEST(NurbsGcode, ManyCurvesStreamOneAfterAnother) {
   for (std::size_t i = 0; i + 1 < nb.size(); ++i) EXPECT_EQ(nb[i].end, nb[i + 1].start);
   EXPECT_EQ(r.blocks.back().kind, BlockKind::kEnd);
   EXPECT_EQ(r.blocks.back().end, (Vec3{400, 0, 0}));
+}
+
+// ---- G5 / G5.1 splines (interpreter_spline.cpp) ----------------------------------------------
+
+// The Bézier curve of control points p at t, by de Casteljau (independent of the NURBS code).
+Vec3 bezier(std::vector<Vec3> p, double t) {
+  for (std::size_t n = p.size(); n > 1; --n) {
+    for (std::size_t i = 0; i + 1 < n; ++i) p[i] = (1.0 - t) * p[i] + t * p[i + 1];
+  }
+  return p[0];
+}
+
+// Each G5 is the cubic from the current point to X Y with inner control points start + (I, J)
+// and end + (P, Q); a G5 without I and J continues the one before it (first control point at
+// start - previous (P, Q)); G5.1 the quadratic with its control point at start + (I, J); inch
+// offsets are converted. The blocks hold exactly those curves, which pass the rt's check.
+TEST(SplineGcode, G5AndG51AreTheBezierCurvesLinuxCncDescribes) {
+  const auto r = run_program(
+      "G21 G17 G0 X0 Y0 Z1\nF600\nG5 X10 Y0 I3 J5 P-3 Q5\nX20 P-3 Q-5\nG5.1 X25 Y5 I5 J0\n"
+      "G20 G5 X1.5 Y0.5 I0.1 J0 P0 Q-0.1\nM2\n",
+      wide_config());
+  ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
+  const auto nb = nurbs_blocks(r.blocks);
+  ASSERT_EQ(nb.size(), 4u);
+  const double in = 25.4;
+  const std::vector<std::vector<Vec3>> want = {
+      {{0, 0, 1}, {3, 5, 1}, {7, 5, 1}, {10, 0, 1}},
+      {{10, 0, 1}, {13, -5, 1}, {17, -5, 1}, {20, 0, 1}},  // (13, -5): the end direction of the first
+      {{20, 0, 1}, {25, 0, 1}, {25, 5, 1}},
+      {{25, 5, 1}, {25 + 0.1 * in, 5, 1}, {1.5 * in, 0.4 * in, 1}, {1.5 * in, 0.5 * in, 1}}};
+  for (std::size_t k = 0; k < nb.size(); ++k) {
+    const Block& b = nb[k];
+    const auto& p = want[k];
+    EXPECT_EQ(b.line, static_cast<std::uint32_t>(k + 3)) << k;
+    EXPECT_EQ(b.nurbs.degree, static_cast<int>(p.size()) - 1) << k;
+    ASSERT_EQ(b.nurbs.point_count, static_cast<int>(p.size())) << k;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      for (int a = 0; a < 3; ++a) EXPECT_NEAR(b.nurbs.points[i][a], p[i][a], 1e-12) << k << " point " << i;
+      EXPECT_EQ(b.nurbs.weights[i], 1.0);
+    }
+    const NurbsView v = view_of(b.nurbs);
+    for (int j = 0; j <= 50; ++j) {
+      const double t = j / 50.0;
+      const Vec3 q = nurbs_point(v, v.u_min() + t * (v.u_max() - v.u_min()));
+      EXPECT_LT(norm(q - bezier(p, t)), 1e-12) << k << " t=" << t;
+    }
+    EXPECT_EQ(b.start, p.front());
+    EXPECT_EQ(b.end, p.back());
+  }
+  // the continued cubic leaves in the direction the first one arrived
+  const Vec3 d_in = nb[0].nurbs.points[3] - nb[0].nurbs.points[2];
+  const Vec3 d_out = nb[1].nurbs.points[1] - nb[1].nurbs.points[0];
+  EXPECT_LT(norm(d_in - d_out), 1e-12);
+  EXPECT_EQ(r.check.moves, 5u);  // the G0 and the four splines
 }
 
 }  // namespace

@@ -154,6 +154,10 @@ bool Interpreter::check_words(const ParsedLine& l) {
       });
     }
   }
+  // G5: X Y, I J (first control point), P Q (second); G5.1: X Y, I J. A Z word is refused
+  // by spline() with its own message.
+  if (motion == 50) allowed |= kAxisBits | bit('I') | bit('J') | bit('P') | bit('Q');
+  if (motion == 51) allowed |= kAxisBits | bit('I') | bit('J');
   // NURBS opening lines: their words are checked by nurbs_open.
   if (motion == 52) allowed |= kAxisBits | bit('P') | bit('L');
   if (motion == 62) allowed |= kAxisBits | bit('P') | bit('K') | bit('R');
@@ -203,11 +207,11 @@ bool Interpreter::check_words(const ParsedLine& l) {
                           " plane of this arc; expected " + center_letter(std::min(pa[0], pa[1])) + " and " +
                           center_letter(std::max(pa[0], pa[1])));
         }
-        return fail(l, col, std::string(1, c) + " word with no G2/G3 that uses it; expected I/J/K only on arcs (and K as the knot of G6.2)");
+        return fail(l, col, std::string(1, c) + " word with no G2/G3 that uses it; expected I/J/K only on arcs (I/J also on G5/G5.1 splines, K as the knot of G6.2)");
       case 'P':
         if (is_arc(motion))
           return fail(l, col, "P word (number of turns) on an arc is not supported; expected one arc per line");
-        return fail(l, col, "P word with no G code that uses it; expected P only with G4 (dwell, seconds), G64, G5.2 (weight) or G6.2 (order)");
+        return fail(l, col, "P word with no G code that uses it; expected P only with G4 (dwell, seconds), G64, G5 (spline), G5.2 (weight) or G6.2 (order)");
       case 'D':
         return fail(l, col, "D word with no G code that uses it; expected D only with G41/G42 (tool) or G41.1/G42.1 (diameter)");
       case 'E':
@@ -309,6 +313,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if (motion_word >= 0) motion_ = motion_word == 800 ? -1 : motion_word;
   if (motion_word >= 0 && !is_cycle(motion_word)) cycle_.end_series();  // G0-G3, G80: the series ends
   bool ok = true;
+  bool spline_line = false;  // this line's move is a G5/G5.1 spline
   if (takes_axis_words(l) && motion_word >= 0 && motion_word != 800 && axis_words(l)) {
     return fail(l, l.g_col[kGMotion],
                 g_name(nonmodal) + " and " + g_name(motion_word) +
@@ -317,6 +322,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   if ((l.present & kPolarBits) != 0 && !polar_words_fit(l, motion_, normal_axis_)) return false;
   if (tcp_) {
     const bool other = nonmodal == 280 || nonmodal == 300 || nonmodal == 530 || motion_word == 52 || motion_word == 62 ||
+                       motion_word == 50 || motion_word == 51 ||
                        ((is_arc(motion_) || is_probe(motion_) || is_cycle(motion_)) && (axis_words(l) || motion_word >= 0));
     if (other) {
       const int col = motion_word >= 0 ? l.g_col[kGMotion] : l.g_col[kGNonModal];
@@ -343,6 +349,9 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     ok = straight(l, motion_, false, out);
   } else if (is_arc(motion_) && (axis_words(l) || (l.present & (bit('I') | bit('J') | bit('K') | bit('R'))) != 0)) {
     ok = arc(l, motion_, out);
+  } else if ((motion_ == 50 || motion_ == 51) && (axis_words(l) || (l.present & (bit('I') | bit('J') | bit('P') | bit('Q'))) != 0)) {
+    ok = spline(l, motion_, out);
+    spline_line = true;
   } else if (is_probe(motion_) && axis_words(l)) {
     ok = probe(l, motion_, out);
   } else if (is_probe(motion_) && motion_word >= 0) {
@@ -350,6 +359,7 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
   } else if (is_cycle(motion_) && axis_words(l)) {
     ok = cycle(l, motion_, previous_motion != motion_, out);
   }
+  if (!spline_line && out.count > first) spline_series_ = false;  // any other move ends a G5 series
   if (!ok) {
     out.count = first;
     return false;

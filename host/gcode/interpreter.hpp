@@ -136,6 +136,7 @@ class Interpreter : public SystemParameters {
   void nurbs_abandon();
   bool straight(const ParsedLine& l, int motion, bool g53, MoveList& out);
   bool arc(const ParsedLine& l, int motion, MoveList& out);
+  bool spline(const ParsedLine& l, int motion, MoveList& out);  // G5, G5.1 (interpreter_spline.cpp)
   bool home(const ParsedLine& l, MoveList& out);  // G28/G30 and their .1 forms
   bool path_tolerance(const ParsedLine& l);       // G64 [P]
   bool probe(const ParsedLine& l, int motion, MoveList& out);  // G38.2-G38.5
@@ -227,6 +228,10 @@ class Interpreter : public SystemParameters {
   bool probe_sync_ = false;
   std::vector<int> assumed_probe_lines_;
   std::string probe_log_;
+  // G5 series: the last move was a G5, and the offset from its end to the next G5's first
+  // control point when that one has no I and J (the previous -P, -Q; job frame mm)
+  bool spline_series_ = false;
+  Vec3 spline_next_{};
   MoveComp comp_{};  // cutter radius compensation, carried on every move
   Rot3 rot_{};                // rotary joints now, machine angles (rad)
   bool tcp_ = false;          // M428/G43.4 in effect: q_ is the tool tip

@@ -34,11 +34,11 @@ bool Interpreter::inverse_time_check(const ParsedLine& l, int column, int motion
                 "cannot use inverse time feed with canned cycles (G93 in effect); expected G94 and an F word before "
                 "the cycle");
   }
-  if (motion == 52 || motion == 62) {
+  if (motion == 52 || motion == 62 || motion == 50 || motion == 51) {
+    const char* name = motion == 52 ? "G5.2 NURBS curve" : motion == 62 ? "G6.2 NURBS curve" : motion == 50 ? "G5 spline" : "G5.1 spline";
     return fail(l, column,
-                std::string(motion == 52 ? "G5.2" : "G6.2") +
-                    " NURBS curve in inverse time feed mode (G93) is not supported; expected G94 and an F word before "
-                    "the curve");
+                std::string(name) + " in inverse time feed mode (G93) is not supported; expected G94 and an F word before "
+                                    "the curve");
   }
   if (!l.has('F')) {
     return fail(l, column,

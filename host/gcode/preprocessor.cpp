@@ -12,7 +12,7 @@ namespace pcnc {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 constexpr double kAxisEps = 1e-9;  // mm: displacements below this do not count as moving
 
 void plan_line(const Move& m, const MachineConfig& cfg, Block& b) {
@@ -22,9 +22,9 @@ void plan_line(const Move& m, const MachineConfig& cfg, Block& b) {
   const Vec3 u = length > 0.0 ? (1.0 / length) * d : Vec3{0.0, 0.0, 0.0};
   b.dir_start = b.dir_end = u;
 
-  double speed = m.kind == MoveKind::kRapid ? (cfg.motion.rapid_speed_mm_s > 0.0 ? cfg.motion.rapid_speed_mm_s : kInf)
+  double speed = m.kind == MoveKind::kRapid ? (cfg.motion.rapid_speed_mm_s > 0.0 ? cfg.motion.rapid_speed_mm_s : kNoLimit)
                                             : m.feed_mm_s;
-  double accel = kInf;
+  double accel = kNoLimit;
   int moving = 0;
   int drive = 0;
   for (int i = 0; i < kAxes; ++i) {
@@ -79,7 +79,7 @@ void plan_arc(const Move& m, const MachineConfig& cfg, Block& b) {
   // Velocity: axis a0 moves with v*(r/rho)*|sin|, a1 with v*(r/rho)*|cos|, the normal with v*|pitch|/rho.
   const double s_max = max_abs_sin(theta0, sweep);
   const double c_max = max_abs_cos(theta0, sweep);
-  double v_axes = kInf;  // what the axes allow on this arc, whatever the feed
+  double v_axes = kNoLimit;  // what the axes allow on this arc, whatever the feed
   if (s_max > 0.0) v_axes = std::min(v_axes, cfg.axes[a0].max_velocity_mm_s * rho / (r * s_max));
   if (c_max > 0.0) v_axes = std::min(v_axes, cfg.axes[a1].max_velocity_mm_s * rho / (r * c_max));
   if (std::fabs(pitch) > 0.0) v_axes = std::min(v_axes, cfg.axes[nk].max_velocity_mm_s * rho / std::fabs(pitch));
@@ -92,7 +92,7 @@ void plan_arc(const Move& m, const MachineConfig& cfg, Block& b) {
   // included), shared/geometry/arc_limits.hpp; the full limit along the normal.
   const double v_top = std::min(v_axes, kArcMaxFeedOverride * speed);
   const double vp_top = v_top * r / rho;
-  double accel = r > 0.0 ? arc_plane_tangential_accel(plane, vp_top * vp_top / r) * rho / r : kInf;
+  double accel = r > 0.0 ? arc_plane_tangential_accel(plane, vp_top * vp_top / r) * rho / r : kNoLimit;
   if (std::fabs(pitch) > 0.0) accel = std::min(accel, cfg.axes[nk].max_accel_mm_s2 * rho / std::fabs(pitch));
   if (!std::isfinite(accel)) accel = 0.0;
   b.speed = speed;
@@ -138,8 +138,8 @@ void plan_rotary(const Move& m, const MachineConfig& cfg, Block& b) {
   if (angular) {
     b.rotary.angular = 1;
     b.length = angular_length(m, cfg);
-    b.speed = m.kind == MoveKind::kRapid ? kInf : m.feed_mm_s;
-    b.accel = kInf;
+    b.speed = m.kind == MoveKind::kRapid ? kNoLimit : m.feed_mm_s;
+    b.accel = kNoLimit;
   }
   for (int i = 0; i < kRotaryJoints; ++i) {
     const auto k = static_cast<std::size_t>(i);

@@ -24,7 +24,7 @@ constexpr CodeInfo kGCodes[] = {
     {920, 923, 1, kGNonModal, nullptr},  // G92, G92.1, G92.2, G92.3
     // motion
     {0, 30, 10, kGMotion, nullptr},  // G0 rapid, G1 line, G2/G3 arcs
-    {50, 51, 1, kGMotion, "cubic and quadratic splines (G5/G5.1) are not supported; expected G1/G2/G3 moves"},
+    {50, 51, 1, kGMotion, nullptr},  // G5 cubic, G5.1 quadratic spline (interpreter_spline.cpp)
     {52, 53, 1, kGMotion, nullptr},  // G5.2/G5.3 NURBS (LinuxCNC)
     {62, 62, 1, kGMotion, nullptr},  // G6.2 NURBS (Fanuc)
     {330, 331, 1, kGMotion,
