@@ -453,6 +453,16 @@ TEST(Progress, LineFormatRoundTripAndView) {
   EXPECT_EQ(format_duration(75), "1:15");
 }
 
+// What a display wrote to the temporary file `f`; closes it.
+std::string read_back_and_close(std::FILE* f) {
+  std::rewind(f);
+  char buf[512];
+  std::string text;
+  while (std::fgets(buf, sizeof buf, f)) text += buf;
+  std::fclose(f);
+  return text;
+}
+
 TEST(Progress, PlainLinesWhenNotATerminal) {
   std::FILE* f = std::tmpfile();
   ASSERT_NE(f, nullptr);
@@ -461,11 +471,7 @@ TEST(Progress, PlainLinesWhenNotATerminal) {
   d.update({100, 1000, 5.0});
   d.update({200, 1000, 10.0});
   d.finish();
-  std::rewind(f);
-  char buf[512];
-  std::string text;
-  while (std::fgets(buf, sizeof buf, f)) text += buf;
-  std::fclose(f);
+  const std::string text = read_back_and_close(f);
   EXPECT_NE(text.find("pcnc: line 100/1000 (10.0 %)"), std::string::npos) << text;
   EXPECT_NE(text.find("pcnc: line 200/1000 (20.0 %)"), std::string::npos) << text;
   EXPECT_EQ(text.find('\r'), std::string::npos) << "no terminal control in a log";
@@ -521,11 +527,7 @@ TEST(Progress, TheChecksProgressLineBarAndLog) {
     d.checking(p);  // 20 % in at least 50 ms: 70 % left at that pace
     d.finish();
   }
-  std::rewind(f);
-  char buf[512];
-  std::string text;
-  while (std::fgets(buf, sizeof buf, f)) text += buf;
-  std::fclose(f);
+  const std::string text = read_back_and_close(f);
   EXPECT_NE(text.find("pcnc: checking line 10 (10.0 % of the file)"), std::string::npos) << text;
   EXPECT_NE(text.find("unknown time left\npcnc: checking line 30 (30.0 % of the file)"), std::string::npos) << text;
   EXPECT_NE(text.find("about 0:0"), std::string::npos) << "a guess once the pass has gone on: " << text;
