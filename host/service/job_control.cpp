@@ -470,7 +470,14 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
     known->known.push_back(ProbeResult{static_cast<ProbeOutcome>(p.outcome), p.latched, p.stop});
   }
   opts.probe = known;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    info_ = json{{"file", jj.file}, {"phase", "preflight"}};
+  }
+  opts.on_check_progress = check_progress_fn();  // in status; the service's shutdown ends it
   const CheckResult check = check_program(jj.file, cfg, opts);
+  opts.on_check_progress = nullptr;
+  if (check.interrupted) return fail("stopped during the preflight check");
   if (!check.ok) return fail(jj.file + " no longer passes preflight");
   if (check.transform.offset != jj.transform_offset || check.transform.scale != jj.transform_scale) {
     return fail("the program's placement (offset and scale) differs from the one it started with");
