@@ -4,12 +4,16 @@
 // files a command will write are checked before anything starts; stdout carries only the
 // output asked for, diagnostics go to stderr (--quiet, --verbose).
 #include <gtest/gtest.h>
+#include <pty.h>
 #include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <thread>
 #include <vector>
 
@@ -227,6 +231,65 @@ TEST(OutputPaths, AreCheckedBeforeAnythingMoves) {
   EXPECT_EQ(soak.exit_code, 2) << soak.err;
   const ProcessResult serve = run_process({pcnc_exe(), "serve", "--config", config, "--trace", "/nonexistent/t.csv"}, 30);
   EXPECT_EQ(serve.exit_code, 2) << serve.err;
+}
+
+// Runs `argv` on a pseudo-terminal (stdin, stdout and stderr all on it, as in a shell) and
+// returns all it wrote there and its exit status.
+std::pair<std::string, int> run_on_terminal(const Args& argv) {
+  int master = -1;
+  const pid_t pid = forkpty(&master, nullptr, nullptr, nullptr);
+  if (pid == 0) {
+    std::vector<char*> a;
+    for (const std::string& w : argv) a.push_back(const_cast<char*>(w.c_str()));
+    a.push_back(nullptr);
+    setenv("TERM", "xterm", 1);
+    execv(a[0], a.data());
+    _exit(127);
+  }
+  std::string text;
+  char buf[4096];
+  for (;;) {
+    const ssize_t n = read(master, buf, sizeof buf);
+    if (n <= 0) break;  // EIO once the child has closed the terminal
+    text.append(buf, static_cast<std::size_t>(n));
+  }
+  close(master);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return {text, WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)};
+}
+
+// `pcnc check` of a program that takes a while (a loop of 1.2 million lines run) shows its
+// progress on a terminal and clears it before the verdict; -q shows none, and a stderr that is
+// not a terminal gets no bar (only plain lines, the first after 5 s).
+TEST(Output, ALongCheckShowsItsProgressOnATerminal) {
+  const std::string dir = make_temp_dir("xprogress");
+  const std::string config = write_test_config(dir, "xprogress");
+  const std::string program =
+      write_program(dir, "loop.ngc",
+                    "G21 G90 G17\nG0 X0 Y0 Z-0.5\nG1 Z-1 F600\n#1=0\no100 while [#1 LT 400000]\n"
+                    "G1 X[[#1 MOD 20]*0.1] Y[[#1 MOD 7]*0.1]\n#1=[#1+1]\no100 endwhile\nG0 Z-0.5\nM2\n");
+  const Args check = {pcnc_exe(), "check", program, "--config", config};
+  const auto [shown, code] = run_on_terminal(check);
+  EXPECT_EQ(code, 0) << shown;
+  const std::size_t bar = shown.find("checking  [");
+  ASSERT_NE(bar, std::string::npos) << shown;
+  EXPECT_NE(shown.find(" %  line "), std::string::npos) << shown;
+  const std::size_t verdict = shown.find("loop.ngc: OK:");
+  ASSERT_NE(verdict, std::string::npos) << shown;
+  EXPECT_LT(bar, verdict);
+  EXPECT_NE(shown.rfind("\r\x1b[K", verdict), std::string::npos) << "the bar is cleared before the verdict";
+
+  const auto [quiet, quiet_code] = run_on_terminal(plus(check, {"-q"}));
+  EXPECT_EQ(quiet_code, 0) << quiet;
+  EXPECT_EQ(quiet.find("checking"), std::string::npos) << quiet;
+  // piped: no bar; a log line only if the check outlasts 5 s (a slow machine, a sanitizer)
+  const ProcessResult piped = run_process(check, 120);
+  EXPECT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(piped.err.find('\r'), std::string::npos) << piped.err;
+  EXPECT_EQ(piped.err.find("checking  ["), std::string::npos) << piped.err;
+  for (std::size_t at = piped.err.find("checking"); at != std::string::npos; at = piped.err.find("checking", at + 1))
+    EXPECT_EQ(piped.err.compare(at > 6 ? at - 6 : 0, 6, "pcnc: "), 0) << "only plain log lines: " << piped.err;
 }
 
 TEST(Output, StdoutCarriesTheReportAndStderrTheDiagnostics) {
