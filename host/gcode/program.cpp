@@ -128,7 +128,8 @@ void tidy(std::vector<LineRange>& runs) {
 // Hands the pipeline's progress to options.on_check_progress (none: nothing is reported), at
 // most every check_progress_interval_s of wall time and not before the check has run that
 // long, so a short check reports nothing. `blocks`: the check pass's count of blocks (null in the fit pass);
-// `reached`: the line of the last report (where a CheckInterrupted from the handler is put).
+// `reached`: the reader's line at the last report, where a CheckInterrupted from the handler is
+// put (the sink names a made program's place for it, as for any diagnostic).
 void report_progress(Pipeline& pipeline, const JobOptions& options, const DiagnosticSink& sink, CheckPass pass,
                      const std::uint64_t* blocks, int& reached) {
   if (!options.on_check_progress) return;
@@ -142,11 +143,11 @@ void report_progress(Pipeline& pipeline, const JobOptions& options, const Diagno
     const LineReader& r = pipeline.reader();
     CheckProgress p;
     p.pass = pass;
-    p.line = static_cast<std::uint64_t>(std::max(0, sink.file_line(static_cast<int>(std::min<std::uint64_t>(r.line_number(), 0x7fffffff)))));
+    reached = static_cast<int>(std::min<std::uint64_t>(r.line_number(), 0x7fffffff));
+    p.line = static_cast<std::uint64_t>(std::max(0, sink.file_line(reached)));  // a made program: its file's line
     p.bytes_read = r.bytes_read();
     p.total_bytes = r.total_bytes();
     p.blocks = blocks ? *blocks : 0;
-    reached = static_cast<int>(std::min<std::uint64_t>(p.line, 0x7fffffff));
     handler(p);
   });
 }
