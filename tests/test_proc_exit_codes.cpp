@@ -176,10 +176,7 @@ TEST(ExitCodes, ARefusedProgramExits2FromTheHostAndTheService) {
 TEST(ExitCodes, CtrlCDuringTheCheckOfALongProgramExits130AndMovesNothing) {
   const std::string dir = make_temp_dir("xcheck");
   const std::string config = write_test_config(dir, "xcheck");
-  const std::string program =
-      write_program(dir, "long.ngc",
-                    "G21 G90 G17\nG0 X0 Y0 Z-0.5\nG1 Z-1 F600\n#1=0\no100 while [#1 LT 3000000]\n"
-                    "G1 X[[#1 MOD 20]*0.1] Y[[#1 MOD 7]*0.1]\n#1=[#1+1]\no100 endwhile\nG0 Z-0.5\nM2\n");
+  const std::string program = loop_program(dir, "long.ngc", 3000000);
   const std::string summary = dir + "/s.json";
   BackgroundProcess run =
       start_process({pcnc_exe(), "run", program, "--clock", "virtual", "--config", config, "--summary", summary}, dir + "/run");
@@ -265,10 +262,7 @@ std::pair<std::string, int> run_on_terminal(const Args& argv) {
 TEST(Output, ALongCheckShowsItsProgressOnATerminal) {
   const std::string dir = make_temp_dir("xprogress");
   const std::string config = write_test_config(dir, "xprogress");
-  const std::string program =
-      write_program(dir, "loop.ngc",
-                    "G21 G90 G17\nG0 X0 Y0 Z-0.5\nG1 Z-1 F600\n#1=0\no100 while [#1 LT 400000]\n"
-                    "G1 X[[#1 MOD 20]*0.1] Y[[#1 MOD 7]*0.1]\n#1=[#1+1]\no100 endwhile\nG0 Z-0.5\nM2\n");
+  const std::string program = loop_program(dir, "loop.ngc", 400000);
   const Args check = {pcnc_exe(), "check", program, "--config", config};
   const auto [shown, code] = run_on_terminal(check);
   EXPECT_EQ(code, 0) << shown;

@@ -182,21 +182,13 @@ TEST(ServiceOperator, MdiAndTouchOffAreRefusedWhileAProgramRunsAndStatusHasThePl
   EXPECT_EQ(s["state"], "IDLE");
 }
 
-// A program whose check runs a long time: three million loop iterations (nine million lines
-// run) of short moves just below program zero.
-std::string long_check_program(const std::string& dir) {
-  return write_program(dir, "long-check.ngc",
-                       "G21 G90 G17\nG0 X0 Y0 Z-0.5\nG1 Z-1 F600\n#1=0\no100 while [#1 LT 3000000]\n"
-                       "G1 X[[#1 MOD 20]*0.1] Y[[#1 MOD 7]*0.1]\n#1=[#1+1]\no100 endwhile\nG0 Z-0.5\nM2\n");
-}
-
 // While the service checks a long program, status shows how far the check has got, and `stop`
 // ends the check there: the run is refused with that reason and nothing moves.
 TEST(ServiceOperator, StopDuringTheCheckOfALongProgramEndsItAndNothingMoves) {
   ServicePair p("op-check");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();
   const json before = p.status();
-  const std::string prog = long_check_program(p.dir());
+  const std::string prog = loop_program(p.dir(), "long-check.ngc", 3000000);  // nine million lines run
   auto run = std::async(std::launch::async, [&] { return p.call("run", {{"file", prog}}, 120); });
   const json s = p.wait_status([](const json& x) { return x["job"].contains("check_line"); }, 60);
   ASSERT_TRUE(s["job"].contains("check_line")) << s.dump();

@@ -159,6 +159,12 @@ Status wait_rt_state(const std::string& tag, MachineState state, double timeout_
   return st;
 }
 
+std::string loop_program(const std::string& dir, const std::string& name, int iterations) {
+  return write_program(dir, name,
+                       "G21 G90 G17\nG0 X0 Y0 Z-0.5\nG1 Z-1 F600\n#1=0\no100 while [#1 LT " + std::to_string(iterations) +
+                           "]\nG1 X[[#1 MOD 20]*0.1] Y[[#1 MOD 7]*0.1]\n#1=[#1+1]\no100 endwhile\nG0 Z-0.5\nM2\n");
+}
+
 std::string zigzag_program(const std::string& dir, int rows, double width, double feed) {
   std::ostringstream p;
   p << "G21 G90 G17 G54\nG00 Z-1\nG00 X" << -width / 2 << " Y-8\n";

@@ -74,6 +74,9 @@ bool read_rt_status(const std::string& tag, Status& out);
 Status wait_rt_state(const std::string& tag, MachineState state, double timeout_s = 5.0);
 
 std::string zigzag_program(const std::string& dir, int rows, double width, double feed);
+/// A program whose check takes a while: a loop of `iterations` short G1 moves just below program
+/// zero (three lines run each), written to dir/name.
+std::string loop_program(const std::string& dir, const std::string& name, int iterations);
 
 /// A lost host and its resume (docs/reliability.md): kills the pair's host with SIGKILL while
 /// its job runs, waits for the rt's HOST_LOST, starts a new host, asks it to resume and waits
