@@ -327,6 +327,65 @@ TEST(GcodeSubs, ASubroutineFileBesideTheProgram) {
   EXPECT_FALSE(lost.ok);
 }
 
+// ---- M70-M73: saving and restoring the modal state (interpreter_modal_state.cpp) ----
+
+// The state a (DEBUG,...) line shows: units, distance mode, feed, plane, work system.
+const char* kShowState = "(DEBUG,%d#<_imperial> %d#<_absolute> %.1f#<_feed> %d#<_plane> %d#5220)\n";
+
+std::string with_state(const std::string& text) {
+  std::string out;
+  for (std::size_t at = 0;;) {
+    const std::size_t s = text.find("SHOW\n", at);
+    if (s == std::string::npos) return out + text.substr(at);
+    out += text.substr(at, s - at) + kShowState;
+    at = s + 5;
+  }
+}
+
+// LinuxCNC's M-code reference examples: M70 ... M72 around a call that changes units,
+// distance mode and feed; M73 in a subroutine restores on endsub and on a return from inside a
+// loop; the motion mode is not part of the state.
+TEST(GcodeModalState, M70M72AndM73RestoreTheCallersState) {
+  const Listing l = list_program(with_state(
+      "o<imperialsub> sub\nG20 G91 G18 G55 F5\no<imperialsub> endsub\n"
+      "o<autosub> sub\nM73\nG20 G91 F7\nSHOW\no100 while [1]\no<autosub> return\no100 endwhile\no<autosub> endsub\n"
+      "G21 G90 G17 G54 F200\nSHOW\nM70\no<imperialsub> call\nSHOW\nM72\nSHOW\no<autosub> call\nSHOW\n"
+      "G1 X1\nM70\nG0 X2\nM72\nX3\nM2\n"));
+  ASSERT_TRUE(l.result.ok) << l.first_error();
+  const std::vector<std::string> want = {
+      "0 1 200.0 170 1",  // main: G21 G90 F200 G17 G54
+      "1 0 5.0 180 2",    // after the call: its G20 G91 F5 G18 G55 stay
+      "0 1 200.0 170 1",  // M72: all restored
+      "1 0 7.0 170 1",    // in the M73 subroutine
+      "0 1 200.0 170 1",  // its return (from inside a loop) restored the caller's state
+  };
+  EXPECT_EQ(l.messages, want);
+  ASSERT_EQ(l.moves.size(), 3u);
+  EXPECT_EQ(l.moves[2].kind, MoveKind::kRapid) << "M72 leaves the motion mode (G0) as it is";
+  EXPECT_DOUBLE_EQ(l.moves[2].end[0], 3.0);
+}
+
+// Each call level has its own saved state (a subroutine's M72 does not see the caller's M70),
+// M71 forgets it (and stops M73's restore), and M72 without a saved state is an error at its
+// column; so is a restore that would turn cutter compensation on or off.
+TEST(GcodeModalState, LevelsInvalidationAndErrors) {
+  Listing l = list_program("o<s> sub\nM72\no<s> endsub\nM70\no<s> call\nM2\n");
+  EXPECT_NE(l.first_error().find("test.ngc:2:1: error: M72 with no modal state saved at this call level (this subroutine call); expected M70"), std::string::npos)
+      << l.first_error();
+  l = list_program("M70\nM71\nG20\nM72\nM2\n");
+  EXPECT_NE(l.first_error().find("test.ngc:4:1: error: M72 with no modal state saved at this level (the main program)"), std::string::npos) << l.first_error();
+  l = list_program(with_state("o<s> sub\nM73\nG20\nM71\no<s> endsub\nG21\no<s> call\nSHOW\nM2\n"));
+  ASSERT_TRUE(l.result.ok) << l.first_error();
+  EXPECT_EQ(l.messages, std::vector<std::string>{"1 1 0.0 170 1"}) << "M71 stopped the restore: G20 stays";
+  l = list_program("G0 X0 Y0\nM70\nG41.1 D1 G1 X1 F100\nM72\nG40 G1 X2\nM2\n");
+  EXPECT_NE(l.first_error().find("test.ngc:4:1: error: M72 would change cutter radius compensation (G41/G42 now, G40 when the state was saved)"), std::string::npos)
+      << l.first_error();
+  // M73 in the main program is accepted (it saves; LinuxCNC's M2 restores nothing)
+  l = list_program(with_state("M73\nG20\nSHOW\nM2\n"));
+  ASSERT_TRUE(l.result.ok) << l.first_error();
+  EXPECT_EQ(l.messages, std::vector<std::string>{"1 1 0.0 170 1"});
+}
+
 // ---- messages and comments ----
 
 TEST(GcodeMessages, MsgIsRawDebugIsSubstitutedInProgramOrder) {

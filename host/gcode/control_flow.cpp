@@ -78,6 +78,12 @@ int ControlFlow::find_loop(const std::string& label) const {
   return -1;
 }
 
+std::size_t ControlFlow::call_depth() const {
+  std::size_t n = 0;
+  for (const Frame& f : stack_) n += f.kind == Kind::kCall || f.kind == Kind::kFanucCall;
+  return n;
+}
+
 int ControlFlow::innermost_loop_line() const {
   for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) {
     if (it->kind == Kind::kWhile || it->kind == Kind::kDo || it->kind == Kind::kRepeat) return it->line;

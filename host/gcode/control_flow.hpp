@@ -63,6 +63,8 @@ class ControlFlow {
 
   /// The loop or call the program is in (for "the program loops" messages); 0: none.
   int innermost_loop_line() const;
+  /// How many subroutine calls (o-word calls and M98) are running: 0 in the main program.
+  std::size_t call_depth() const;
 
  private:
   enum class Skip : std::uint8_t { kNone, kIfBranch, kIfEnd, kLoopEnd, kSubDefinition, kToDoWhile };

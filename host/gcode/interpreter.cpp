@@ -254,6 +254,8 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     warn(l, l.m_col[kMSpindle], "spindle",
          [&] { return std::string("M" + std::to_string(l.m[kMSpindle]) + " ignored: the machine has no spindle"); });
   }
+  // M70-M73 (LinuxCNC's order: after F, S and the spindle; before the plane, units and offsets)
+  if (!modal_state_words(l)) return false;
   if (l.m[kMCoolant] >= 0) {
     warn(l, l.m_col[kMCoolant], "coolant",
          [&] { return std::string("M" + std::to_string(l.m[kMCoolant]) + " ignored: the machine has no coolant"); });

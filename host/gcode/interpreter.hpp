@@ -84,6 +84,12 @@ class Interpreter : public SystemParameters {
   void set_line(int line) { last_line_ = line; }
   /// True once M2/M30 has been executed.
   bool ended() const { return ended_; }
+  /// Subroutine call levels (M70-M73 keep a saved modal state per level; MoveSource follows the
+  /// control flow's calls): 0 in the main program.
+  std::size_t call_level() const { return modal_levels_.size() - 1; }
+  void enter_call();
+  /// Leaving a call: what an M73 saved at that level is restored (errors at `line`).
+  void leave_call(int line);
   /// The input ended (end of file or closing '%') at `line`: reports a NURBS group left open.
   void end_of_input(int line);
   /// The End move used when the file ends without M2/M30.
@@ -147,6 +153,22 @@ class Interpreter : public SystemParameters {
   std::uint32_t rotary_bits() const;       // the A/B/C letters of the machine's joints
   Rot3 rotary_target(const ParsedLine& l) const;  // the joints the A/B/C words of `l` name (rad)
   bool tcp_words(const ParsedLine& l);     // M428/G43.4 on, M429/G49 off
+  // M70-M73: save, invalidate, restore, save with restore on return (interpreter_modal_state.cpp)
+  struct SavedModal {
+    bool inches = false, incremental = false, inverse_time = false, arc_absolute = false, retract_r = false;
+    bool contouring = false, tool_offset_on = false;
+    int normal_axis = 2, work_index = 0;
+    double feed = 0.0, path_tolerance = 0.0;
+    Vec3 tlo{};
+    std::uint8_t comp_side = 0, comp_plane = 2;
+  };
+  struct ModalLevel {
+    std::optional<SavedModal> saved;
+    bool autorestore = false;  // M73: restored when the call returns
+  };
+  SavedModal save_modal() const;
+  bool restore_modal(const SavedModal& s, int line, int column, const char* by);
+  bool modal_state_words(const ParsedLine& l);
   double tcp_tool_length(int tool) const;  // the length (mm) of `tool` from the tool table
   bool comp_forbids(const ParsedLine& l);  // what cannot happen with cutter compensation on
   bool comp_words(const ParsedLine& l);    // G40, G41/G42, G41.1/G42.1 (interpreter_comp.cpp)
@@ -233,6 +255,7 @@ class Interpreter : public SystemParameters {
   bool spline_series_ = false;
   Vec3 spline_next_{};
   MoveComp comp_{};  // cutter radius compensation, carried on every move
+  std::vector<ModalLevel> modal_levels_{1};  // [0]: the main program; one more per call running
   Rot3 rot_{};                // rotary joints now, machine angles (rad)
   bool tcp_ = false;          // M428/G43.4 in effect: q_ is the tool tip
   double tcp_length_ = 0.0;   // the tool length applied along the tool axis under TCP, mm

@@ -188,6 +188,7 @@ void MoveSource::run_line(int line_no, const LineReader::Position& start) {
     seen_content_ = true;
     if (!apply_assignments(line_no)) return;
     flow_.on_oword(lexed_.oword, line_no, start);
+    sync_call_level(line_no);
     return;
   }
   if (lexed_.empty()) return;
@@ -211,6 +212,15 @@ void MoveSource::run_line(int line_no, const LineReader::Position& start) {
                 "M99 outside a subprogram (pcnc does not restart the main program); expected M99 only at the end of "
                 "a subprogram called by M98, and M2/M30 to end the program");
   }
+  if (sub == 98 || sub == 99) sync_call_level(line_no);
+}
+
+// The interpreter's call levels (M70-M73's saved modal states) follow the control flow's calls:
+// a level for each call entered; a level left restores what M73 saved there.
+void MoveSource::sync_call_level(int line_no) {
+  const std::size_t depth = flow_.call_depth();
+  while (interp_.call_level() < depth) interp_.enter_call();
+  while (interp_.call_level() > depth) interp_.leave_call(line_no);
 }
 
 }  // namespace pcnc

@@ -64,6 +64,7 @@ class MoveSource {
 
  private:
   void read_line();
+  void sync_call_level(int line_no);
   void run_line(int line_no, const LineReader::Position& start);
   bool apply_assignments(int line_no);
   void message(int line_no);

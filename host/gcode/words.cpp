@@ -86,7 +86,7 @@ constexpr CodeInfo kMCodes[] = {
     {48, 53, 1, kMOverride, "override switches (M48-M53) are not supported; expected overrides from the control socket"},
     {21, 22, 1, kMContouring, nullptr},
     {62, 68, 1, kMOther, "digital and analog I/O (M62-M68) is not supported; expected a program without I/O words"},
-    {70, 73, 1, kMOther, "saving and restoring modal state (M70-M73) is not supported; expected explicit modal words"},
+    {70, 73, 1, kMOther, nullptr},  // save, invalidate, restore, autorestore modal state (interpreter_modal_state.cpp)
     {100, 199, 1, kMOther, "user M codes (M100-M199) are not supported; expected M codes listed in docs/gcode.md"},
     {98, 99, 1, kMSubprogram, nullptr},  // M98 call, M99 return (MoveSource)
     {428, 429, 1, kMTcp, nullptr},       // TCP on/off (a machine without kinematics refuses them)

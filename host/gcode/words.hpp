@@ -33,7 +33,7 @@ enum MGroup : int {
   kMCoolant = 3,     // M7 M8 M9
   kMOverride = 4,    // M48-M53
   kMContouring = 5,  // M21 M22 (pcnc: contouring on/off)
-  kMOther = 6,       // M62-M68, M70-M73, M100-M199 (known, never executed here)
+  kMOther = 6,       // M62-M68, M100-M199 (known, refused), M70-M73 (modal state)
   kMSubprogram = 7,  // M98 M99 (Fanuc subprograms)
   kMTcp = 8,         // M428 M429: tool-centre-point control on/off (LinuxCNC's XYZAC demos)
   kMGroupCount = 9
