@@ -7,7 +7,6 @@
 // LinuxCNC's rules (its G-code reference): P and Q on every G5; I and J both or neither, and
 // neither only after a G5 of the same series, whose end direction the new cubic then takes (I, J
 // = the previous -P, -Q); G5.1 needs I and J; only X and Y move; the plane must be G17.
-#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
