@@ -144,6 +144,8 @@ TEST(StatusWatch, ShowsTheChecksProgressBeforeTheProgramRuns) {
   EXPECT_NE(format_watch_line(s).find("  checking  [#"), std::string::npos) << format_watch_line(s);
   s["job"]["check_pass"] = "fit";
   EXPECT_EQ(watch_check(s).rfind("measuring for --fit  [", 0), 0u) << watch_check(s);
+  s["job"]["check_pass"] = "locate";  // a resume runs the program again up to where it stopped
+  EXPECT_EQ(watch_check(s), "locating the stop  [#############.................]  45.2 %  line 270336");
   s["job"].erase("check_fraction");
   EXPECT_EQ(watch_check(s), "") << "no check under way: nothing";
   EXPECT_EQ(format_watch(s).back(), "");

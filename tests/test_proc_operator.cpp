@@ -214,6 +214,51 @@ TEST(ServiceOperator, StopDuringTheCheckOfALongProgramEndsItAndNothingMoves) {
   EXPECT_EQ(after["blocks_done"], before["blocks_done"]);
 }
 
+// A host lost during a long program, a new host asked to resume it, and `stop` while the resume
+// still checks the program: the resume ends there (its reply says so), the program is abandoned
+// (no journal left to resume), the machine leaves HOST_LOST for IDLE and does not move, then or later.
+TEST(ServiceOperator, StopInHostLostEndsAResumeStillBeingChecked) {
+  ServicePair p("op-resume-stop");
+  ASSERT_TRUE(p.start("virtual")) << p.host_log();
+  const std::string prog = loop_program(p.dir(), "long-resume.ngc", 600000);
+  auto run = std::async(std::launch::async, [&] { return p.call("run", {{"file", prog}}, 300); });
+  json s = p.wait_status([](const json& x) { return x["state"] == "RUNNING" && x["blocks_done"].get<std::uint64_t>() > 50; }, 240);
+  ASSERT_EQ(s["state"], "RUNNING") << s.dump() << p.host_log();
+  p.kill_host(SIGKILL);
+  run.wait();
+  const Status lost = wait_rt_state(p.tag(), MachineState::kHostLost);
+  ASSERT_EQ(lost.state, MachineState::kHostLost);
+  ASSERT_TRUE(p.start_host()) << p.host_log();
+  s = p.wait_status([](const json& x) { return x["rt"]["state"] == "attached"; }, 10);
+  ASSERT_EQ(s["state"], "HOST_LOST") << s.dump();
+  ASSERT_TRUE(s["resume"].is_object()) << "the journal names the program: " << s.dump();
+
+  auto resume = std::async(std::launch::async, [&] { return p.call("resume", json::object(), 300); });
+  s = p.wait_status([](const json& x) { return x["job"].contains("check_line"); }, 120);
+  ASSERT_TRUE(s["job"].contains("check_line")) << s.dump();
+  EXPECT_EQ(s["job"]["phase"], "preflight");
+  EXPECT_EQ(s["state"], "HOST_LOST") << "nothing moves while the resume checks";
+  const json stop = p.call("stop");
+  ASSERT_TRUE(stop.contains("result")) << stop.dump();
+  EXPECT_EQ(stop["result"]["state"], "IDLE") << stop.dump();
+  const json reply = resume.get();
+  ASSERT_EQ(error_code(reply), rpc::kRefused) << reply.dump();
+  EXPECT_NE(reply["error"]["message"].get<std::string>().find("resume stopped during the preflight check; the program was abandoned"),
+            std::string::npos)
+      << reply.dump();
+
+  const json after = p.wait_status([](const json& x) { return idle(x); }, 10);
+  ASSERT_TRUE(idle(after)) << after.dump();
+  EXPECT_TRUE(after["resume"].is_null()) << "nothing left to resume: " << after.dump();
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(pos(after["commanded"], a), lost.commanded[static_cast<std::size_t>(a)]);
+  // and it stays there: the abandoned resume never starts the rest of the program
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const json later = p.status();
+  EXPECT_EQ(later["state"], "IDLE") << later.dump();
+  EXPECT_EQ(later["commanded"], after["commanded"]);
+  EXPECT_EQ(later["blocks_done"], after["blocks_done"]);
+}
+
 TEST(ServiceOperator, CtlMdiAndTouchOff) {
   ServicePair p("op-ctl");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();

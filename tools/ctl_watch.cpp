@@ -61,7 +61,9 @@ std::string watch_check(const json& s) {
   const double f = std::clamp(job.value("check_fraction", 0.0), 0.0, 1.0);
   const int width = 30;
   const int filled = static_cast<int>(std::floor(f * width));
-  return fmt_text("%s  [%s%s] %5.1f %%  line %llu", job.value("check_pass", "check") == "fit" ? "measuring for --fit" : "checking",
+  const std::string pass = job.value("check_pass", "check");
+  const char* what = pass == "fit" ? "measuring for --fit" : (pass == "locate" ? "locating the stop" : "checking");
+  return fmt_text("%s  [%s%s] %5.1f %%  line %llu", what,
                   std::string(static_cast<std::size_t>(filled), '#').c_str(),
                   std::string(static_cast<std::size_t>(width - filled), '.').c_str(), 100.0 * f,
                   static_cast<unsigned long long>(job.value("check_line", 0ull)));

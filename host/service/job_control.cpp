@@ -338,6 +338,28 @@ CheckProgressHandler JobControl::check_progress_fn() {
   };
 }
 
+// A resume's locate pass (the program run again up to the interrupted block) in the status
+// object as `check_pass` "locate", with the line and the share of the text read, at most every
+// 0.1 s; false once `stop` (or the service's shutdown) asked the resume to end.
+std::function<bool()> JobControl::locate_progress_fn(const BlockStream& stream) {
+  auto last = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  return [this, &stream, last] {
+    if (interrupt_.load()) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - *last < std::chrono::milliseconds(100)) return true;
+    *last = now;
+    CheckProgress c;
+    c.line = stream.lines_read();
+    c.bytes_read = stream.bytes_read();
+    c.total_bytes = stream.total_bytes();
+    std::lock_guard<std::mutex> lock(mutex_);
+    info_["check_pass"] = "locate";
+    info_["check_line"] = c.line;
+    info_["check_fraction"] = c.fraction();
+    return true;
+  };
+}
+
 // The job's progress in the status object; with the check's planned time, the planned time of
 // the blocks done (the ETA's base: `pcnc ctl status --watch`, docs/protocol.md).
 std::function<void(const JobProgress&)> JobControl::progress_fn(double planned_total_s) {
@@ -446,6 +468,13 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
     end_job(nullptr);  // nothing runs
     job_reply(client, id, Outcome::fail(refused("cannot resume: " + why + "; use stop to abandon the program")));
   };
+  // `stop` in HOST_LOST (methods.cpp) has abandoned the program while this resume got ready
+  auto stopped = [&](const std::string& when) {
+    spdlog::info("resume of {} stopped {}", jj.file, when);
+    remove_journal(journal_);  // abandoned: a journal written since must not be resumed later
+    end_job(nullptr);
+    job_reply(client, id, Outcome::fail(refused("resume stopped " + when + "; the program was abandoned and nothing was moved")));
+  };
   // The same program: its content (SHA-256), not only its size and time.
   if (jj.file_sha256.empty()) return fail("the journal holds no hash of " + jj.file + " (written by an older pcnc-host)");
   std::string hash_error;
@@ -477,7 +506,9 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
   opts.on_check_progress = check_progress_fn();  // in status; the service's shutdown ends it
   const CheckResult check = check_program(jj.file, cfg, opts);
   opts.on_check_progress = nullptr;
-  if (check.interrupted) return fail("stopped during the preflight check");
+  // `stop` in HOST_LOST abandons the program (methods.cpp): a stop during the check or the
+  // locate pass below ends the resume before anything is sent.
+  if (check.interrupted || interrupt_.load()) return stopped("during the preflight check");
   if (!check.ok) return fail(jj.file + " no longer passes preflight");
   if (check.transform.offset != jj.transform_offset || check.transform.scale != jj.transform_scale) {
     return fail("the program's placement (offset and scale) differs from the one it started with");
@@ -496,7 +527,9 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
   auto stream = std::make_shared<BlockStream>(jj.file, cfg, locate, check.transform);
   Block b{};
   std::size_t probes_located = 0;  // probing blocks up to block k
+  const auto report_locate = locate_progress_fn(*stream);
   for (std::uint64_t n = 0; n < k; ++n) {
+    if (n % kLocateReportEvery == 0 && n > 0 && !report_locate()) return stopped("while locating the interrupted block");
     if (n > 0 && b.probe_rule != 0) ++probes_located;
     if (!stream->next(b)) {
       if (stream->probe_sync()) {
@@ -552,6 +585,7 @@ void JobControl::resume_job(ClientId client, const json& id, std::shared_ptr<RtL
     return fail("the journal cannot be written (" + jerr + ")");
   }
   journal_ok();
+  if (interrupt_.load()) return stopped("before the program went on");
   // Leave HOST_LOST (the rt keeps its position), then start the rest as a new program.
   const std::uint64_t reset_id = l->send(CommandKind::kReset);
   if (reset_id == 0) return fail("pcnc-rt's mailbox is full");

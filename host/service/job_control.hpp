@@ -109,6 +109,8 @@ class JobControl {
                   const std::function<std::optional<WorkState>(const JobRunner&)>& work_after = {});
   std::function<void(const JobProgress&)> progress_fn(double planned_total_s = 0.0);
   CheckProgressHandler check_progress_fn();
+  static constexpr std::uint64_t kLocateReportEvery = 256;  // blocks between the locate pass's reports
+  std::function<bool()> locate_progress_fn(const BlockStream& stream);
   void journal_failed(const std::string& why);
   void journal_probes(JobJournal& jj, const ProbeResults& r);  // docs/probe.md
   void journal_ok();

@@ -75,7 +75,9 @@ Outcome do_stop(Call& c, JobControl& jobs, JogControl& jogs) {
       }
       return sent(l, CommandKind::kJogStop, json{{"state", "IDLE"}});
     case MachineState::kHostLost:
-      // The interrupted program is abandoned: leave HOST_LOST, forget the journal.
+      // The interrupted program is abandoned: leave HOST_LOST, forget the journal. A resume
+      // still being checked or located ends there and never starts (job_control.cpp).
+      if (jobs.active()) jobs.interrupt();
       jobs.abandon_interrupted();
       spdlog::info("stop: the program interrupted by the lost host is abandoned");
       return sent(l, CommandKind::kReset, json{{"state", "IDLE"}, {"abandoned", true}});
