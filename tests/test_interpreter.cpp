@@ -2,6 +2,7 @@
 // units, distance modes, work offsets, the G28 idiom, G53, feeds and program end.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "gcode_test_util.hpp"
@@ -124,6 +125,69 @@ TEST(Interpreter, HelixCarriesTheThirdAxis) {
   EXPECT_NEAR(a.arc.helix, -2, 1e-12);
   EXPECT_EQ(a.motion_class, MotionClass::kSpace);
   EXPECT_NEAR(a.length, std::hypot(20 * kPi, 2.0), 1e-9);
+}
+
+// P on G2/G3 (LinuxCNC): P - 1 full circles, then the programmed arc; a helix's travel is shared
+// in proportion to the angle, and each piece's center lies on its own start level.
+TEST(Interpreter, ArcTurnsAddFullCirclesBeforeTheArc) {
+  const auto r = run_program("G0 X10 Y0 Z0\nG3 X0 Y10 Z-3 I-10 P3 F600\nG1 X1\nM2\n", wide_config());
+  ASSERT_TRUE(r.check.ok);
+  const auto m = r.motion();
+  ASSERT_EQ(m.size(), 5u);
+  const double total = 2 * 2 * kPi + kPi / 2;  // two full turns and the quarter
+  double z = 0.0;
+  for (int k = 1; k <= 3; ++k) {
+    const Block& a = m[static_cast<std::size_t>(k)];
+    ASSERT_EQ(a.kind, BlockKind::kArc) << k;
+    EXPECT_EQ(a.line, 2u);
+    const double sweep = k < 3 ? 2 * kPi : kPi / 2;
+    EXPECT_NEAR(a.arc.sweep, sweep, 1e-12) << k;
+    EXPECT_NEAR(a.arc.radius, 10, 1e-12);
+    expect_point(a.arc.center, 0, 0, z, 1e-12);
+    expect_point(a.start, 10, 0, z, 1e-12);
+    const double z_end = z - 3.0 * sweep / total;
+    EXPECT_NEAR(a.arc.helix, z_end - z, 1e-12) << k;
+    if (k < 3) expect_point(a.end, 10, 0, z_end, 1e-12);
+    z = z_end;
+  }
+  expect_point(m[3].end, 0, 10, -3, 1e-12);
+  expect_point(m[4].start, 0, 10, -3, 1e-12);
+
+  // R form and clockwise: a half circle with P2 is one and a half turns
+  const auto h = run_program("G0 X0 Y1\nG2 X10 Y1 R5 P2 F600\nM2\n", wide_config());
+  ASSERT_TRUE(h.check.ok);
+  ASSERT_EQ(h.motion().size(), 3u);
+  EXPECT_NEAR(h.motion()[1].arc.sweep, -2 * kPi, 1e-12);
+  EXPECT_NEAR(h.motion()[2].arc.sweep, -kPi, 1e-12);
+  expect_point(h.motion()[1].arc.center, 5, 1, 0, 1e-9);
+  // P1 is the arc alone
+  EXPECT_EQ(run_program("G0 X10 Y0\nG3 X0 Y10 I-10 P1 F600\nM2\n", wide_config()).motion().size(), 2u);
+}
+
+// G93 with turns: F is the time of the whole line, shared by the pieces in proportion to length.
+TEST(Interpreter, ArcTurnsUnderInverseTimeTakeTheLinesTime) {
+  const auto r = run_program("G0 X10 Y0 Z0\nG93 G2 X10 Y0 Z-1 I-10 P2 F6\nG94\nM2\n", wide_config());
+  ASSERT_TRUE(r.check.ok);
+  const auto m = r.motion();
+  ASSERT_EQ(m.size(), 3u);
+  double t = 0.0;
+  for (std::size_t k = 1; k < 3; ++k) t += m[k].length / m[k].speed;
+  EXPECT_NEAR(t, 10.0, 1e-9) << "F6 in G93: the line takes 10 s";
+  EXPECT_NEAR(m[1].speed, m[2].speed, 1e-12);
+}
+
+TEST(Interpreter, ArcTurnsMustBeAPositiveInteger) {
+  for (const char* p : {"P0", "P1.5", "P-2"}) {
+    const auto r = run_program(std::string("G0 X10 Y0\nG3 X0 Y10 I-10 ") + p + " F600\nM2\n", wide_config());
+    EXPECT_FALSE(r.check.ok) << p;
+    ASSERT_TRUE(r.has_error("is not a number of turns; expected a positive integer")) << p;
+    const auto d = std::find_if(r.check.diagnostics.begin(), r.check.diagnostics.end(),
+                                [](const Diagnostic& x) { return x.severity == Diagnostic::Severity::kError; });
+    EXPECT_EQ(d->line, 2);
+    EXPECT_EQ(d->column, 16) << p;
+  }
+  EXPECT_TRUE(run_program("G0 X10 Y0\nG3 X0 Y10 I-10 P100001 F600\nM2\n", wide_config()).has_error("more than 10000 turns"));
+  EXPECT_TRUE(run_program("G0 X10 Y0\nG1 X0 P2 F600\nM2\n", wide_config()).has_error("P word with no G code that uses it"));
 }
 
 TEST(Interpreter, RFormPicksTheShortOrLongArc) {

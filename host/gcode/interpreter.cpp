@@ -144,7 +144,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
   if (l.m[kMSubprogram] == 98) allowed |= bit('P') | bit('L');
   if (is_arc(motion) && nonmodal != 280 && nonmodal != 300) {
     const auto pa = plane_axes(normal);
-    allowed |= bit(center_letter(pa[0])) | bit(center_letter(pa[1])) | bit('R');
+    allowed |= bit(center_letter(pa[0])) | bit(center_letter(pa[1])) | bit('R') | bit('P');  // P: turns
     // A center offset along the normal axis is meaningless; FreeCAD writes it as 0 (K0 on G17).
     const char off = center_letter(normal);
     if (l.has(off) && l.get(off) == 0.0) {
@@ -209,9 +209,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
         }
         return fail(l, col, std::string(1, c) + " word with no G2/G3 that uses it; expected I/J/K only on arcs (I/J also on G5/G5.1 splines, K as the knot of G6.2)");
       case 'P':
-        if (is_arc(motion))
-          return fail(l, col, "P word (number of turns) on an arc is not supported; expected one arc per line");
-        return fail(l, col, "P word with no G code that uses it; expected P only with G4 (dwell, seconds), G64, G5 (spline), G5.2 (weight) or G6.2 (order)");
+        return fail(l, col, "P word with no G code that uses it; expected P only with G4 (dwell, seconds), G2/G3 (turns), G64, G5 (spline), G5.2 (weight) or G6.2 (order)");
       case 'D':
         return fail(l, col, "D word with no G code that uses it; expected D only with G41/G42 (tool) or G41.1/G42.1 (diameter)");
       case 'E':

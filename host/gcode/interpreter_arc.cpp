@@ -1,16 +1,22 @@
 // interpreter_arc.cpp — G2/G3 arcs and helices in the selected plane: centre from I/J/K or
-// R, the radius check (the config's tolerance, LinuxCNC's rule), the sweep, and the Move in
-// machine coordinates.
+// R, the radius check (the config's tolerance, LinuxCNC's rule), the sweep, P turns (full
+// circles before the arc), and the Moves in machine coordinates.
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "gcode/interpreter.hpp"
 #include "gcode/interpreter_text.hpp"
+#include "gcode/preflight.hpp"
 
 namespace pcnc {
 
 using namespace interp;
+
+namespace {
+// The most turns one G2/G3 line may ask for (P): each is a move of its own.
+constexpr int kMaxArcTurns = 10000;
+}  // namespace
 
 bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   const double u = inches_ ? kInch : 1.0;
@@ -43,6 +49,19 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   if (!has_r && !has_ijk) {
     return fail_here(column, std::string("I, J, K and R words all missing for arc; expected ") + l0 + "/" + l1 +
                                  " (center offset) or R in the " + plane + " plane");
+  }
+  // P: the number of turns (LinuxCNC): P - 1 full circles before the programmed arc, the helix
+  // shared along the whole sweep. An integer of at least 1 (LinuxCNC rounds; a fraction is an error there too).
+  int turns = 1;
+  if (l.has('P')) {
+    const double p = l.get('P');
+    if (!(std::fabs(p - std::round(p)) < 1e-4) || std::round(p) < 1.0) {
+      return fail_here(l.column('P'), "P" + num(p) + " on " + gname + " is not a number of turns; expected a positive integer (P2: one more full circle before the arc)");
+    }
+    if (std::round(p) > kMaxArcTurns) {
+      return fail_here(l.column('P'), "P" + num(p) + " on " + gname + " asks for more than " + std::to_string(kMaxArcTurns) + " turns; expected at most that many in one line");
+    }
+    turns = static_cast<int>(std::round(p));
   }
   Move m = base_move(MoveKind::kArc, l, column);
   if (!feed_for_move(l, column, m.feed_mm_s, motion)) {
@@ -128,10 +147,44 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   m.sweep = sweep;
   m.normal_axis = n;
   m.known = known;
+  const Vec3 start = s;
   q_ = e;
   known_ = known;
-  if (inverse_time_ && !inverse_time_feed(l, m)) return false;
-  out.push(m);
+  if (turns == 1) {
+    if (inverse_time_ && !inverse_time_feed(l, m)) return false;
+    out.push(m);
+    return true;
+  }
+  // More turns: the full circles first, then the programmed arc, each a move of its own (so
+  // every later stage sees ordinary arcs), the normal axis moving in proportion to the angle.
+  const double turn = sweep > 0.0 ? kTwoPi : -kTwoPi;
+  const double total = sweep + turn * (turns - 1);
+  Move whole = m;  // G93: F is the time of the whole line
+  whole.sweep = total;
+  if (inverse_time_ && !inverse_time_feed(l, whole)) return false;
+  const double whole_length = move_length(whole);
+  Vec3 at = start;
+  for (int k = 0; k <= turns - 1; ++k) {
+    Move piece = m;
+    Vec3 to = e;
+    if (k < turns - 1) {
+      to = start;
+      to[static_cast<std::size_t>(n)] += (e[static_cast<std::size_t>(n)] - start[static_cast<std::size_t>(n)]) * turn * (k + 1) / total;
+      piece.sweep = turn;
+      piece.radius = std::hypot(su - cu, sv - cv) * frame_.scale;  // a full circle: its start radius
+    }
+    Vec3 cc = c;
+    cc[static_cast<std::size_t>(n)] = at[static_cast<std::size_t>(n)];  // the center on the piece's start level
+    piece.start = to_machine(at);
+    piece.end = to_machine(to);
+    piece.center = to_machine(cc);
+    if (inverse_time_) {
+      piece.feed_mm_s = whole.feed_mm_s;
+      piece.inverse_time_s = whole_length > 0.0 ? whole.inverse_time_s * move_length(piece) / whole_length : 0.0;
+    }
+    out.push(piece);
+    at = to;
+  }
   return true;
 }
 
