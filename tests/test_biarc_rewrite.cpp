@@ -1,9 +1,10 @@
 // test_biarc_rewrite.cpp — the text transformation of `pcnc biarc` (tools/biarc_rewrite.hpp)
 // on small programs written here: incremental (G91) and inch (G20) runs, CRLF line endings,
 // the feed, a run too short or too sharp to rewrite, a program with parameters (nothing
-// rewritten after them), G93 (nothing rewritten), a G18 run.
+// rewritten after them), G93 (nothing rewritten), a G18 run; G5/G5.1 splines as arcs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -157,6 +158,169 @@ TEST(BiarcRewrite, G18RunUsesXZAndIK) {
   EXPECT_NE(l[3].find(" I"), std::string::npos);
   EXPECT_NE(l[3].find(" K"), std::string::npos);
   EXPECT_EQ(l[3].find(" J"), std::string::npos);
+}
+
+// ---- G5 / G5.1 splines ----
+
+struct Pt {
+  double x, y;
+};
+
+// The Bézier of control points `c` at t (de Casteljau), independent of the project's NURBS code.
+Pt bezier(std::vector<Pt> c, double t) {
+  for (std::size_t n = c.size(); n > 1; --n)
+    for (std::size_t i = 0; i + 1 < n; ++i) c[i] = {c[i].x + t * (c[i + 1].x - c[i].x), c[i].y + t * (c[i + 1].y - c[i].y)};
+  return c[0];
+}
+
+// One G1/G2/G3 line read back: from (x0, y0); an arc's center, radius, start angle and sweep.
+struct Piece {
+  double x0, y0, x1, y1;
+  bool arc = false;
+  double cx = 0, cy = 0, r = 0, a0 = 0, sweep = 0;
+  Pt at(double t) const {
+    if (!arc) return {x0 + (x1 - x0) * t, y0 + (y1 - y0) * t};
+    return {cx + r * std::cos(a0 + sweep * t), cy + r * std::sin(a0 + sweep * t)};
+  }
+  // the distance of p from this piece (exact)
+  double distance(Pt p) const {
+    if (!arc) {
+      const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
+      const double t = len2 > 0 ? std::clamp(((p.x - x0) * dx + (p.y - y0) * dy) / len2, 0.0, 1.0) : 0.0;
+      return std::hypot(p.x - x0 - t * dx, p.y - y0 - t * dy);
+    }
+    const double u = std::remainder(std::atan2(p.y - cy, p.x - cx) - a0 - sweep / 2, 2 * M_PI);  // from the mid angle
+    if (std::abs(u) <= std::abs(sweep) / 2) return std::abs(std::hypot(p.x - cx, p.y - cy) - r);
+    return std::min(std::hypot(p.x - x0, p.y - y0), std::hypot(p.x - x1, p.y - y1));
+  }
+};
+
+// The G1/G2/G3 lines of `lines` from `first` on (absolute, relative centers), from (x, y); stops
+// at the first other line and returns its index in `next`.
+std::vector<Piece> read_pieces(const std::vector<std::string>& lines, std::size_t first, double x, double y, std::size_t& next) {
+  std::vector<Piece> out;
+  std::size_t k = first;
+  for (; k < lines.size(); ++k) {
+    const std::string& s = lines[k];
+    const bool g2 = s.rfind("G2 ", 0) == 0, g3 = s.rfind("G3 ", 0) == 0, g1 = s.rfind("G1 X", 0) == 0;
+    if (!g1 && !g2 && !g3) break;
+    Piece p{x, y, word(s, 'X'), word(s, 'Y')};
+    if (!g1) {
+      p.arc = true;
+      p.cx = x + word(s, 'I'), p.cy = y + word(s, 'J');
+      p.r = std::hypot(x - p.cx, y - p.cy);
+      p.a0 = std::atan2(y - p.cy, x - p.cx);
+      p.sweep = std::atan2(p.y1 - p.cy, p.x1 - p.cx) - p.a0;
+      if (g3) {
+        while (p.sweep <= 0) p.sweep += 2 * M_PI;
+      } else {
+        while (p.sweep >= 0) p.sweep -= 2 * M_PI;
+      }
+      EXPECT_NEAR(std::hypot(p.x1 - p.cx, p.y1 - p.cy), p.r, 2e-6) << s;
+    }
+    out.push_back(p);
+    x = p.x1, y = p.y1;
+  }
+  next = k;
+  return out;
+}
+
+// The largest distance from the curve's points to the pieces, and from the pieces' points to
+// the curve's (dense) polyline.
+double farthest_from_pieces(const std::vector<Pt>& curve, const std::vector<Piece>& pieces) {
+  double worst = 0.0;
+  for (const Pt& p : curve) {
+    double best = 1e9;
+    for (const Piece& a : pieces) best = std::min(best, a.distance(p));
+    worst = std::max(worst, best);
+  }
+  return worst;
+}
+
+double farthest_from_curve(const std::vector<Piece>& pieces, const std::vector<Pt>& b) {
+  double worst = 0.0;
+  for (const Piece& a : pieces) {
+    for (int i = 0; i <= 24; ++i) {
+      const Pt p = a.at(i / 24.0);
+      double best = 1e9;
+      for (std::size_t j = 0; j + 1 < b.size(); ++j) {
+        const double dx = b[j + 1].x - b[j].x, dy = b[j + 1].y - b[j].y;
+        const double len2 = dx * dx + dy * dy;
+        const double t = len2 > 0 ? std::clamp(((p.x - b[j].x) * dx + (p.y - b[j].y) * dy) / len2, 0.0, 1.0) : 0.0;
+        best = std::min(best, std::hypot(p.x - b[j].x - t * dx, p.y - b[j].y - t * dy));
+      }
+      worst = std::max(worst, best);
+    }
+  }
+  return worst;
+}
+
+std::vector<Pt> sampled(const std::vector<Pt>& c) {
+  std::vector<Pt> pts;
+  for (int i = 0; i <= 2000; ++i) pts.push_back(bezier(c, i / 2000.0));
+  return pts;
+}
+
+// A G5 with I J, a G5 by the modal motion mode that continues it (no I J: its first control
+// point mirrors the previous P Q), and a G5.1: each becomes G2/G3 lines within the tolerance of
+// its Bézier, both ways, ending exactly at the programmed point; the lines around pass unchanged.
+TEST(BiarcRewrite, G5AndG51SplinesBecomeArcsWithinTheTolerance) {
+  const std::string in =
+      "G21 G90 G17\nG0 X0 Y0\nG5 X10 Y0 I3 J4 P-3 Q4 F300\nX20 Y0 P-3 Q-4\nG5.1 X30 Y0 I5 J6\nG1 X31\nM2\n";
+  BiarcRewriteReport rep;
+  const std::string out = rewrite_biarcs(in, {}, rep);
+  ASSERT_EQ(rep.items.size(), 3u) << out;
+  EXPECT_EQ(rep.items[0].spline_degree, 3);
+  EXPECT_EQ(rep.items[1].spline_degree, 3);
+  EXPECT_EQ(rep.items[2].spline_degree, 2);
+  for (const auto& it : rep.items) EXPECT_TRUE(it.within_tolerance);
+  const std::vector<std::string> l = test::split_lines(out);
+  ASSERT_GE(l.size(), 6u);
+  EXPECT_EQ(l[0], "G21 G90 G17");
+  EXPECT_EQ(l[1], "G0 X0 Y0");
+  EXPECT_NE(l[2].find(" F300"), std::string::npos) << "the G5 line's feed on its first arc: " << l[2];
+  const std::vector<std::vector<Pt>> curves = {
+      {{0, 0}, {3, 4}, {7, 4}, {10, 0}}, {{10, 0}, {13, -4}, {17, -4}, {20, 0}}, {{20, 0}, {25, 6}, {30, 0}}};
+  std::size_t k = 2;
+  double x = 0, y = 0;
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    // each spline's lines end at its programmed end point
+    std::size_t end = k + static_cast<std::size_t>(rep.items[c].moves_out);
+    std::size_t next = 0;
+    const std::vector<Piece> arcs = read_pieces(std::vector<std::string>(l.begin(), l.begin() + static_cast<long>(end)), k, x, y, next);
+    ASSERT_EQ(next, end) << c;
+    EXPECT_EQ(word(l[end - 1], 'X'), curves[c].back().x) << l[end - 1];
+    EXPECT_EQ(word(l[end - 1], 'Y'), curves[c].back().y) << l[end - 1];
+    const std::vector<Pt> curve = sampled(curves[c]);
+    EXPECT_LE(farthest_from_pieces(curve, arcs), 0.001 + 2e-6) << "spline " << c;
+    EXPECT_LE(farthest_from_curve(arcs, curve), 0.001 + 2e-6) << "spline " << c;
+    x = curves[c].back().x, y = curves[c].back().y;
+    k = end;
+  }
+  EXPECT_EQ(l[k], "G1 X31");
+  EXPECT_EQ(l[k + 1], "M2");
+}
+
+// What stays a spline, with a note: a G5 whose continuation is not rewritten (a comment on it:
+// the continuation needs the G5 before it), a later line moving by the modal G5, a spline
+// outside G17 (LinuxCNC refuses it; the tool leaves it to the machine's check).
+TEST(BiarcRewrite, SplinesTheRewriteCannotKeepStayAsTheyAre) {
+  BiarcRewriteReport rep;
+  const std::string chained = "G17 G0 X0 Y0\nG5 X10 Y0 I3 J4 P-3 Q4 F300\nG5 X20 Y0 P-3 Q-4 (continues)\nG1 X21\nM2\n";
+  EXPECT_EQ(rewrite_biarcs(chained, {}, rep), chained);
+  ASSERT_FALSE(rep.notes.empty());
+  EXPECT_NE(rep.notes[0].find("line 2: G5 left as it is: line 3 continues it"), std::string::npos) << rep.notes[0];
+
+  BiarcRewriteReport rep2;
+  const std::string modal = "G17 G0 X0 Y0\nG5.1 X10 Y0 I3 J4 F300\nX20 Y0 I3 J4 (modal)\nM2\n";
+  EXPECT_EQ(rewrite_biarcs(modal, {}, rep2), modal);
+  ASSERT_FALSE(rep2.notes.empty());
+  EXPECT_NE(rep2.notes[0].find("a later line moves by the modal motion mode"), std::string::npos) << rep2.notes[0];
+
+  BiarcRewriteReport rep3;
+  const std::string g18 = "G18 G0 X0 Z0\nG5 X10 Z0 I3 J4 P-3 Q4 F300\nM2\n";
+  EXPECT_EQ(rewrite_biarcs(g18, {}, rep3), g18);
+  EXPECT_TRUE(rep3.items.empty());
 }
 
 }  // namespace

@@ -95,6 +95,8 @@ std::vector<BiarcLine> read_biarc_program(const std::string& text) {
   std::vector<BiarcLine> out;
   BiarcModal m;
   bool opaque = false, in_nurbs = false;
+  bool g5_series = false;  // the last move was a G5: a G5 without I and J continues it
+  Vec3 g5_next{};          // that G5's P Q reversed (mm): the next one's first offset
   std::size_t at = 0;
   int number = 0;
   while (at < text.size()) {
@@ -154,6 +156,30 @@ std::vector<BiarcLine> read_biarc_program(const std::string& text) {
         l.weight = parsed.has('P') ? parsed.get('P') : 1.0;
         l.order = parsed.has('L') ? static_cast<int>(std::lround(parsed.get('L'))) : 3;
       }
+    } else if (motion == 50 || motion == 51 || (motion < 0 && (m.motion == 50 || m.motion == 51) && axes)) {
+      // G5 / G5.1, LinuxCNC's rules (host/gcode/interpreter_spline.cpp): G17 only, no Z, I and J
+      // together, G5 with P and Q, a G5 without I J only right after a G5
+      const bool cubic = motion == 50 || (motion < 0 && m.motion == 50);
+      const std::uint32_t spline_words = (1u << ('X' - 'A')) | (1u << ('Y' - 'A')) | (1u << ('F' - 'A')) | (1u << ('N' - 'A')) |
+                                         (1u << ('I' - 'A')) | (1u << ('J' - 'A')) | (1u << ('P' - 'A')) | (1u << ('Q' - 'A'));
+      const bool words_ok = (parsed.present & ~spline_words) == 0 && only_motion_g && !has_comment(body) && !lexed.block_delete &&
+                            lexed.message == MessageKind::kNone;
+      const bool has_ij = parsed.has('I') && parsed.has('J');
+      l.spline_continuation = cubic && !parsed.has('I') && !parsed.has('J');
+      bool valid = words_ok && m.normal == 2 && parsed.has('I') == parsed.has('J') && !m.inverse_time;
+      if (cubic) {
+        valid = valid && parsed.has('P') && parsed.has('Q') && (has_ij || g5_series);
+      } else {
+        valid = valid && has_ij && !parsed.has('P') && !parsed.has('Q');
+      }
+      if (valid) {
+        l.kind = BiarcLineKind::kSpline;
+        l.spline_degree = cubic ? 3 : 2;
+        l.spline_c1 = has_ij ? Vec3{parsed.get('I') * m.scale, parsed.get('J') * m.scale, 0.0} : g5_next;
+        if (cubic) l.spline_c2 = Vec3{parsed.get('P') * m.scale, parsed.get('Q') * m.scale, 0.0};
+      }
+      g5_series = valid && cubic;
+      if (g5_series) g5_next = -1.0 * l.spline_c2;
     } else {
       const bool g1 = motion == 10 || (motion < 0 && m.motion == 10);
       bool normal_unchanged = !parsed.has(an);
@@ -164,6 +190,9 @@ std::vector<BiarcLine> read_biarc_program(const std::string& text) {
       if (g1 && plain && !parsed.has('P') && !parsed.has('L') && (parsed.has(a0) || parsed.has(a1)) && normal_unchanged)
         l.kind = BiarcLineKind::kG1;
     }
+    if (l.kind != BiarcLineKind::kSpline && !(motion == 50 || motion == 51 || (motion < 0 && (m.motion == 50 || m.motion == 51) && axes)) &&
+        (axes || code(parsed, kGNonModal) >= 0 || (motion >= 0 && motion != 800)))
+      g5_series = false;  // another move (or what may be one) ends a G5 series
     follow(parsed, m);
     l.after = m;
     out.push_back(std::move(l));

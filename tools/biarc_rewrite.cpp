@@ -38,10 +38,12 @@ bool placeable(const BiarcModal& m) {
   return !m.inverse_time && (known || (m.incremental && !m.arc_absolute));
 }
 
-// A later line moves by the modal motion mode before any line names one.
-bool modal_motion_follows(const std::vector<BiarcLine>& lines, std::size_t from) {
+// A later line moves by the modal motion mode before any line names one (a G5/G5.1 line that
+// is rewritten itself does not count: `spline_rewritten`).
+bool modal_motion_follows(const std::vector<BiarcLine>& lines, std::size_t from, bool spline_rewritten = false) {
   for (std::size_t k = from; k < lines.size(); ++k) {
     if (lines[k].kind == Kind::kOpaque) return true;
+    if (spline_rewritten && lines[k].kind == Kind::kSpline) continue;
     if (lines[k].explicit_motion) return false;
     if (lines[k].uses_modal_motion) return true;
   }
@@ -181,6 +183,58 @@ struct Rewriter {
     return j + 1;
   }
 
+  // A G5/G5.1 line at i: its Bézier curve as biarcs; false when it is left as it is.
+  bool spline(std::size_t i) {
+    const BiarcLine& l = lines[i];
+    const BiarcModal& m = l.before;
+    const std::string at = "line " + std::to_string(l.number) + ": ";
+    const std::string g = l.spline_degree == 3 ? "G5" : "G5.1";
+    if (!placeable(m)) {
+      rep.notes.push_back(at + g + " left as it is: its start point is not known");
+      return false;
+    }
+    if (modal_motion_follows(lines, i + 1, true)) {
+      rep.notes.push_back(at + g + " left as it is: a later line moves by the modal motion mode");
+      return false;
+    }
+    // the next move continues this G5 (no I J) but stays a G5 line: this one must stay a G5 too
+    for (std::size_t k = i + 1; k < lines.size(); ++k) {
+      if (lines[k].kind == Kind::kSpline) break;
+      if (lines[k].spline_continuation) {
+        rep.notes.push_back(at + g + " left as it is: line " + std::to_string(lines[k].number) + " continues it and is not rewritten");
+        return false;
+      }
+      if (lines[k].explicit_motion || lines[k].uses_modal_motion || lines[k].kind == Kind::kOpaque) break;
+    }
+    const Vec3 s = m.pos, e = l.after.pos;
+    std::vector<Vec3> points = {s, s + l.spline_c1};
+    if (l.spline_degree == 3) points.push_back(e + l.spline_c2);
+    points.push_back(e);
+    bool moves = false;
+    for (const Vec3& p : points) moves = moves || norm(p - s) > 1e-9;
+    if (!moves) {
+      rep.notes.push_back(at + g + " left as it is: its control points all coincide");
+      return false;
+    }
+    NurbsCurve c = make_nurbs(points, std::vector<double>(points.size(), 1.0), l.spline_degree + 1);
+    if (const std::string why = validate(c); !why.empty()) {
+      rep.notes.push_back(at + g + " left as it is: " + why);
+      return false;
+    }
+    BiarcOptions bo;
+    bo.tolerance_mm = opt.tolerance_mm;
+    const BiarcFit fit = fit_biarcs(c, m.normal, bo);
+    BiarcRewriteItem item;
+    item.first_line = item.last_line = l.number;
+    item.nurbs = true;
+    item.spline_degree = l.spline_degree;
+    item.moves_in = 1;
+    item.deviation_mm = fit.max_deviation_mm;
+    item.within_tolerance = fit.within_tolerance;
+    emit(without_loops(fit.arcs, m, item), l.after, s, e, l.has_feed, i, item);
+    return true;
+  }
+
   // Plain G1 lines first..last (inclusive): smooth runs rewritten, the rest passed.
   void g1_lines(std::size_t first, std::size_t last) {
     const double max_turn = opt.max_turn_deg * std::numbers::pi / 180.0;
@@ -271,6 +325,10 @@ std::string rewrite_biarcs(const std::string& text, const BiarcRewriteOptions& o
         i = next;
         continue;
       }
+    }
+    if (l.kind == Kind::kSpline && r.spline(i)) {
+      ++i;
+      continue;
     }
     if (l.kind == Kind::kG1 && placeable(l.before)) {
       // the plain G1 lines that follow at one feed

@@ -1,5 +1,6 @@
 // biarc_rewrite.hpp — the text transformation behind `pcnc biarc`: NURBS groups (G5.2 ...
-// G5.3) and smooth runs of short G1 moves rewritten as G2/G3 biarcs within a tolerance
+// G5.3), G5/G5.1 splines (cubic and quadratic Béziers in G17, LinuxCNC's meaning, a G5
+// without I J continuing the one before) and smooth runs of short G1 moves rewritten as G2/G3 biarcs within a tolerance
 // (geometry/biarc.hpp), optionally with the loops a tool of a given radius would tangle on
 // removed; every other line passes through byte for byte.
 //
@@ -35,8 +36,9 @@ struct BiarcRewriteOptions {
 /// One rewritten NURBS group or G1 run.
 struct BiarcRewriteItem {
   int first_line = 0, last_line = 0;  // the input lines replaced
-  bool nurbs = false;
-  int moves_in = 0;    // G1 moves (1 for a NURBS group)
+  bool nurbs = false;  // a NURBS group or a G5/G5.1 spline
+  int spline_degree = 0;  // a G5 (3) or G5.1 (2) spline; 0 otherwise
+  int moves_in = 0;    // G1 moves (1 for a NURBS group or a spline)
   int moves_out = 0;   // G2/G3/G1 lines written
   double deviation_mm = 0.0;          // NURBS: curve <-> arcs (Newton); G1: points -> arcs
   double segment_deviation_mm = 0.0;  // G1: arcs -> programmed segments

@@ -44,7 +44,10 @@ int run_biarc_tool(const BiarcToolOptions& o, std::ostream& out, std::ostream& e
   bool within = true;
   for (const BiarcRewriteItem& it : rep.items) {
     err << o.file << ":" << it.first_line << "-" << it.last_line << ": "
-        << (it.nurbs ? std::string("NURBS") : std::to_string(it.moves_in) + " G1 moves") << " -> " << it.moves_out
+        << (it.spline_degree == 3 ? std::string("G5 spline")
+            : it.spline_degree == 2 ? std::string("G5.1 spline")
+            : it.nurbs ? std::string("NURBS") : std::to_string(it.moves_in) + " G1 moves")
+        << " -> " << it.moves_out
         << " arcs, deviation " << format_number("%.6f", it.deviation_mm) << " mm";
     if (!it.nurbs)
       err << " (points), " << format_number("%.6f", it.segment_deviation_mm) << " mm from the segments (their sagitta "
@@ -68,10 +71,10 @@ int run_biarc_tool(const BiarcToolOptions& o, std::ostream& out, std::ostream& e
     within = within && it.within_tolerance;
   }
   for (const std::string& n : rep.notes) err << o.file << ": " << n << "\n";
-  err << "pcnc biarc: " << curves << " NURBS curve" << (curves == 1 ? "" : "s") << " and " << runs << " smooth G1 run"
+  err << "pcnc biarc: " << curves << " curve" << (curves == 1 ? "" : "s") << " (NURBS, G5, G5.1) and " << runs << " smooth G1 run"
       << (runs == 1 ? "" : "s") << " (" << moves_in << " blocks) rewritten as " << moves_out << " blocks; program "
       << rep.lines_in << " lines before, " << rep.lines_out << " after; tolerance " << format_number("%g", r.tolerance_mm) << " mm\n";
-  err << "pcnc biarc: max deviation " << format_number("%.6f", dev_nurbs) << " mm from the NURBS curves (Newton), "
+  err << "pcnc biarc: max deviation " << format_number("%.6f", dev_nurbs) << " mm from the curves (Newton), "
       << format_number("%.6f", dev_points) << " mm from the G1 points, " << format_number("%.6f", dev_segments)
       << " mm from the G1 segments (their own sagitta up to " << format_number("%.6f", sagitta) << " mm)\n";
   if (r.max_tool_radius_mm > 0.0)
@@ -85,7 +88,7 @@ void add_biarc_subcommand(CLI::App& app, int& exit_code) {
   auto opts = std::make_shared<BiarcToolOptions>();
   auto* sub = app.add_subcommand(
       "biarc",
-      "rewrite NURBS (G5.2 ... G5.3) and smooth runs of short G1 moves as G2/G3 biarcs within a tolerance, so that "
+      "rewrite NURBS (G5.2 ... G5.3), G5/G5.1 splines and smooth runs of short G1 moves as G2/G3 biarcs within a tolerance, so that "
       "cutter compensation (G41/G42, on any controller) offsets them exactly; the program goes to stdout, the "
       "figures to stderr. Every other line passes through unchanged; nothing is refused for machine reasons.");
   sub->add_option("FILE", opts->file, "G-code program")->required()->check(CLI::ExistingFile);
