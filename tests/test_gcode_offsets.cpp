@@ -143,6 +143,29 @@ TEST(GcodeTools, LengthOffsetsFromTheTable) {
   EXPECT_TRUE(list_program("G43 H9\nM2\n", wide_config(), o).has_error("not in the tool table"));
 }
 
+// G43.2 (LinuxCNC): adds a tool's offset (H) or the axis words to the offset in effect, as
+// often as it is given; G43 replaces the sum, G49 clears it.
+TEST(GcodeTools, G43_2AddsToTheLengthOffsetInEffect) {
+  const auto table = one_tool(1, 10.0, 6.0);
+  JobOptions o;
+  o.tools = table;
+  const Listing l = list_program(
+      "G10 L1 P2 Z0.5\nT1 M6 G43\nG43.2 H2\nG0 Z0\nG43.2 Z0.25 X1\nG0 X0 Z0\nG20 G43.2 Z0.1\nG0 Z0\nG21 G43\nG0 Z0\nM2\n",
+      wide_config(), o);
+  ASSERT_TRUE(l.result.ok) << l.first_error();
+  ASSERT_EQ(l.moves.size(), 4u);
+  EXPECT_NEAR(l.moves[0].end[2], 10.5, 1e-12) << "T1's 10 + T2's 0.5";
+  EXPECT_NEAR(l.moves[1].end[2], 10.75, 1e-12) << "+ Z0.25";
+  EXPECT_NEAR(l.moves[1].end[0], 1.0, 1e-12) << "+ X1 on the X offset";
+  EXPECT_NEAR(l.moves[2].end[2], 10.75 + 2.54, 1e-12) << "G20: Z0.1 is 2.54 mm";
+  EXPECT_NEAR(l.moves[3].end[2], 10.0, 1e-12) << "G43 replaces the sum";
+  const Listing both = list_program("G43.2 H1 Z1\nM2\n", wide_config(), o);
+  EXPECT_TRUE(both.has_error("G43.2 with both H and axis words")) << both.first_error();
+  EXPECT_TRUE(list_program("G43.2\nM2\n", wide_config(), o).has_error("G43.2 without H or axis words"));
+  EXPECT_TRUE(list_program("G43.2 H9\nM2\n", wide_config(), o).has_error("G43.2 H9: tool 9 is not in the tool table"));
+  EXPECT_TRUE(list_program("G41 D1\nG1 X1 F100\nG43.2 Z1\nM2\n", wide_config(), o).has_error("cannot change the tool length offset (G43.2)"));
+}
+
 TEST(GcodeTools, TheToolAndItsLengthOffsetCarryFromOneProgramToTheNext) {
   // As in LinuxCNC: the tool stays in the spindle and M2 does not cancel G43.
   JobOptions o;

@@ -389,7 +389,7 @@ INSTANTIATE_TEST_SUITE_P(
         RejectCase{"G95", "feed per revolution", 1, "G95"}, RejectCase{"G10 L3 P1 X0", "L3 is not supported", 1, "L3"},
         RejectCase{"G92", "without axis words", 1, "G92"}, RejectCase{"G38.2 F1", "without axis words", 1, "G38"},
         RejectCase{"G33 Z-1 K1", "spindle-synchronized", 1, "G33"}, RejectCase{"G10 L2 P1 R30 X0", "rotation", 1, "R30"},
-        RejectCase{"G43.2 H2", "G43.2", 1, "G43"}, RejectCase{"G43.2 H1", "G43.2", 1, "G43"},
+        RejectCase{"G43.2", "G43.2 without H or axis words", 1, "G43"}, RejectCase{"G43.2 H1 Z1", "both H and axis words", 1, "H1"},
         RejectCase{"G96 S100", "constant surface speed", 1, "G96"}, RejectCase{"G7", "lathe", 1, "G7"},
         RejectCase{"G5 X1 Y1 I1 J1 P1 Q1", "no feed rate", 1, "G5 "},
         RejectCase{"G5.2 X0 Y0 P1 L3", "no feed rate", 1, "G5."},

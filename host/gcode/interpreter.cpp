@@ -131,14 +131,14 @@ bool Interpreter::check_words(const ParsedLine& l) {
     allowed |= kPolarBits;
   // the machine's rotary joints move with G0/G1 only (not G53, G28/G30, arcs, probes or cycles)
   if (is_straight(motion) && nonmodal != 280 && nonmodal != 300 && nonmodal != 530 && nonmodal != 100 &&
-      nonmodal != 520 && nonmodal < 920 && l.g[kGToolLength] != 431) {
+      nonmodal != 520 && nonmodal < 920 && l.g[kGToolLength] != 431 && l.g[kGToolLength] != 432) {
     allowed |= rotary_bits();
   }
   // The common line (a move in the mode in effect) needs no more: the rest only widens `allowed`.
   if ((l.present & ~allowed) == 0) return true;
   if (nonmodal == 100) allowed |= kAxisBits | bit('L') | bit('P') | bit('R');
   if (nonmodal == 520 || nonmodal == 920) allowed |= kAxisBits;
-  if (l.g[kGToolLength] == 431) allowed |= kAxisBits;
+  if (l.g[kGToolLength] == 431 || l.g[kGToolLength] == 432) allowed |= kAxisBits;
   const bool other_axes = nonmodal == 280 || nonmodal == 300 || nonmodal == 100 || nonmodal == 520 || nonmodal == 920;
   if (is_cycle(motion) && !other_axes) allowed |= kAxisBits | bit('R') | bit('L') | bit('P') | bit('Q');
   if (l.m[kMSubprogram] == 98) allowed |= bit('P') | bit('L');
@@ -165,7 +165,7 @@ bool Interpreter::check_words(const ParsedLine& l) {
   if (l.m[kMToolChange] == 61) allowed |= bit('Q');
   if (l.g[kGCutterComp] >= 410) allowed |= bit('D');  // G41/G42: tool number; G41.1/G42.1: diameter
   if (l.g[kGPathControl] == 640) allowed |= bit('P') | bit('Q');
-  if (l.g[kGToolLength] == 430 || l.g[kGToolLength] == 434) allowed |= bit('H');
+  if (l.g[kGToolLength] == 430 || l.g[kGToolLength] == 432 || l.g[kGToolLength] == 434) allowed |= bit('H');
 
   const std::uint32_t extra = l.present & ~allowed;
   if (extra == 0) return true;
@@ -335,8 +335,8 @@ bool Interpreter::execute(const ParsedLine& l, MoveList& out) {
     ok = set_offsets(l);
   } else if (nonmodal == 520 || (nonmodal >= 920 && nonmodal <= 923)) {
     ok = axis_offset(l);
-  } else if (l.g[kGToolLength] == 431) {
-    // G43.1's axis words are the tool length, not a move
+  } else if (l.g[kGToolLength] == 431 || l.g[kGToolLength] == 432) {
+    // G43.1's and G43.2's axis words are the tool length (or what is added to it), not a move
   } else if (nonmodal == 530) {
     if (!is_straight(motion_))
       return fail(l, l.g_col[kGNonModal], "G53 needs G0 or G1 in effect; expected G53 G0 or G53 G1");

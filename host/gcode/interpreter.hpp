@@ -189,10 +189,10 @@ class Interpreter : public SystemParameters {
   Move base_move(MoveKind kind, const ParsedLine& l, int column) const;
   bool axis_words(const ParsedLine& l) const { return (l.present & (kAxisBits | kPolarBits)) != 0; }
   bool polar_words_fit(const ParsedLine& l, int motion, int normal);  // interpreter_motion.cpp
-  // G10, G28/G30, G52, G92 and G43.1 take the line's axis words for themselves: no motion (LinuxCNC)
+  // G10, G28/G30, G52, G92, G43.1 and G43.2 take the line's axis words for themselves: no motion (LinuxCNC)
   static bool takes_axis_words(const ParsedLine& l) {
     const int n = l.g[kGNonModal];
-    return n == 280 || n == 300 || n == 100 || n == 520 || n == 920 || l.g[kGToolLength] == 431;
+    return n == 280 || n == 300 || n == 100 || n == 520 || n == 920 || l.g[kGToolLength] == 431 || l.g[kGToolLength] == 432;
   }
   // The message is built only for the first occurrence of its key (repeats are just counted).
   template <class MakeMessage>

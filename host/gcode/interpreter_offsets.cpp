@@ -267,22 +267,47 @@ bool Interpreter::tool_words(const ParsedLine& l) {
     tool_ = q;
   }
   const int g = l.g[kGToolLength];
-  if (g == 430) {
-    int h = tool_;
+  // G43 / G43.2 H: tool h's offset from the table (0 without one, warned); false on an error
+  auto table_offset = [&](const char* gname, int h, Vec3& offset) {
     if (l.has('H')) {
       const double hv = l.get('H');
       h = static_cast<int>(std::lround(hv));
-      if (hv != h || h < 0) return fail(l, l.column('H'), "G43 H" + num(hv) + ": expected a tool number >= 0");
+      if (hv != h || h < 0) return fail(l, l.column('H'), std::string(gname) + " H" + num(hv) + ": expected a tool number >= 0");
     }
     const ToolEntry* t = have_tools_ ? tools_.find(h) : nullptr;
     if (have_tools_ && h != 0 && t == nullptr)
-      return fail(l, l.column('H'), "G43 H" + std::to_string(h) + ": tool " + std::to_string(h) + " is not in the tool table; expected a tool it lists");
+      return fail(l, l.column('H'), std::string(gname) + " H" + std::to_string(h) + ": tool " + std::to_string(h) +
+                                        " is not in the tool table; expected a tool it lists");
     if (!have_tools_) {
-      warn(l, l.g_col[kGToolLength], "G43", [&] {
-        return std::string("G43: no tool table, the tool length offset is 0");
+      warn(l, l.g_col[kGToolLength], gname, [&] {
+        return std::string(gname) + ": no tool table, the tool length offset is 0";
       });
     }
-    tlo_ = t != nullptr ? t->offset : Vec3{};
+    offset = t != nullptr ? t->offset : Vec3{};
+    return true;
+  };
+  if (g == 430) {
+    Vec3 offset{};
+    if (!table_offset("G43", tool_, offset)) return false;
+    tlo_ = offset;
+    tool_offset_on_ = true;
+  } else if (g == 432) {
+    // LinuxCNC: H or axis words (not both, not neither), added to the offset in effect
+    const bool axes = l.has('X') || l.has('Y') || l.has('Z');
+    if (l.has('H') && axes) return fail(l, l.column('H'), "G43.2 with both H and axis words; expected H (add a tool's offset) or axis words (add them)");
+    if (!l.has('H') && !axes)
+      return fail(l, l.g_col[kGToolLength], "G43.2 without H or axis words; expected H<tool> or X/Y/Z values to add to the tool length offset");
+    Vec3 add{};
+    if (l.has('H')) {
+      if (!table_offset("G43.2", 0, add)) return false;
+    } else {
+      const double u = inches_ ? kInch : 1.0;
+      for (int i = 0; i < kAxes; ++i) {
+        const char c = static_cast<char>('X' + i);
+        if (l.has(c)) add[static_cast<std::size_t>(i)] = l.get(c) * u;
+      }
+    }
+    tlo_ = tlo_ + add;
     tool_offset_on_ = true;
   } else if (g == 431) {
     const double u = inches_ ? kInch : 1.0;

@@ -56,7 +56,7 @@ constexpr CodeInfo kGCodes[] = {
     {420, 421, 1, kGCutterComp, nullptr},  // G42, G42.1 right
     {430, 430, 1, kGToolLength, nullptr},  // G43: the offset stays 0 (warned)
     {431, 431, 1, kGToolLength, nullptr},  // G43.1 dynamic tool length
-    {432, 432, 1, kGToolLength, "adding a second tool length offset (G43.2) is not supported; expected G43 H or G43.1"},
+    {432, 432, 1, kGToolLength, nullptr},  // G43.2: add a tool's offset (H) or the axis words to it
     {434, 434, 1, kGToolLength, nullptr},  // G43.4: TCP on (another name for M428), H as G43
     {490, 490, 1, kGToolLength, nullptr},
     {980, 990, 10, kGCannedReturn, nullptr},  // G98 G99
