@@ -220,7 +220,8 @@ TEST(ServiceOperator, StopDuringTheCheckOfALongProgramEndsItAndNothingMoves) {
 TEST(ServiceOperator, StopInHostLostEndsAResumeStillBeingChecked) {
   ServicePair p("op-resume-stop");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();
-  const std::string prog = loop_program(p.dir(), "long-resume.ngc", 600000);
+  // its check lasts a second or two (under a sanitizer, which runs it several times slower, fewer lines)
+  const std::string prog = loop_program(p.dir(), "long-resume.ngc", sanitizer_build() ? 100000 : 600000);
   auto run = std::async(std::launch::async, [&] { return p.call("run", {{"file", prog}}, 300); });
   json s = p.wait_status([](const json& x) { return x["state"] == "RUNNING" && x["blocks_done"].get<std::uint64_t>() > 50; }, 240);
   ASSERT_EQ(s["state"], "RUNNING") << s.dump() << p.host_log();
