@@ -40,7 +40,7 @@ struct WorkState {
   bool g92_applied = false;              // LinuxCNC #5210
   Vec3 g28{}, g30{};                     // G28/G30 stored positions, machine mm
   int tool = 0;                          // in the spindle (M6, M61); 0: none
-  bool tool_offset_applied = false;      // G43/G43.1 in effect (G49: off)
+  bool tool_offset_applied = false;      // G43/G43.1/G43.2 in effect (G49: off)
   Vec3 tool_offset{};                    // the tool length offset in effect, mm
 
   bool operator==(const WorkState&) const = default;
