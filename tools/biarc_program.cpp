@@ -138,6 +138,8 @@ std::vector<BiarcLine> read_biarc_program(const std::string& text) {
     const bool only_motion_g = (parsed.g_groups & ~(1u << kGMotion)) == 0 && parsed.m_groups == 0;
     const bool plain = others == 0 && only_motion_g && !has_comment(body) && !lexed.block_delete &&
                        lexed.message == MessageKind::kNone;
+    // a G5 or G5.1 line, by its own G word or by the modal motion mode
+    const bool spline_line = motion == 50 || motion == 51 || (motion < 0 && (m.motion == 50 || m.motion == 51) && axes);
     if (in_nurbs) {
       if (motion == 53 && plain && !axes && !parsed.has('P') && !parsed.has('L')) {
         l.kind = BiarcLineKind::kNurbsEnd;
@@ -156,7 +158,7 @@ std::vector<BiarcLine> read_biarc_program(const std::string& text) {
         l.weight = parsed.has('P') ? parsed.get('P') : 1.0;
         l.order = parsed.has('L') ? static_cast<int>(std::lround(parsed.get('L'))) : 3;
       }
-    } else if (motion == 50 || motion == 51 || (motion < 0 && (m.motion == 50 || m.motion == 51) && axes)) {
+    } else if (spline_line) {
       // G5 / G5.1, LinuxCNC's rules (host/gcode/interpreter_spline.cpp): G17 only, no Z, I and J
       // together, G5 with P and Q, a G5 without I J only right after a G5
       const bool cubic = motion == 50 || (motion < 0 && m.motion == 50);
@@ -190,7 +192,7 @@ std::vector<BiarcLine> read_biarc_program(const std::string& text) {
       if (g1 && plain && !parsed.has('P') && !parsed.has('L') && (parsed.has(a0) || parsed.has(a1)) && normal_unchanged)
         l.kind = BiarcLineKind::kG1;
     }
-    if (l.kind != BiarcLineKind::kSpline && !(motion == 50 || motion == 51 || (motion < 0 && (m.motion == 50 || m.motion == 51) && axes)) &&
+    if (l.kind != BiarcLineKind::kSpline && !spline_line &&
         (axes || code(parsed, kGNonModal) >= 0 || (motion >= 0 && motion != 800)))
       g5_series = false;  // another move (or what may be one) ends a G5 series
     follow(parsed, m);

@@ -55,13 +55,14 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   int turns = 1;
   if (l.has('P')) {
     const double p = l.get('P');
-    if (!(std::fabs(p - std::round(p)) < 1e-4) || std::round(p) < 1.0) {
+    const double whole_turns = std::round(p);
+    if (!(std::fabs(p - whole_turns) < 1e-4) || whole_turns < 1.0) {
       return fail_here(l.column('P'), "P" + num(p) + " on " + gname + " is not a number of turns; expected a positive integer (P2: one more full circle before the arc)");
     }
-    if (std::round(p) > kMaxArcTurns) {
+    if (whole_turns > kMaxArcTurns) {
       return fail_here(l.column('P'), "P" + num(p) + " on " + gname + " asks for more than " + std::to_string(kMaxArcTurns) + " turns; expected at most that many in one line");
     }
-    turns = static_cast<int>(std::round(p));
+    turns = static_cast<int>(whole_turns);
   }
   Move m = base_move(MoveKind::kArc, l, column);
   if (!feed_for_move(l, column, m.feed_mm_s, motion)) {
@@ -163,18 +164,19 @@ bool Interpreter::arc(const ParsedLine& l, int motion, MoveList& out) {
   whole.sweep = total;
   if (inverse_time_ && !inverse_time_feed(l, whole)) return false;
   const double whole_length = move_length(whole);
+  const auto nk = static_cast<std::size_t>(n);
   Vec3 at = start;
-  for (int k = 0; k <= turns - 1; ++k) {
+  for (int k = 0; k < turns; ++k) {
     Move piece = m;
     Vec3 to = e;
     if (k < turns - 1) {
       to = start;
-      to[static_cast<std::size_t>(n)] += (e[static_cast<std::size_t>(n)] - start[static_cast<std::size_t>(n)]) * turn * (k + 1) / total;
+      to[nk] += (e[nk] - start[nk]) * turn * (k + 1) / total;
       piece.sweep = turn;
       piece.radius = std::hypot(su - cu, sv - cv) * frame_.scale;  // a full circle: its start radius
     }
     Vec3 cc = c;
-    cc[static_cast<std::size_t>(n)] = at[static_cast<std::size_t>(n)];  // the center on the piece's start level
+    cc[nk] = at[nk];  // the center on the piece's start level
     piece.start = to_machine(at);
     piece.end = to_machine(to);
     piece.center = to_machine(cc);

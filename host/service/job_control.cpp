@@ -342,12 +342,11 @@ CheckProgressHandler JobControl::check_progress_fn() {
 // object as `check_pass` "locate", with the line and the share of the text read, at most every
 // 0.1 s; false once `stop` (or the service's shutdown) asked the resume to end.
 std::function<bool()> JobControl::locate_progress_fn(const BlockStream& stream) {
-  auto last = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
-  return [this, &stream, last] {
+  return [this, &stream, last = std::chrono::steady_clock::now()]() mutable {
     if (interrupt_.load()) return false;
     const auto now = std::chrono::steady_clock::now();
-    if (now - *last < std::chrono::milliseconds(100)) return true;
-    *last = now;
+    if (now - last < std::chrono::milliseconds(100)) return true;
+    last = now;
     CheckProgress c;
     c.line = stream.lines_read();
     c.bytes_read = stream.bytes_read();
