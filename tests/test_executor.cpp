@@ -2,14 +2,19 @@
 // speed law, junction rules, and the stop-within-the-ring guarantee.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "motion/executor.hpp"
 #include "motion/junction.hpp"
 #include "motion/path.hpp"
 #include "gcode/preprocessor.hpp"
+#include "gcode/nurbs_schedule.hpp"
+#include "geometry/nurbs.hpp"
 #include "geometry/arc_limits.hpp"
 #include "geometry/axis_caps.hpp"
 #include "geometry/plane.hpp"
@@ -564,6 +569,114 @@ TEST(Executor, FeedHoldRampsDownAndResumes) {
   in.hold = false;
   for (int i = 0; i < 100000 && !r.program_end; ++i) ex.step(ring, in, r);
   EXPECT_EQ(ex.position(), (Vec3{23.0, 12.5, 20.0}));
+}
+
+// A block that starts from rest a hair away from where the machine stands (a program resumed
+// after a lost host: the block the machine stood at the end of skipped, a curve cut at the point
+// nearest to the machine, a hold inside a corner window) is reached by a move of its own within
+// every axis's limits: no setpoint steps, however the block begins. Before the gap move the
+// first cycle jumped the gap: 0.9 µm in 0.5 ms is 3600 mm/s² on top of the block's ramp.
+struct GapRun {
+  std::vector<Vec3> p;  // the setpoints, two at the standing point first
+  bool ended = false;
+};
+
+GapRun run_from(const MachineConfig& c, const Vec3& stand, const std::vector<Block>& blocks, int held_cycles = 0) {
+  Executor ex(c);
+  ex.set_position(stand);
+  MotionRing ring;
+  for (const Block& b : blocks) EXPECT_TRUE(ring.try_push(b));
+  GapRun run;
+  run.p = {stand, stand};
+  ExecInput in;
+  for (int i = 0; i < 200000; ++i) {
+    in.hold = i < held_cycles;
+    ExecResult r;
+    ex.step(ring, in, r);
+    EXPECT_EQ(r.fault, FaultCode::kNone) << r.reason;
+    if (r.fault != FaultCode::kNone) break;
+    if (i < held_cycles) {
+      EXPECT_EQ(ex.position(), stand) << "moved while held, cycle " << i;
+    }
+    run.p.push_back(ex.position());
+    if (r.program_end) {
+      run.ended = true;
+      break;
+    }
+  }
+  return run;
+}
+
+// The largest velocity and acceleration of each axis over the setpoints, as shares of its limits.
+void expect_within_axis_limits(const MachineConfig& c, const std::vector<Vec3>& p, const std::string& what) {
+  const double dt = c.cycle_period_s();
+  for (int i = 0; i < kAxes; ++i) {
+    double worst_v = 0.0, worst_a = 0.0;
+    for (std::size_t k = 1; k < p.size(); ++k) {
+      worst_v = std::max(worst_v, std::abs(p[k][i] - p[k - 1][i]) / dt / c.axes[i].max_velocity_mm_s);
+      if (k >= 2) {
+        const double a = std::abs(p[k][i] - 2.0 * p[k - 1][i] + p[k - 2][i]) / (dt * dt);
+        worst_a = std::max(worst_a, a / c.axes[i].max_accel_mm_s2);
+      }
+    }
+    EXPECT_LE(worst_v, 1.0 + 1e-9) << what << ": axis " << "XYZ"[i];
+    EXPECT_LE(worst_a, 1.0 + 1e-6) << what << ": axis " << "XYZ"[i];
+  }
+}
+
+TEST(Executor, ABlockStartingAHairAwayFromTheMachineIsReachedWithinTheAxisLimits) {
+  const MachineConfig c = cfg();
+  const double gap = 0.9 * c.motion.block_tolerance_mm;
+  const Vec3 start{12.4, 0.96, 12.0};
+  NurbsCurve curve = make_nurbs({start, {14.0, 2.0, 12.0}, {16.0, 1.0, 12.5}, {18.0, 3.0, 12.0}}, {1, 1, 1, 1}, 4);
+  const NurbsBlocks nb = plan_nurbs_blocks(curve, nurbs_limits(c, 20.0));
+  ASSERT_EQ(nb.error, "");
+  ASSERT_EQ(nb.blocks.size(), 1u);
+  struct Case {
+    const char* what;
+    std::vector<Block> blocks;
+  };
+  std::vector<Case> cases;
+  {
+    ProgramBuilder p(c, start);
+    p.line({12.0, 5.0, 12.0}, 40.0).end();
+    cases.push_back({"line", p.blocks()});
+  }
+  {
+    ProgramBuilder p(c, start);
+    p.arc({14.4, 2.96, 12.0}, {14.4, 0.96, 12.0}, 2, true, 30.0).end();
+    cases.push_back({"arc", p.blocks()});
+  }
+  {
+    Block end = cases[0].blocks.back();
+    std::vector<Block> blocks = nb.blocks;
+    blocks[0].seq = 1;
+    end.seq = 2;
+    blocks.push_back(end);
+    cases.push_back({"NURBS", blocks});
+  }
+  for (const Case& k : cases) {
+    const Vec3 to = k.blocks.back().kind == BlockKind::kEnd ? k.blocks[k.blocks.size() - 2].end : k.blocks.back().end;
+    for (const Vec3 dir : {Vec3{0.0, 1.0, 0.0}, normalized(Vec3{-0.3, -1.0, 0.2}), normalized(Vec3{1.0, 0.0, -1.0})}) {
+      for (const double d : {0.21e-3, gap}) {
+        for (const int held : {0, 7}) {
+          const Vec3 stand = start + d * dir;
+          const GapRun run = run_from(c, stand, k.blocks, held);
+          const std::string what = std::string(k.what) + " " + std::to_string(d * 1e3) + " um away, held " + std::to_string(held);
+          ASSERT_TRUE(run.ended) << what;
+          EXPECT_NEAR(norm(run.p.back() - to), 0.0, 1e-9) << what;
+          expect_within_axis_limits(c, run.p, what);
+          // the gap is moved in a straight line: every setpoint up to the block's start lies on it
+          std::size_t k0 = 2 + static_cast<std::size_t>(held);
+          for (; k0 < run.p.size() && norm(run.p[k0] - start) > 1e-12; ++k0) {
+            const Vec3 off = run.p[k0] - stand;
+            EXPECT_NEAR(norm(off - dot(off, -1.0 * dir) * (-1.0 * dir)), 0.0, 1e-12) << what;
+          }
+          EXPECT_LT(k0, 12u + static_cast<std::size_t>(held)) << what << ": the block's start reached within a few cycles";
+        }
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -47,6 +47,7 @@ void Executor::set_position(const Vec3& p) {
   pos_ = p;
   tail_ = p;
   rot_tail_ = rot_;
+  gap_.clear();
   hold_still();
   s_ = 0.0;
   dwell_ = 0.0;
@@ -388,6 +389,7 @@ void Executor::motion_step(MotionRing& ring, const ExecInput& in, ExecResult& ou
   const Block& blk = ring.peek(0);
   const bool probing = blk.probe_rule != kProbeNone;
   const bool sought = probe_toward(blk.probe_rule);  // the input state that ends the move
+  if (fresh_ && !probing && start_gap_cycle(blk, in)) return;
   const bool first_cycle = fresh_;
   if (fresh_) {
     if (after_motion_ && ended_at_rest_) ++out.junction_stops;

@@ -61,6 +61,7 @@
 #include "motion/nurbs_follower.hpp"
 #include "motion/path.hpp"
 #include "motion/ruled_follower.hpp"
+#include "motion/start_gap.hpp"
 #include "ipc/segment.hpp"
 #include "ipc/status.hpp"
 
@@ -185,6 +186,9 @@ class Executor {
   /// Adds the offsets of the corner windows around the path position reached to pos_, tangent_
   /// and curvature_ (the block's own path there).
   void apply_blend();
+  /// Before a block that starts from rest a hair away from where the machine stands (a resumed
+  /// program, start_gap.hpp): this cycle of the gap move, true when it took the cycle.
+  bool start_gap_cycle(const Block& blk, const ExecInput& in);
   /// Ends the probing block in execution where the machine stands (executor_probe.cpp).
   void finish_probe(MotionRing& ring, ExecResult& out, ProbeOutcome outcome);
 
@@ -231,6 +235,7 @@ class Executor {
   bool ended_at_rest_ = false;  // the last motion block ended stopped (junction counting)
   bool after_motion_ = false;   // the last finished block was a motion
   bool fresh_ = true;           // the current block has not moved yet
+  StartGap gap_{};              // the gap move before it (start_gap.hpp)
 
   // NURBS block in execution: curve parameter, curve there, schedule search hint
   double nurbs_u_ = 0.0;
