@@ -11,7 +11,6 @@
 // Error = the largest distance of the tool path from the exact offset curve C + r n: for a
 // point q beside the curve | |q - C| - r | (nearest curve point by Newton projection).
 // --svg FILE draws the curve, its biarcs and their offset (docs/biarc-fit.md).
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "geometry/biarc.hpp"
 #include "geometry/nurbs.hpp"
 
@@ -213,12 +213,12 @@ void write_svg(const std::string& path, const NurbsCurve& c, const std::vector<A
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_biarc_comp: offset error of line segments vs biarcs under cutter compensation (seed paper)"};
+  pcnc::BenchCli app{"bench_biarc_comp: offset error of line segments vs biarcs under cutter compensation (seed paper)"};
   std::string svg;
   double svg_radius = 3.0;
   app.add_option("--svg", svg, "also draw the curve, its biarcs and their offset to this SVG file");
-  app.add_option("--svg-radius", svg_radius, "offset radius drawn in the SVG, mm")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--svg-radius", svg_radius, "offset radius drawn in the SVG, mm")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   const NurbsCurve c = contour();
   double min_left_radius = 1e300;

@@ -24,11 +24,10 @@
 #include <numbers>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include <sstream>
 #include <string>
 
+#include "bench_cli.hpp"
 #include "config/config.hpp"
 #include "gcode/program.hpp"
 #include "loop/machine.hpp"
@@ -281,15 +280,15 @@ int time_program(MachineConfig cfg, const std::string& file, bool fit, double to
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"rt cycle compute time and virtual-clock speed"};
+  pcnc::BenchCli app{"rt cycle compute time and virtual-clock speed"};
   std::string config_path = default_config_path();
   int repeats = 20;
   app.add_option("--config", config_path, "machine config");
-  app.add_option("--repeats", repeats, "how many times the test pattern repeats")->capture_default_str();
+  app.add_option("--repeats", repeats, "how many times the test pattern repeats")->show_default();
   std::string five_path = std::string(PCNC_BENCH_SOURCE_DIR) + "/configs/desktop-5axis.toml";
   int turns = 40;
-  app.add_option("--five-config", five_path, "the 5-axis machine config for the TCP pass")->capture_default_str();
-  app.add_option("--turns", turns, "turns of the TCP helix")->capture_default_str();
+  app.add_option("--five-config", five_path, "the 5-axis machine config for the TCP pass")->show_default();
+  app.add_option("--turns", turns, "turns of the TCP helix")->show_default();
   std::string program_path;
   bool fit = false;
   double tolerance = -1.0;
@@ -297,8 +296,8 @@ int main(int argc, char** argv) {
   app.add_option("--program", program_path, "time this G-code program's cycles instead (as pcnc run --contouring on)");
   app.add_flag("--fit", fit, "with --program: as pcnc run --fit");
   app.add_option("--tolerance", tolerance, "with --program: as pcnc run --tolerance MM (default: the config's)");
-  app.add_option("--runs", runs, "with --program: runs, the fastest counts")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--runs", runs, "with --program: runs, the fastest counts")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   if (!program_path.empty()) return time_program(load_config(config_path), program_path, fit, tolerance, std::max(1, runs));
   const MachineConfig cfg = load_config(config_path);

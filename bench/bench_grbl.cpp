@@ -6,7 +6,6 @@
 //   * machine time of a program streamed by character counting against `pcnc run` of the same
 //     file on the same config (goal: no more than 5 % slower), with both runs' underruns.
 //   bench_grbl [--program FILE] [--config FILE] [--queries N] [--lines N]
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -17,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "ctl.hpp"
 #include "grbl_sender.hpp"
 #include "ipc/segment.hpp"
@@ -57,15 +57,15 @@ double throughput(GrblSender& port, const std::vector<std::string>& lines) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app("bench_grbl: the grbl port's latency, throughput and machine time");
+  pcnc::BenchCli app("bench_grbl: the grbl port's latency, throughput and machine time");
   std::string program = std::string(PCNC_SOURCE_DIR) + "/examples/demo.ngc";
   std::string config = std::string(PCNC_SOURCE_DIR) + "/configs/desktop-mill.toml";
   int queries = 500, lines = 2000;
-  app.add_option("--program", program, "G-code file to stream and to run")->capture_default_str();
-  app.add_option("--config", config, "machine config")->capture_default_str();
-  app.add_option("--queries", queries, "status queries for the round trip")->capture_default_str();
-  app.add_option("--lines", lines, "lines per throughput run")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--program", program, "G-code file to stream and to run")->show_default();
+  app.add_option("--config", config, "machine config")->show_default();
+  app.add_option("--queries", queries, "status queries for the round trip")->show_default();
+  app.add_option("--lines", lines, "lines per throughput run")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   const std::string tag = "bench-grbl-" + std::to_string(getpid());
   const std::string dir = make_temp_dir(tag);

@@ -9,11 +9,11 @@
 //                            [--keep-bend-limits]
 // Prints one line: "ideal <time> s  segments <n>  stops <n>  length <mm>  bends ..." (what the
 // ideal's speeds ask of the programmed curve at its bends, ideal_planner.hpp).
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "config/config.hpp"
 #include "gcode/program.hpp"
 #include "run_job_options.hpp"
@@ -22,7 +22,7 @@
 using namespace pcnc;
 
 int main(int argc, char** argv) {
-  CLI::App app{"the ideal junction-deviation planner's machine time for a program (issue 14's yardstick)"};
+  pcnc::BenchCli app{"the ideal junction-deviation planner's machine time for a program (issue 14's yardstick)"};
   std::string program, config_path = default_config_path(), contouring = "on";
   bool fit = false;
   double tolerance = -1.0;
@@ -37,13 +37,13 @@ int main(int argc, char** argv) {
   app.add_option("--arcs", arcs,
                  "whole: an arc is one segment at most at sqrt(A*r) (LinuxCNC; the issue's figures); chords: grbl's "
                  "chords, each junction at the junction-deviation speed")
-      ->check(CLI::IsMember({"whole", "chords"}));
+      ->one_of({"whole", "chords"});
   app.add_flag("--keep-bend-limits", ideal.keep_bend_limits,
                "not the ideal's rule: also hold every bend (turn < 10°) to sqrt(a·rho), the axes' acceleration on the "
                "curve the points draw (a floor for a planner that keeps the limits)");
   std::string lines_csv;
   app.add_option("--lines", lines_csv, "write the ideal's time per source line to this CSV (line,time_s)");
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   ideal.arcs_as_chords = arcs == "chords";
   MachineConfig c = load_config(config_path);
   ideal.tolerance_mm = tolerance >= 0.0 ? tolerance : c.motion.path_tolerance_mm;

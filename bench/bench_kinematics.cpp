@@ -4,7 +4,6 @@
 // the XYZAC table-table and XYZBC head-table machines, over seeded random poses; each figure is
 // the best of --repeats runs. The figures depend on the computer and its load; the checksum
 // keeps the compiler from dropping the work.
-#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -13,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "geometry/kinematics.hpp"
 #include "geometry/kinematics_rates.hpp"
 #include "geometry/tcp_path.hpp"
@@ -86,11 +86,11 @@ void bench(const char* name, const Kinematics& k, int n, int repeats, std::uint6
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_kinematics: ns per inverse, forward, Jacobian and joint rates of the 5-axis kinematics"};
+  pcnc::BenchCli app{"bench_kinematics: ns per inverse, forward, Jacobian and joint rates of the 5-axis kinematics"};
   int n = 200000, repeats = 5;
-  app.add_option("-n", n, "poses per run")->check(CLI::PositiveNumber);
-  app.add_option("--repeats", repeats, "runs per figure; the best is printed")->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("-n", n, "poses per run")->positive();
+  app.add_option("--repeats", repeats, "runs per figure; the best is printed")->positive();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   bench("XYZAC table-table", {KinematicsKind::kTableTable, {0, 0, 40}, {2, -1, 0}, 20}, n, repeats, 1);
   bench("XYZBC head-table", {KinematicsKind::kHeadTable, {0, 0, 80}, {3, 1, 0}, 25}, n, repeats, 2);
   return 0;

@@ -5,7 +5,6 @@
 //  2. nurbs_parameter_step alone and nurbs_eval alone;
 //  3. host preprocessing (plan_nurbs_blocks: validation, dense schedule, split, block
 //     schedules) per control point, for curves of 32 .. 1000 control points.
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -13,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "geometry/nurbs.hpp"
 #include "ipc/block_nurbs.hpp"
 #include "motion/nurbs_follower.hpp"
@@ -55,12 +55,12 @@ void report(const char* what, std::vector<double>& ns) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"NURBS timing: rt cycle cost and host preprocessing"};
+  pcnc::BenchCli app{"NURBS timing: rt cycle cost and host preprocessing"};
   int runs = 20;
   double feed = 60.0;
-  app.add_option("--runs", runs, "repetitions of the block run")->capture_default_str();
-  app.add_option("--feed", feed, "path feed, mm/s")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--runs", runs, "repetitions of the block run")->show_default();
+  app.add_option("--feed", feed, "path feed, mm/s")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   // 1. one 32-point cubic block, run to the end repeatedly, every cycle timed.
   const NurbsCurve curve = wavy_curve(kMaxNurbsPoints, 3, 1);

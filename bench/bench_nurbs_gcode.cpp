@@ -7,7 +7,6 @@
 // program and per control point. Then the rt side: the blocks of the 1000-point cubic run
 // through Machine::cycle (executor with the exact curve evaluation and parameter step, three
 // PIDs, plant, safety), every cycle timed: p50/p99/max compute time per cycle on NURBS blocks.
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -16,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "config/config.hpp"
 #include "loop/machine.hpp"
 #include "gcode/program.hpp"
@@ -53,12 +53,12 @@ double best_of(int reps, F&& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"NURBS programs through the G-code front end: host time per control point"};
+  pcnc::BenchCli app{"NURBS programs through the G-code front end: host time per control point"};
   std::string config_path = default_config_path();
   int reps = 5;
   app.add_option("--config", config_path, "machine config");
   app.add_option("--reps", reps, "runs per figure (the fastest is shown)");
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   const MachineConfig cfg = load_config(config_path);
   JobOptions o;
   o.start_position = cfg.gcode.work_offsets[0];

@@ -9,7 +9,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "config/config.hpp"
 #include "gcode/program.hpp"
 
@@ -159,7 +159,7 @@ void write_big_program(const std::string& path, int n) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_parse: G-code front-end throughput and memory (figures, not a test)"};
+  pcnc::BenchCli app{"bench_parse: G-code front-end throughput and memory (figures, not a test)"};
   std::string config_path = pcnc::default_config_path();
   std::string shared;
   std::string child_file;
@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
   app.add_flag("--peer", peer, "internal: the peers' machine (travel +-100 mm)");
   app.add_flag("--fit", fit, "internal: --fit");
   app.add_flag("--blocks", blocks, "internal: also stream the blocks");
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   if (!child_file.empty()) return child(child_file, config_path, peer, fit, blocks);
 
   const std::string self = fs::canonical("/proc/self/exe").string();

@@ -9,7 +9,6 @@
 // --worst N, also (to stderr) the N trace rows farthest from the path, measured, with their time,
 // line, speed and the commanded row's distance (where the servo lags: a diagnostic); with
 // --worst-cmd as well, the N rows farthest by their commanded position.
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "config/config.hpp"
 #include "gcode/program.hpp"
 #include "run_job_options.hpp"
@@ -57,7 +57,7 @@ void append_path(const Block& b, std::vector<Vec3>& pts) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"distance of a traced path from the programmed path"};
+  pcnc::BenchCli app{"distance of a traced path from the programmed path"};
   std::string program, trace, config_path = default_config_path(), contouring = "on";
   bool fit = false;
   app.add_option("PROGRAM", program)->required();
@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   app.add_option("--worst", worst_n);
   bool by_cmd = false;  // --worst lists the rows farthest by their commanded position instead
   app.add_flag("--worst-cmd", by_cmd);
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   MachineConfig c = load_config(config_path);
   set_operator_tolerance(c.motion, 0.0);
   const JobOptions o = run_job_options(c, fit, contouring == "on");

@@ -11,7 +11,6 @@
 //  2. the host's cost of the sync points: the 7 x 7 probing program checked and streamed again
 //     after each of its 49 results, as ProbeSync does (host/service/probe_sync.hpp);
 //  3. the cost of one contact test (scene_gap on the bump), what the rt adds per cycle.
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -21,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "gcode/program.hpp"
 #include "geometry/probe_contact.hpp"
 #include "machine_runner.hpp"
@@ -58,10 +58,10 @@ double trigger_z(const TableScene& s, const ProbeModel& p, double x, double y) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_probe: figures for the touch probe (docs/probe.md)"};
+  pcnc::BenchCli app{"bench_probe: figures for the touch probe (docs/probe.md)"};
   double feed = 50.0;
   app.add_option("--feed", feed, "probing feed, mm/min");
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   MachineConfig c = test::default_machine_config();
   c.table.bump_x_mm = 12.5;

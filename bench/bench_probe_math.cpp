@@ -15,7 +15,6 @@
 //     to the machine's centre (where a work offset is touched off); and the chain: section 2's
 //     surface probed on that machine, ball-corrected with and without E_V removed first;
 //  4. the cost of one evaluation (ns per call) and of each fit.
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -25,6 +24,7 @@
 #include <random>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "geometry/probe_calibration.hpp"
 #include "geometry/probe_compensation.hpp"
 #include "geometry/sphere_fit.hpp"
@@ -338,13 +338,13 @@ void section_cost(const ProbeCalibration& cal) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_probe_math: ball correction, probe calibration, volumetric error (issue 15 item 3)"};
+  pcnc::BenchCli app{"bench_probe_math: ball correction, probe calibration, volumetric error (issue 15 item 3)"};
   std::uint64_t seed = 1;
   double noise_um = 0.3, length_noise_um = 0.2;
-  app.add_option("--seed", seed, "seed of the noise and of the synthetic machine")->capture_default_str();
-  app.add_option("--noise-um", noise_um, "probe repeatability (1 sigma), µm")->capture_default_str();
-  app.add_option("--length-noise-um", length_noise_um, "artefact length noise (1 sigma), µm")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--seed", seed, "seed of the noise and of the synthetic machine")->show_default();
+  app.add_option("--noise-um", noise_um, "probe repeatability (1 sigma), µm")->show_default();
+  app.add_option("--length-noise-um", length_noise_um, "artefact length noise (1 sigma), µm")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   const ProbeCalibration cal = section_calibration(seed, noise_um);
   section_slope(cal);
   const VolumetricError model = section_volumetric(seed, length_noise_um);

@@ -15,8 +15,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
+#include "bench_cli.hpp"
 #include "ipc/trace_compact.hpp"
 #include "loop/trace_writer.hpp"
 #include "report/inline_blob.hpp"
@@ -48,13 +47,13 @@ double fastest(int repeat, const std::function<void()>& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_report: the costs of a run report, from a real run's trace and summary"};
+  pcnc::BenchCli app{"bench_report: the costs of a run report, from a real run's trace and summary"};
   std::string trace, summary;
   int repeat = 3;
   app.add_option("--trace", trace, "the run's full trace (CSV)")->required();
   app.add_option("--summary", summary, "the run's summary (JSON)")->required();
   app.add_option("--repeat", repeat, "runs of each step (the fastest is shown)");
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   std::vector<TraceSample> rows;
   {

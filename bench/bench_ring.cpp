@@ -10,9 +10,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "bench_cli.hpp"
 #include "service/ring_feeder.hpp"
 #include "ipc/segment.hpp"
 
@@ -56,12 +56,12 @@ pid_t start_producer(const MachineConfig& config, std::uint64_t total, Shared* o
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_ring: two-process motion-ring throughput and host wake-up latency"};
+  pcnc::BenchCli app{"bench_ring: two-process motion-ring throughput and host wake-up latency"};
   std::uint64_t blocks = 2000000;
   double seconds = 10.0;
-  app.add_option("--blocks", blocks, "blocks for the throughput run")->capture_default_str();
-  app.add_option("--latency-seconds", seconds, "duration of the 2 kHz wake-up run")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--blocks", blocks, "blocks for the throughput run")->show_default();
+  app.add_option("--latency-seconds", seconds, "duration of the 2 kHz wake-up run")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   const MachineConfig config = bench_config();
   RtSegment rt(config.process.shm_name);

@@ -18,7 +18,6 @@
 //     (c_u, c_uu) and angular (omega_u, omega_uu) variation per unit u in that frame;
 //  5. the pass interval P(h, R) of eq. (1) and the passes the 200 mm surface needs;
 //  6. the same pass modelled from set points only (ruled_model.hpp) against the true surface.
-#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -26,6 +25,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "geometry/cusp.hpp"
 #include "geometry/hermite_curve.hpp"
 #include "geometry/ruled_model.hpp"
@@ -137,12 +137,12 @@ double rel(const Vec3& a, const Vec3& b) { return norm(a - b) / std::max(norm(b)
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_ruled: the ruled-surface tool motion on the seed's example pass"};
+  pcnc::BenchCli app{"bench_ruled: the ruled-surface tool motion on the seed's example pass"};
   double x0 = 20.0, spacing = 10.0, feed = 10.0;
-  app.add_option("--x", x0, "the pass's X, mm")->capture_default_str();
-  app.add_option("--spacing", spacing, "Ferguson set-point spacing along the pass, mm")->capture_default_str();
-  app.add_option("--feed", feed, "feed, mm/s")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--x", x0, "the pass's X, mm")->show_default();
+  app.add_option("--spacing", spacing, "Ferguson set-point spacing along the pass, mm")->show_default();
+  app.add_option("--feed", feed, "feed, mm/s")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   const Pass pass = make_pass(x0, spacing);
   const RuledCurves c = pass.curves();

@@ -17,7 +17,6 @@
 //    kinematics of q), the distance of the tip and of the point --height mm up the axis from
 //    the nearest ruling of the intended surface, against G1 moves through the same set points
 //    with the joints A and C interpolated linearly (the tip on the chord).
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -26,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "config/config.hpp"
 #include "geometry/kinematics.hpp"
 #include "geometry/ruled_model.hpp"
@@ -162,15 +162,15 @@ long follow(const Piece& pc, const Kinematics& kin, double period, Each each, Fe
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_ruled_follower: the rt's evaluator of a ruled piece: cost, feed error, swept-axis deviation"};
+  pcnc::BenchCli app{"bench_ruled_follower: the rt's evaluator of a ruled piece: cost, feed error, swept-axis deviation"};
   std::string config = "configs/desktop-5axis.toml";
   double feed_mm_min = 600.0, height = 10.0, tool_length = 0.0, accel = 1000.0;
-  app.add_option("--config", config, "machine config (XYZAC)")->capture_default_str();
-  app.add_option("--feed", feed_mm_min, "programmed feed, mm/min")->capture_default_str();
-  app.add_option("--accel", accel, "the pieces' tangential acceleration, mm/s^2")->capture_default_str();
-  app.add_option("--height", height, "the point up the tool axis whose deviation is measured, mm")->capture_default_str();
-  app.add_option("--tool-length", tool_length, "tool length, mm")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--config", config, "machine config (XYZAC)")->show_default();
+  app.add_option("--feed", feed_mm_min, "programmed feed, mm/min")->show_default();
+  app.add_option("--accel", accel, "the pieces' tangential acceleration, mm/s^2")->show_default();
+  app.add_option("--height", height, "the point up the tool axis whose deviation is measured, mm")->show_default();
+  app.add_option("--tool-length", tool_length, "tool length, mm")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   MachineConfig cfg;
   try {
     cfg = load_config(config);

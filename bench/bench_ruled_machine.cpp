@@ -14,7 +14,6 @@
 // the larger; forward kinematics of the commanded joints and of the measured ones, on the passes);
 // and the joint jerk (third differences of the commanded joints over the 0.5 ms cycle, max and
 // RMS, X Y Z in mm/s^3 and A C in deg/s^3, over passes and links).
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "config/config.hpp"
 #include "config/joint_map.hpp"
 #include "geometry/kinematics.hpp"
@@ -216,21 +216,21 @@ Figures measure(const Passes& ps, const Program& prog, const MachineConfig& cfg,
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"issue 17 item 4 on the machine: ruled blocks against short 5-axis G1 moves (TCP off, linear joints), "
+  pcnc::BenchCli app{"issue 17 item 4 on the machine: ruled blocks against short 5-axis G1 moves (TCP off, linear joints), "
                "the same passes through pcnc run (virtual clock) on configs/desktop-5axis.toml"};
   double spacing = 1.0, feed = 600.0, lever = 10.0;
   int passes = 3;
   std::string contouring = "on";
-  app.add_option("--spacing", spacing, "set points every this many mm along a pass")->capture_default_str();
-  app.add_option("--feed", feed, "F, mm/min")->capture_default_str();
-  app.add_option("--passes", passes, "zigzag passes, 1 mm apart")->capture_default_str();
-  app.add_option("--lever", lever, "the point this many mm up the tool measures the axis's deviation")->capture_default_str();
+  app.add_option("--spacing", spacing, "set points every this many mm along a pass")->show_default();
+  app.add_option("--feed", feed, "F, mm/min")->show_default();
+  app.add_option("--passes", passes, "zigzag passes, 1 mm apart")->show_default();
+  app.add_option("--lever", lever, "the point this many mm up the tool measures the axis's deviation")->show_default();
   app.add_option("--contouring", contouring,
                  "pcnc run --contouring for both runs: on (M21, the G1 moves flow through their junctions under the "
                  "look-ahead across rotary blocks) or off (every G1 junction stops; the ruled pieces flow either way)")
-      ->check(CLI::IsMember({"on", "off"}))
-      ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+      ->one_of({"on", "off"})
+      ->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
 
   const std::string dir = test::make_temp_dir("bench-ruled");
   const std::string config = test::write_five_axis_config(dir, "bench-ruled");

@@ -18,13 +18,13 @@
 //    also for the intended path itself at the same feed (the reference: what the surface and
 //    the kinematics ask for whatever the interpolation).
 // The machine time needs the rt's ruled block (issue 17, item 2) and comes later.
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "geometry/kinematics.hpp"
 #include "geometry/ruled_model.hpp"
 #include "geometry/ruled_motion.hpp"
@@ -127,13 +127,13 @@ void jerk(const std::vector<Joints>& q, Stats& st) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_ruled_vs_linear: ruled-surface interpolation against G1 moves with linear angles"};
+  pcnc::BenchCli app{"bench_ruled_vs_linear: ruled-surface interpolation against G1 moves with linear angles"};
   double feed_mm_min = 600.0, height = 10.0, lead_deg = 0.0, radius = 1.0;
-  app.add_option("--feed", feed_mm_min, "programmed feed, mm/min")->capture_default_str();
-  app.add_option("--height", height, "the point up the tool axis whose deviation is measured, mm")->capture_default_str();
-  app.add_option("--lead", lead_deg, "lead angle, degrees")->capture_default_str();
-  app.add_option("--tool-radius", radius, "ball radius, mm")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--feed", feed_mm_min, "programmed feed, mm/min")->show_default();
+  app.add_option("--height", height, "the point up the tool axis whose deviation is measured, mm")->show_default();
+  app.add_option("--lead", lead_deg, "lead angle, degrees")->show_default();
+  app.add_option("--tool-radius", radius, "ball radius, mm")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   const double F = feed_mm_min / 60.0;
 
   Kinematics kin;

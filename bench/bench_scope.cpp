@@ -12,8 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
+#include "bench_cli.hpp"
 #include "ipc/segment.hpp"
 
 using namespace pcnc;
@@ -54,12 +53,12 @@ Figures run(ScopeRing<kScopeSlots>& ring, std::uint64_t cycles, std::uint64_t pe
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"cost of the rt's scope ring publish, with and without a reader"};
+  pcnc::BenchCli app{"cost of the rt's scope ring publish, with and without a reader"};
   std::uint64_t cycles = 20000;
   double period_us = 50.0;
-  app.add_option("--cycles", cycles, "samples per run")->capture_default_str();
-  app.add_option("--period-us", period_us, "pace of the publishes (the rt's is 500 us)")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--cycles", cycles, "samples per run")->show_default();
+  app.add_option("--period-us", period_us, "pace of the publishes (the rt's is 500 us)")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   const auto period_ns = static_cast<std::uint64_t>(period_us * 1000.0);
 
   auto ring = std::make_unique<ScopeRing<kScopeSlots>>();

@@ -18,7 +18,6 @@
 //     at the grid's X/Y, bilinear and Catmull–Rom) and against the same baselines of the
 //     corrected points; the height error left at the corrected points (the slope error after
 //     the ball correction).
-#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -27,6 +26,7 @@
 #include <random>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "geometry/bspline_surface.hpp"
 #include "geometry/probe_calibration.hpp"
 #include "geometry/probe_compensation.hpp"
@@ -212,16 +212,16 @@ void measuring_chain(double amplitude, double error_um, double noise_um, int see
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench_surface: the measured B-spline surface against bilinear and Catmull-Rom probe interpolation"};
+  pcnc::BenchCli app{"bench_surface: the measured B-spline surface against bilinear and Catmull-Rom probe interpolation"};
   double error_um = 20.0, noise_um = 0.0;
   int seeds = 10;
   double ball_mm = 1.0, pretravel_um = 4.0;
-  app.add_option("--error-um", error_um, "RMS of the injected Wiener error, µm")->capture_default_str();
-  app.add_option("--noise-um", noise_um, "probe noise (normal, standard deviation), µm")->capture_default_str();
-  app.add_option("--seeds", seeds, "error surfaces per row (seeds 1..N), figures are their mean")->capture_default_str();
-  app.add_option("--ball-mm", ball_mm, "section 4: the probe ball's radius, mm")->capture_default_str();
-  app.add_option("--pretravel-um", pretravel_um, "section 4: the pre-travel straight down, µm")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--error-um", error_um, "RMS of the injected Wiener error, µm")->show_default();
+  app.add_option("--noise-um", noise_um, "probe noise (normal, standard deviation), µm")->show_default();
+  app.add_option("--seeds", seeds, "error surfaces per row (seeds 1..N), figures are their mean")->show_default();
+  app.add_option("--ball-mm", ball_mm, "section 4: the probe ball's radius, mm")->show_default();
+  app.add_option("--pretravel-um", pretravel_um, "section 4: the pre-travel straight down, µm")->show_default();
+  if (const int rc = app.parse(argc, argv); rc >= 0) return rc;
   std::mt19937_64 rng(7);
 
   std::printf("1. accuracy: 20 x 20 mm design surface (+-0.6 mm) + Wiener error %.1f µm RMS, 7 x 7 probes, noise %.1f µm,"
