@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "ipc/segment.hpp"
+#include "service/rpc.hpp"
 #include "test_paths.hpp"
 
 namespace pcnc::test {
@@ -89,10 +90,18 @@ json ServicePair::status() {
 
 json ServicePair::wait_status(const std::function<bool(const json&)>& pred, double timeout_s) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  // While pcnc-rt's heartbeat is stale (a loaded machine, or the rt gone) the status has no
+  // machine fields (state NO_RT). A predicate that reads one, `x["blocks_done"]` on a const json,
+  // would look up a key that is not there: an assertion in a debug build (the ASan suite once
+  // aborted on it), undefined behaviour without one. Such fields are null here instead, so the
+  // predicate's get<>() throws (taken as "not yet") or its comparison is false.
+  static const json machine_fields = rpc::status_to_json(Status{});
   json s;
   for (;;) {
     try {
       s = status();
+      for (const auto& [key, value] : machine_fields.items())
+        if (!s.contains(key)) s[key] = nullptr;
       if (pred(s)) return s;
     } catch (const std::exception&) {
     }
