@@ -5,6 +5,7 @@
 #include <sys/mman.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -123,8 +124,15 @@ BackgroundProcess start_process(const std::vector<std::string>& argv, const std:
   p.out_path = scratch_prefix + ".out";
   p.err_path = scratch_prefix + ".err";
   auto args = make_argv(argv);
+  const pid_t parent = getpid();
   p.pid = fork();
   if (p.pid == 0) {
+    // A test that aborts (a failed assertion in a library, a crash, ctest's timeout) never runs
+    // the destructors that stop its processes: they get SIGTERM when it dies (pcnc-rt and
+    // pcnc-host then end as on a normal stop, removing their segment and socket), instead of
+    // running on beside the rest of the suite.
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) _exit(127);  // it died before the line above
     const int o = open(p.out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int e = open(p.err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(o, 1);
