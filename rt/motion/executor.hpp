@@ -46,6 +46,9 @@
 // end_speed > 0): then it flows, the cycle's leftover length carried into the next.
 // Feed hold / stop: all caps become 0, so the speed ramps down at the block's acceleration
 // along the path; resuming ramps up again from where it stood.
+// A block that starts from rest a hair away from where the machine stands (within the block
+// check's tolerance: a resumed program's first block) is reached first by a straight move from
+// rest to rest within the axes' limits (start_gap.hpp), not by a setpoint step.
 #pragma once
 
 #include <array>

@@ -13,13 +13,9 @@ bool Executor::start_gap_cycle(const Block& blk, const ExecInput& in) {
     const PreparedBlock& b = prep_[0];
     // the linear axes alone: a rotary or TCP block's start is checked in joint space
     if (b.rotary || b.angular || b.tcp || b.kind == BlockKind::kRuled) return false;
-    Vec3 start = b.start;
-    if (b.kind == BlockKind::kNurbs) {
-      const NurbsView view = view_of(blk.nurbs);
-      start = nurbs_eval(view, view.u_min()).p;
-    } else {
-      start = evaluate(b, 0.0).p;
-    }
+    // where the block's own first cycles run from (a NURBS block: its curve's first point)
+    const Vec3 start = b.kind == BlockKind::kNurbs ? nurbs_eval(view_of(blk.nurbs), view_of(blk.nurbs).u_min()).p
+                                                   : evaluate(b, 0.0).p;
     if (!(norm(start - pos_) > kStartGapMm)) return false;
     if (in.hold) {  // held before it began: the gap move waits with the block
       hold_still();
