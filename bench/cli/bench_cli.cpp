@@ -12,27 +12,23 @@ struct BenchCli::Impl {
   explicit Impl(const std::string& description) : app(description) {}
 };
 
-namespace {
-CLI::Option* cli(void* impl) { return static_cast<CLI::Option*>(impl); }
-}  // namespace
-
 BenchCli::Option* BenchCli::Option::required() {
-  cli(impl_)->required();
+  impl_->required();
   return this;
 }
 
 BenchCli::Option* BenchCli::Option::show_default() {
-  cli(impl_)->capture_default_str();
+  impl_->capture_default_str();
   return this;
 }
 
 BenchCli::Option* BenchCli::Option::positive() {
-  cli(impl_)->check(CLI::PositiveNumber);
+  impl_->check(CLI::PositiveNumber);
   return this;
 }
 
 BenchCli::Option* BenchCli::Option::one_of(const std::vector<std::string>& choices) {
-  cli(impl_)->check(CLI::IsMember(choices));
+  impl_->check(CLI::IsMember(choices));
   return this;
 }
 

@@ -12,6 +12,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class Option;
+}  // namespace CLI
+
 namespace pcnc {
 
 class BenchCli {
@@ -26,8 +30,8 @@ class BenchCli {
 
    private:
     friend class BenchCli;
-    explicit Option(void* impl) : impl_(impl) {}
-    void* impl_;  // CLI::Option*
+    explicit Option(CLI::Option* impl) : impl_(impl) {}
+    CLI::Option* impl_;
   };
 
   explicit BenchCli(const std::string& description);

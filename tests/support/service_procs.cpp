@@ -100,8 +100,8 @@ json ServicePair::wait_status(const std::function<bool(const json&)>& pred, doub
   for (;;) {
     try {
       s = status();
-      for (const auto& [key, value] : machine_fields.items())
-        if (!s.contains(key)) s[key] = nullptr;
+      for (const auto& field : machine_fields.items())
+        if (!s.contains(field.key())) s[field.key()] = nullptr;
       if (pred(s)) return s;
     } catch (const std::exception&) {
     }

@@ -69,14 +69,25 @@ std::vector<char*> make_argv(const std::vector<std::string>& argv) {
   return v;
 }
 
+// In a child just forked from the test process `parent`: SIGTERM when the test dies. A test that
+// aborts (a failed assertion in a library, a crash, ctest's timeout) never runs the destructors
+// that stop its processes; pcnc-rt and pcnc-host then end as on a normal stop (removing their
+// segment and socket) instead of running on beside the rest of the suite.
+void die_with(pid_t parent) {
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (getppid() != parent) _exit(127);  // it died before the line above
+}
+
 }  // namespace
 
 ProcessResult run_process(const std::vector<std::string>& argv, double timeout_s) {
   int out[2], err[2];
   if (pipe2(out, O_CLOEXEC) != 0 || pipe2(err, O_CLOEXEC) != 0) throw std::runtime_error("pipe");
   auto args = make_argv(argv);
+  const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid == 0) {
+    die_with(parent);
     setpgid(0, 0);
     dup2(out[1], 1);
     dup2(err[1], 2);
@@ -127,12 +138,7 @@ BackgroundProcess start_process(const std::vector<std::string>& argv, const std:
   const pid_t parent = getpid();
   p.pid = fork();
   if (p.pid == 0) {
-    // A test that aborts (a failed assertion in a library, a crash, ctest's timeout) never runs
-    // the destructors that stop its processes: they get SIGTERM when it dies (pcnc-rt and
-    // pcnc-host then end as on a normal stop, removing their segment and socket), instead of
-    // running on beside the rest of the suite.
-    prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (getppid() != parent) _exit(127);  // it died before the line above
+    die_with(parent);
     const int o = open(p.out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int e = open(p.err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(o, 1);
