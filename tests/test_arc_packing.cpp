@@ -20,12 +20,12 @@
 #include "geometry/plane.hpp"
 #include "move_stage.hpp"
 #include "test_paths.hpp"
+#include "test_constants.hpp"
 
 using namespace pcnc;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // A chain of `n` arcs, each sweeping `sweep` (signed), tangent at every join: arc k has radius
 // radius(k), its center on the normal of the path at its start. Starts at `from` heading along

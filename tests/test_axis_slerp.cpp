@@ -10,11 +10,11 @@
 #include <random>
 
 #include "geometry/axis_slerp.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 

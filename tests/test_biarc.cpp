@@ -13,11 +13,11 @@
 #include "geometry/arc_intersect.hpp"
 #include "geometry/biarc.hpp"
 #include "nurbs_circles.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // ---- independent measures -------------------------------------------------------------
 

@@ -174,7 +174,7 @@ Pt bezier(std::vector<Pt> c, double t) {
 }
 
 // One G1/G2/G3 line read back: from (x0, y0); an arc's center, radius, start angle and sweep.
-struct Piece {
+struct RewritePiece {
   double x0, y0, x1, y1;
   bool arc = false;
   double cx = 0, cy = 0, r = 0, a0 = 0, sweep = 0;
@@ -197,14 +197,14 @@ struct Piece {
 
 // The G1/G2/G3 lines of `lines` from `first` on (absolute, relative centers), from (x, y); stops
 // at the first other line and returns its index in `next`.
-std::vector<Piece> read_pieces(const std::vector<std::string>& lines, std::size_t first, double x, double y, std::size_t& next) {
-  std::vector<Piece> out;
+std::vector<RewritePiece> read_pieces(const std::vector<std::string>& lines, std::size_t first, double x, double y, std::size_t& next) {
+  std::vector<RewritePiece> out;
   std::size_t k = first;
   for (; k < lines.size(); ++k) {
     const std::string& s = lines[k];
     const bool g2 = s.rfind("G2 ", 0) == 0, g3 = s.rfind("G3 ", 0) == 0, g1 = s.rfind("G1 X", 0) == 0;
     if (!g1 && !g2 && !g3) break;
-    Piece p{x, y, word(s, 'X'), word(s, 'Y')};
+    RewritePiece p{x, y, word(s, 'X'), word(s, 'Y')};
     if (!g1) {
       p.arc = true;
       p.cx = x + word(s, 'I'), p.cy = y + word(s, 'J');
@@ -227,19 +227,19 @@ std::vector<Piece> read_pieces(const std::vector<std::string>& lines, std::size_
 
 // The largest distance from the curve's points to the pieces, and from the pieces' points to
 // the curve's (dense) polyline.
-double farthest_from_pieces(const std::vector<Pt>& curve, const std::vector<Piece>& pieces) {
+double farthest_from_pieces(const std::vector<Pt>& curve, const std::vector<RewritePiece>& pieces) {
   double worst = 0.0;
   for (const Pt& p : curve) {
     double best = 1e9;
-    for (const Piece& a : pieces) best = std::min(best, a.distance(p));
+    for (const RewritePiece& a : pieces) best = std::min(best, a.distance(p));
     worst = std::max(worst, best);
   }
   return worst;
 }
 
-double farthest_from_curve(const std::vector<Piece>& pieces, const std::vector<Pt>& b) {
+double farthest_from_curve(const std::vector<RewritePiece>& pieces, const std::vector<Pt>& b) {
   double worst = 0.0;
-  for (const Piece& a : pieces) {
+  for (const RewritePiece& a : pieces) {
     for (int i = 0; i <= 24; ++i) {
       const Pt p = a.at(i / 24.0);
       double best = 1e9;
@@ -287,7 +287,7 @@ TEST(BiarcRewrite, G5AndG51SplinesBecomeArcsWithinTheTolerance) {
     // each spline's lines end at its programmed end point
     std::size_t end = k + static_cast<std::size_t>(rep.items[c].moves_out);
     std::size_t next = 0;
-    const std::vector<Piece> arcs = read_pieces(std::vector<std::string>(l.begin(), l.begin() + static_cast<long>(end)), k, x, y, next);
+    const std::vector<RewritePiece> arcs = read_pieces(std::vector<std::string>(l.begin(), l.begin() + static_cast<long>(end)), k, x, y, next);
     ASSERT_EQ(next, end) << c;
     EXPECT_EQ(word(l[end - 1], 'X'), curves[c].back().x) << l[end - 1];
     EXPECT_EQ(word(l[end - 1], 'Y'), curves[c].back().y) << l[end - 1];

@@ -15,6 +15,7 @@
 #include "config_text.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "text_lines.hpp"
 
 namespace pcnc {
 namespace {
@@ -35,7 +36,7 @@ using test::key_lines;
 std::string shipped_text() { return test::read_file(test::default_config()); }
 
 // The refusal's message, or "" when the text was accepted.
-std::string refusal(const std::string& text) {
+std::string config_refusal(const std::string& text) {
   try {
     parse_config(text, kOrigin);
   } catch (const ConfigError& e) {
@@ -44,7 +45,7 @@ std::string refusal(const std::string& text) {
   return "";
 }
 
-bool has(const std::string& message, const std::string& part) { return message.find(part) != std::string::npos; }
+using test::has;
 
 // The generated variants, from each shipped config's text.
 class ShippedConfig : public ::testing::TestWithParam<std::string> {
@@ -96,7 +97,7 @@ TEST_P(ShippedConfig, EachSectionDeletedIsRefusedNamingFileSectionAndKeys) {
     std::vector<std::string> variant(lines.begin(), lines.begin() + static_cast<long>(headers[h].first));
     variant.insert(variant.end(), lines.begin() + static_cast<long>(end), lines.end());
     const std::string name = headers[h].second;
-    const std::string message = refusal(test::join_config_lines(variant));
+    const std::string message = config_refusal(test::join_config_lines(variant));
     if (optional_sections.count(name)) {
       EXPECT_EQ(message, "") << "[" << name << "] is optional";
       continue;
@@ -117,7 +118,7 @@ TEST_P(ShippedConfig, EachKeyDeletedIsRefusedUnlessOptional) {
   for (const KeyLine& k : key_lines(text())) {
     std::vector<std::string> variant = lines;
     variant.erase(variant.begin() + k.line - 1);
-    const std::string message = refusal(test::join_config_lines(variant));
+    const std::string message = config_refusal(test::join_config_lines(variant));
     if (kOptionalKeys.count(k.key)) {
       EXPECT_EQ(message, "") << k.key << " is optional";
       continue;
@@ -138,7 +139,7 @@ TEST_P(ShippedConfig, EachKeyMisspeltIsRefusedWithFileLineAndColumn) {
     std::vector<std::string> variant = lines;
     const std::string typo = k.key + k.key.substr(k.key.size() - 1);  // last letter doubled
     variant[static_cast<std::size_t>(k.line - 1)].replace(0, k.key.size(), typo);
-    const std::string message = refusal(test::join_config_lines(variant));
+    const std::string message = config_refusal(test::join_config_lines(variant));
     const std::string section = k.section.empty() ? "(top level)" : "[" + k.section + "]";
     EXPECT_TRUE(has(message, kOrigin + ":" + std::to_string(k.line) + ":1: " + section + ": unknown key '" + typo + "'"))
         << k.key << ": " << message;
@@ -174,7 +175,7 @@ TEST_P(ShippedConfig, EachNumberOutOfRangeIsRefusedWithItsUnitAndPosition) {
     std::string& line = variant[static_cast<std::size_t>(k.line - 1)];
     const std::size_t at = line.find(k.value, k.key.size());
     line.replace(at, k.value.size(), "-1e9");
-    const std::string message = refusal(test::join_config_lines(variant));
+    const std::string message = config_refusal(test::join_config_lines(variant));
     const std::string section = k.section.empty() ? "(top level)" : "[" + k.section + "]";
     const std::string unit = unit_of(k.key);
     const std::string value = "-1e+09" + (unit.empty() ? "" : " " + unit + ": out of range, must be ");
@@ -190,7 +191,7 @@ TEST_P(ShippedConfig, EachNumberOutOfRangeIsRefusedWithItsUnitAndPosition) {
   EXPECT_GE(checked, 70);
 }
 
-std::string with(const std::string& from, const std::string& to) {
+std::string config_with(const std::string& from, const std::string& to) {
   std::string text = shipped_text();
   const auto at = text.find(from);
   if (at == std::string::npos) throw std::runtime_error("'" + from + "' not in the shipped config");
@@ -198,28 +199,28 @@ std::string with(const std::string& from, const std::string& to) {
 }
 
 TEST(Config, WrongTypesAndRulesBetweenKeysAreRefused) {
-  EXPECT_TRUE(has(refusal(with("cycle_hz = 2000.0", "cycle_hz = \"fast\"")),
+  EXPECT_TRUE(has(config_refusal(config_with("cycle_hz = 2000.0", "cycle_hz = \"fast\"")),
                   "[motion] cycle_hz: expected a number (Hz), not a string"));
   const std::string text = shipped_text();
   const auto travel_line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(text.find("travel_max_mm = 25.0")), '\n');
-  EXPECT_TRUE(has(refusal(with("travel_max_mm = 25.0", "travel_max_mm = -5.0")),
+  EXPECT_TRUE(has(config_refusal(config_with("travel_max_mm = 25.0", "travel_max_mm = -5.0")),
                   kOrigin + ":" + std::to_string(travel_line) +
                       ":17: [axis.x]: travel_max_mm (-5 mm) must exceed travel_min_mm (0 mm)"))
       << "at the value";
-  EXPECT_TRUE(has(refusal(with("home_mm = 25.0", "home_mm = 26.0")), "[axis.z]: home_mm (26 mm) must lie within the travel"));
-  EXPECT_TRUE(has(refusal(with("shm_name = \"/pcnc-desktop-mill\"", "shm_name = \"no-slash\"")), "[process]: shm_name"));
-  EXPECT_TRUE(has(refusal(with("contouring_default = false", "contouring_default = 0")),
+  EXPECT_TRUE(has(config_refusal(config_with("home_mm = 25.0", "home_mm = 26.0")), "[axis.z]: home_mm (26 mm) must lie within the travel"));
+  EXPECT_TRUE(has(config_refusal(config_with("shm_name = \"/pcnc-desktop-mill\"", "shm_name = \"no-slash\"")), "[process]: shm_name"));
+  EXPECT_TRUE(has(config_refusal(config_with("contouring_default = false", "contouring_default = 0")),
                   "contouring_default: expected true or false, not an integer"));
-  EXPECT_TRUE(has(refusal(with("g54 = [12.5, 12.5, 25.0]", "g54 = [12.5, 12.5]")), "[gcode] g54: expected an array of 3"));
-  const std::string syntax = refusal(with("[motion]", "[motion"));
+  EXPECT_TRUE(has(config_refusal(config_with("g54 = [12.5, 12.5, 25.0]", "g54 = [12.5, 12.5]")), "[gcode] g54: expected an array of 3"));
+  const std::string syntax = config_refusal(config_with("[motion]", "[motion"));
   EXPECT_TRUE(has(syntax, kOrigin + ":8:")) << "a TOML syntax error names its line: " << syntax;
-  EXPECT_TRUE(has(refusal(with("[axis.z]", "[axis.w]")), "unknown section [axis.w]"));
-  EXPECT_TRUE(has(refusal(with("name = \"desktop-mill\"", "name = \"../mill\"")), "(top level): name '../mill' must name"));
-  EXPECT_TRUE(refusal(with("rt_spin_us = 0.0", "rt_spin_us = 200.0")).empty());
+  EXPECT_TRUE(has(config_refusal(config_with("[axis.z]", "[axis.w]")), "unknown section [axis.w]"));
+  EXPECT_TRUE(has(config_refusal(config_with("name = \"desktop-mill\"", "name = \"../mill\"")), "(top level): name '../mill' must name"));
+  EXPECT_TRUE(config_refusal(config_with("rt_spin_us = 0.0", "rt_spin_us = 200.0")).empty());
 }
 
 TEST(Config, EveryProblemIsReportedAtOnce) {
-  std::string text = with("cycle_hz = 2000.0", "cyle_hz = 2000.0");
+  std::string text = config_with("cycle_hz = 2000.0", "cyle_hz = 2000.0");
   text.replace(text.find("kp_a_per_mm = 45.0"), 18, "kp_a_per_mm = -45.0");
   try {
     parse_config(text, kOrigin);
@@ -236,10 +237,10 @@ TEST(Config, EveryProblemIsReportedAtOnce) {
 TEST(Config, OnTraceFailureIsStopOrContinueAndStopByDefault) {
   const std::string line = "on_trace_failure = \"stop\"";
   EXPECT_TRUE(load_config(test::default_config()).process.trace_failure_stops);
-  EXPECT_TRUE(parse_config(with(line, ""), "t").process.trace_failure_stops) << "optional: stop";
-  EXPECT_FALSE(parse_config(with(line, "on_trace_failure = \"continue\""), "t").process.trace_failure_stops);
-  EXPECT_THROW(parse_config(with(line, "on_trace_failure = \"pause\""), "t"), ConfigError);
-  EXPECT_THROW(parse_config(with(line, "on_trace_failure = true"), "t"), ConfigError);
+  EXPECT_TRUE(parse_config(config_with(line, ""), "t").process.trace_failure_stops) << "optional: stop";
+  EXPECT_FALSE(parse_config(config_with(line, "on_trace_failure = \"continue\""), "t").process.trace_failure_stops);
+  EXPECT_THROW(parse_config(config_with(line, "on_trace_failure = \"pause\""), "t"), ConfigError);
+  EXPECT_THROW(parse_config(config_with(line, "on_trace_failure = true"), "t"), ConfigError);
 }
 
 // Issue 14: corner_tolerance_mm became path_tolerance_mm; the old name is refused naming the new.
@@ -248,7 +249,7 @@ TEST(Config, TheOldCornerToleranceIsRefusedNamingThePathTolerance) {
   const std::string key = "path_tolerance_mm = 0.005";
   ASSERT_NE(text.find(key), std::string::npos);
   text.replace(text.find(key), key.size(), "corner_tolerance_mm = 0.005");
-  const std::string message = refusal(text);
+  const std::string message = config_refusal(text);
   EXPECT_TRUE(has(message, "corner_tolerance_mm: renamed to path_tolerance_mm")) << message;
   EXPECT_EQ(parse_config(shipped_text(), kOrigin).motion.path_tolerance_mm, 0.005);
 }

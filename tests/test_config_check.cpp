@@ -9,11 +9,12 @@
 #include "config_check.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "text_lines.hpp"
 
 namespace pcnc {
 namespace {
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::has;
 
 TEST(ConfigCheck, PrintsTheDefaultMachineAsUnderstood) {
   std::ostringstream out, err;

@@ -15,27 +15,28 @@
 #include "config_text.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "test_constants.hpp"
+#include "text_lines.hpp"
 
 namespace pcnc {
 namespace {
 
-const std::string kOrigin = "five.toml";
-constexpr double kPi = 3.14159265358979323846;
+const std::string kRotaryOrigin = "five.toml";
 
 std::string five_text() { return test::read_file(test::source_dir() + "/configs/desktop-5axis.toml"); }
 
-std::string refusal(const std::string& text) {
+std::string rotary_refusal(const std::string& text) {
   try {
-    parse_config(text, kOrigin);
+    parse_config(text, kRotaryOrigin);
   } catch (const ConfigError& e) {
     return e.what();
   }
   return "";
 }
 
-bool has(const std::string& message, const std::string& part) { return message.find(part) != std::string::npos; }
+using test::has;
 
-std::string with(std::string text, const std::string& from, const std::string& to) {
+std::string rotary_with(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   if (at == std::string::npos) throw std::runtime_error("'" + from + "' not in the text");
   return text.replace(at, from.size(), to);
@@ -126,7 +127,7 @@ TEST(ConfigRotary, EachRotaryKeyDeletedIsRefusedNamingIt) {
   for (const KeyLine& k : keys) {
     std::vector<std::string> variant = lines;
     variant.erase(variant.begin() + k.line - 1);
-    const std::string message = refusal(test::join_config_lines(variant));
+    const std::string message = rotary_refusal(test::join_config_lines(variant));
     ASSERT_FALSE(message.empty()) << "deleting " << k.section << "." << k.key << " must be refused";
     if (k.key == "continuous" || k.key == "kind") {
       // C without `continuous` needs its travel; without `kind` the machine is trivial and A, C
@@ -136,7 +137,7 @@ TEST(ConfigRotary, EachRotaryKeyDeletedIsRefusedNamingIt) {
           << message;
       continue;
     }
-    EXPECT_TRUE(has(message, kOrigin + ":" + std::to_string(k.section_line) + ":1: [" + k.section +
+    EXPECT_TRUE(has(message, kRotaryOrigin + ":" + std::to_string(k.section_line) + ":1: [" + k.section +
                                  "]: missing key '" + k.key + "'"))
         << message;
   }
@@ -149,8 +150,8 @@ TEST(ConfigRotary, EachRotaryKeyMisspeltIsRefusedWithLineAndColumn) {
     std::vector<std::string> variant = lines;
     const std::string typo = k.key + k.key.substr(k.key.size() - 1);
     variant[static_cast<std::size_t>(k.line - 1)].replace(0, k.key.size(), typo);
-    const std::string message = refusal(test::join_config_lines(variant));
-    EXPECT_TRUE(has(message, kOrigin + ":" + std::to_string(k.line) + ":1: [" + k.section + "]: unknown key '" + typo +
+    const std::string message = rotary_refusal(test::join_config_lines(variant));
+    EXPECT_TRUE(has(message, kRotaryOrigin + ":" + std::to_string(k.line) + ":1: [" + k.section + "]: unknown key '" + typo +
                                  "' (did you mean '" + k.key + "'?)"))
         << message;
   }
@@ -183,10 +184,10 @@ TEST(ConfigRotary, EachRotaryNumberOutOfRangeIsRefusedWithItsUnit) {
     std::string& line = variant[static_cast<std::size_t>(k.line - 1)];
     const std::size_t at = line.find(k.value, k.key.size());
     line.replace(at, k.value.size(), "-1e9");
-    const std::string message = refusal(test::join_config_lines(variant));
+    const std::string message = rotary_refusal(test::join_config_lines(variant));
     const std::string unit = rotary_unit(k.key);
     ASSERT_FALSE(unit.empty()) << k.key;
-    EXPECT_TRUE(has(message, kOrigin + ":" + std::to_string(k.line) + ":" + std::to_string(at + 1) + ": [" + k.section +
+    EXPECT_TRUE(has(message, kRotaryOrigin + ":" + std::to_string(k.line) + ":" + std::to_string(at + 1) + ": [" + k.section +
                                  "] " + k.key + " = -1e+09 " + unit + ": out of range, must be "))
         << message;
     EXPECT_TRUE(message.ends_with(" " + unit)) << message;
@@ -198,38 +199,38 @@ TEST(ConfigRotary, EachRotaryNumberOutOfRangeIsRefusedWithItsUnit) {
 TEST(ConfigRotary, RulesBetweenKeysAndSections) {
   const std::string t = five_text();
   // a continuous axis has no travel
-  EXPECT_TRUE(has(refusal(with(t, "continuous = true\n", "continuous = true\ntravel_min_deg = 0.0\n")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "continuous = true\n", "continuous = true\ntravel_min_deg = 0.0\n")),
                   "[axis.c]: a continuous axis has no travel limits"));
-  EXPECT_TRUE(has(refusal(with(t, "travel_max_deg = 95.0", "travel_max_deg = -100.0")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "travel_max_deg = 95.0", "travel_max_deg = -100.0")),
                   "[axis.a]: travel_max_deg (-100 deg) must exceed travel_min_deg (-95 deg)"));
-  EXPECT_TRUE(has(refusal(with(t, "home_deg = 0.0", "home_deg = 100.0")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "home_deg = 0.0", "home_deg = 100.0")),
                   "[axis.a]: home_deg (100 deg) must lie within the travel, -95 .. 95 deg"));
   // C limited instead of continuous: accepted, and its travel reaches the inverse kinematics
   const MachineConfig limited =
-      parse_config(with(t, "continuous = true\n", "travel_min_deg = -200.0\ntravel_max_deg = 200.0\n"), kOrigin);
+      parse_config(rotary_with(t, "continuous = true\n", "travel_min_deg = -200.0\ntravel_max_deg = 200.0\n"), kRotaryOrigin);
   EXPECT_NEAR(limited.rotary_travel().rotary_max, 200.0 * kPi / 180.0, 1e-12);
   // kinematics and joints must agree
-  EXPECT_TRUE(has(refusal(with(t, "kind = \"xyzac-trt\"", "kind = \"xyzac\"")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "kind = \"xyzac-trt\"", "kind = \"xyzac\"")),
                   "[kinematics]: kind 'xyzac' is not a kinematics pcnc has"));
-  EXPECT_TRUE(has(refusal(with(t, "kind = \"xyzac-trt\"", "kind = \"xyzbc-head-table\"")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "kind = \"xyzac-trt\"", "kind = \"xyzbc-head-table\"")),
                   "missing section [axis.b]: [kinematics] kind = \"xyzbc-head-table\" needs it"));
-  EXPECT_TRUE(has(refusal(with(t, "kind = \"xyzac-trt\"", "kind = \"xyzbc-head-table\"")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "kind = \"xyzac-trt\"", "kind = \"xyzbc-head-table\"")),
                   "[axis.a] is not a joint of [kinematics] kind = \"xyzbc-head-table\""));
-  EXPECT_TRUE(has(refusal(with(t, "[axis.a]", "[axis.b]")), "missing section [axis.a]"));
-  EXPECT_TRUE(has(refusal(with(t, "tilt_pivot_mm = [12.5, 12.5, 0.0]\n", "")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "[axis.a]", "[axis.b]")), "missing section [axis.a]"));
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "tilt_pivot_mm = [12.5, 12.5, 0.0]\n", "")),
                   "[kinematics]: missing key 'tilt_pivot_mm'"));
-  EXPECT_TRUE(has(refusal(with(t, "kind = \"xyzac-trt\"", "kind = \"trivial\"")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "kind = \"xyzac-trt\"", "kind = \"trivial\"")),
                   "[kinematics]: the trivial kinematics has no pivots"));
-  EXPECT_TRUE(has(refusal(with(t, "rotary_pivot_mm = [12.5, 12.5, 0.0]", "rotary_pivot_mm = [12.5, 12.5]")),
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "rotary_pivot_mm = [12.5, 12.5, 0.0]", "rotary_pivot_mm = [12.5, 12.5]")),
                   "[kinematics] rotary_pivot_mm: expected an array of 3 numbers"));
-  EXPECT_TRUE(has(refusal(with(t, "continuous = true", "continuous = 1")), "continuous: expected true or false"));
+  EXPECT_TRUE(has(rotary_refusal(rotary_with(t, "continuous = true", "continuous = 1")), "continuous: expected true or false"));
   // a 3-axis config with a rotary joint and no kinematics
   const std::string mill = test::read_file(test::default_config());
   const std::string a_section = t.substr(t.find("[axis.a]"), t.find("# C: the 60 mm") - t.find("[axis.a]"));
-  EXPECT_TRUE(has(refusal(mill + "\n" + a_section),
+  EXPECT_TRUE(has(rotary_refusal(mill + "\n" + a_section),
                   "[axis.a] is not a joint of the trivial kinematics (no [kinematics] kind)"));
   // A and C alone, with the same text, pass when the kinematics names them
-  EXPECT_EQ(refusal(t), "");
+  EXPECT_EQ(rotary_refusal(t), "");
 }
 
 }  // namespace

@@ -9,11 +9,11 @@
 #include <numbers>
 
 #include "geometry/corner_blend.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 Vec3 unit_dir(double azimuth, double elevation) {
   return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};

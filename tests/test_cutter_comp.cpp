@@ -13,11 +13,11 @@
 
 #include "gcode/tool_table.hpp"
 #include "gcode_listing.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc::test {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 void expect_end(const Move& m, double x, double y, double z = 0.0, double tol = 1e-9) {
   EXPECT_NEAR(m.end[0], x, tol) << "line " << m.line;

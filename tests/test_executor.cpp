@@ -26,7 +26,6 @@ namespace {
 
 using test::ProgramBuilder;
 
-MachineConfig cfg() { return test::default_machine_config(); }
 
 struct Sample {
   Vec3 p;
@@ -166,7 +165,7 @@ TEST(Junction, ContouringAngleAndSpeedCap) {
 }
 
 TEST(Executor, LineIsTrapezoidalAndEndsExactly) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   ProgramBuilder p(c, test::home(c));
   p.line({22.5, 12.5, 25.0}, 50.0).end();
   const auto s = execute(c, p.blocks());
@@ -184,7 +183,7 @@ TEST(Executor, LineIsTrapezoidalAndEndsExactly) {
 }
 
 TEST(Executor, ArcsInEveryPlaneStayOnTheCircle) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   for (int normal = 0; normal < 3; ++normal) {
     for (bool cw : {true, false}) {
       Vec3 center{12.5, 12.5, 12.5};
@@ -216,7 +215,7 @@ TEST(Executor, ArcsInEveryPlaneStayOnTheCircle) {
 // second differences) stays within its limit; below the top speed it ramps faster than the
 // block's constant (its value at the top speed), which is all a fixed split could use.
 TEST(Executor, ArcsRampAndBrakeByTheirSpeedWithinTheAxesLimits) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   const double a_plane = std::min(c.axes[0].max_accel_mm_s2, c.axes[1].max_accel_mm_s2);
   const Vec3 center{12.5, 12.5, 12.5};
   const double r = 1.0;
@@ -268,7 +267,7 @@ TEST(Executor, ArcsRampAndBrakeByTheirSpeedWithinTheAxesLimits) {
 // v²/r loads X alone, so the tangential part gets Y's share until v²/r takes X's; at 45° both
 // axes carry both parts.
 TEST(Executor, CurveTangentialAccelerationIsWhatTheAxesLeaveAtThatSpeed) {
-  const MachineConfig c = cfg();
+  const MachineConfig c = test::default_machine_config();
   const double ax = c.axes[0].max_accel_mm_s2, ay = c.axes[1].max_accel_mm_s2, m = kArcAccelMargin;
   const double r = 2.0;
   auto at = [&](double th) {
@@ -294,7 +293,7 @@ TEST(Executor, CurveTangentialAccelerationIsWhatTheAxesLeaveAtThatSpeed) {
 }
 
 TEST(Executor, HelixAdvancesTheNormalAxisWithTheAngle) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   const Vec3 center{12.5, 12.5, 20.0};
   ProgramBuilder p(c, {15.5, 12.5, 20.0});
   p.arc({15.5, 12.5, 14.0}, center, 2, false, 20.0, 1).end();  // two full turns, down 6 mm
@@ -315,7 +314,7 @@ TEST(Executor, HelixAdvancesTheNormalAxisWithTheAngle) {
 }
 
 TEST(Executor, RadiusMismatchWithinToleranceStillJoinsStartAndEnd) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   ProgramBuilder p(c, {17.5, 12.5, 20.0});
   p.arc({12.5, 17.501, 20.0}, {12.5, 12.5, 20.0}, 2, false, 20.0).end();  // end radius 5.001
   const auto s = execute(c, p.blocks());
@@ -326,7 +325,7 @@ TEST(Executor, RadiusMismatchWithinToleranceStillJoinsStartAndEnd) {
 TEST(Executor, ShortRingCostsSpeedNeverSafety) {
   // Host handing one block at a time: contouring cannot look ahead, so every block ends at
   // rest; with the full ring the same program flows through its vertices.
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   const auto prog = test::polygon_circle_program(c, {12.5, 12.5, 20.0}, 5.0, 72, 25.0, true);
   ExecResult one, full;
   const auto s1 = execute(c, prog, &one, 1);
@@ -340,7 +339,7 @@ TEST(Executor, AlwaysAbleToStopWithinTheRing) {
   // At sampled cycles of an M21 polygon circle at high feed, clone the executor and the ring
   // as they are and let the host vanish: the clone must come to rest within the blocks it
   // already has, never braking harder than the blocks' accelerations allow.
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   const auto prog = test::polygon_circle_program(c, {12.5, 12.5, 12.5}, 5.0, 120, 60.0, true);
   Executor ex(c);
   ex.set_position(prog.front().start);
@@ -435,7 +434,7 @@ TEST(Executor, FlowingJunctionsAreCrossedWithinTheirCapsWhileBraking) {
   // into ever lower caps. The cycle that crosses each junction runs at most at its cap, also
   // with the junction-restricted cycles (at (1 − f)·a) after each crossing and before the next:
   // the stop rule's margin (docs/rt-executor.md, "Speed law").
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   c.motion.path_tolerance_mm = 0.0;
   Zigzag z(c, {1.5, 12.5, 20.0});
   for (int i = 0; i < 60; ++i) {
@@ -478,7 +477,7 @@ TEST(Executor, AJunctionCrossedWellBelowItsCapKeepsMostOfTheAcceleration) {
   // Ramping from rest through a 0.5° junction 0.05 mm ahead (crossed at about 14 mm/s, its cap
   // over 50 mm/s): its velocity step takes about a quarter of f there, so the cycles around it
   // keep nearly all of the acceleration (until 2026-11-27 they kept (1 − f)·a, half).
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   c.motion.path_tolerance_mm = 0.0;
   const double dt = c.cycle_period_s(), f = c.motion.junction_velocity_step_fraction;
   const Vec3 a0{2.0, 12.5, 20.0}, a1 = a0 + Vec3{0.05, 0.0, 0.0};
@@ -508,7 +507,7 @@ TEST(Executor, RandomZigzagsAreCrossedWithinTheirCaps) {
   // of a cycle's travel to many cycles', turns from 0.2° to 9.8° either way, feeds 20-100 mm/s,
   // the ring fed 4, 3, 2 and 1 blocks deep. Every crossing runs at most at its cap, and the speed
   // never changes by more than the axes' acceleration allows in a cycle.
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   c.motion.path_tolerance_mm = 0.0;
   std::mt19937 rng(20261127);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -542,7 +541,7 @@ TEST(Executor, RandomZigzagsAreCrossedWithinTheirCaps) {
 }
 
 TEST(Executor, FeedHoldRampsDownAndResumes) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   ProgramBuilder p(c, {2.0, 12.5, 20.0});
   p.line({23.0, 12.5, 20.0}, 80.0).end();
   Executor ex(c);
@@ -625,7 +624,7 @@ void expect_within_axis_limits(const MachineConfig& c, const std::vector<Vec3>& 
 }
 
 TEST(Executor, ABlockStartingAHairAwayFromTheMachineIsReachedWithinTheAxisLimits) {
-  const MachineConfig c = cfg();
+  const MachineConfig c = test::default_machine_config();
   const double gap = 0.9 * c.motion.block_tolerance_mm;
   const Vec3 start{12.4, 0.96, 12.0};
   NurbsCurve curve = make_nurbs({start, {14.0, 2.0, 12.0}, {16.0, 1.0, 12.5}, {18.0, 3.0, 12.0}}, {1, 1, 1, 1}, 4);

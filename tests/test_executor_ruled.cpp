@@ -18,14 +18,14 @@
 #include "motion/executor.hpp"
 #include "service/resume.hpp"
 #include "test_paths.hpp"
+#include "machine_runner.hpp"
 
 namespace pcnc {
 namespace {
 
-MachineConfig five() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
 
-struct Piece {
-  MachineConfig cfg = five();
+struct ExecutorPiece {
+  MachineConfig cfg = test::five_axis_config();
   Vec3 xyz{10.5, 11.5, 20.0};
   Rot3 rot{0.2, 0.0, 0.6};
   std::vector<Block> blocks;
@@ -34,7 +34,7 @@ struct Piece {
 
 // The blocks of a piece through `pts` and `axes` planned from the pose of `s`, numbered 1, 2, ...
 // and followed by an End block.
-RuledMoveBlocks plan_piece(Piece& s, const std::vector<Vec3>& pts, const std::vector<Vec3>& axes) {
+RuledMoveBlocks plan_piece(ExecutorPiece& s, const std::vector<Vec3>& pts, const std::vector<Vec3>& axes) {
   RuledModelResult m = ruled_model_through(pts, axes, RulingForm::kVector);
   EXPECT_TRUE(m.error.empty()) << m.error;
   Move mv;
@@ -63,8 +63,8 @@ RuledMoveBlocks plan_piece(Piece& s, const std::vector<Vec3>& pts, const std::ve
 }
 
 // A 60-segment piece from the pose the joints give: 9 mm along X with a Y wave, the axis swinging.
-Piece make_setup() {
-  Piece s;
+ExecutorPiece make_setup() {
+  ExecutorPiece s;
   const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
   const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
   std::vector<Vec3> pts, axes;
@@ -82,7 +82,7 @@ Piece make_setup() {
 // n + 1 set points along `length` mm of X from the tip the joints of `s` give, with the tool
 // vector axis(t, that pose, kinematics) at each (t from 0 to 1).
 template <class Axis>
-void straight_piece(const Piece& s, int n, double length, std::vector<Vec3>& pts, std::vector<Vec3>& axes, Axis axis) {
+void straight_piece(const ExecutorPiece& s, int n, double length, std::vector<Vec3>& pts, std::vector<Vec3>& axes, Axis axis) {
   const Kinematics kin = kinematics_with_tool(s.cfg, 0.0);
   const ToolPose p0 = forward(kin, to_joints(s.cfg, s.xyz, s.rot));
   for (int k = 0; k <= n; ++k) {
@@ -96,11 +96,11 @@ struct Runner {
   Executor ex;
   MotionRing ring;
   std::size_t next = 0;
-  explicit Runner(const Piece& s) : ex(s.cfg) {
+  explicit Runner(const ExecutorPiece& s) : ex(s.cfg) {
     ex.set_rotary(s.rot);
     ex.set_position(s.xyz);
   }
-  ExecResult step(const Piece& s, const ExecInput& in) {
+  ExecResult step(const ExecutorPiece& s, const ExecInput& in) {
     while (next < s.blocks.size() && ring.try_push(s.blocks[next])) ++next;
     ExecResult r;
     ex.step(ring, in, r);
@@ -110,7 +110,7 @@ struct Runner {
 };
 
 TEST(ExecutorRuled, SplitPieceFlowsAndEndsOnTheHostsEndJoints) {
-  const Piece s = make_setup();
+  const ExecutorPiece s = make_setup();
   Runner run(s);
   const double dt = s.cfg.cycle_period_s();
   int flows = 0, cycles = 0;
@@ -154,7 +154,7 @@ TEST(ExecutorRuled, SplitPieceFlowsAndEndsOnTheHostsEndJoints) {
 }
 
 TEST(ExecutorRuled, FeedOverrideAndHoldOnThePiece) {
-  const Piece s = make_setup();
+  const ExecutorPiece s = make_setup();
   Runner run(s);
   const double dt = s.cfg.cycle_period_s();
   const double a = s.blocks[0].accel;
@@ -194,7 +194,7 @@ TEST(ExecutorRuled, FeedOverrideAndHoldOnThePiece) {
 // A piece whose tool axis swings fast in its middle at F3000: the host's schedule slows the tip
 // there so that every joint keeps its velocity limit on every cycle, and runs at F elsewhere.
 TEST(ExecutorRuled, ScheduleFromTheJointLimitsKeepsEveryJointWithinItsVelocity) {
-  Piece s;
+  ExecutorPiece s;
   s.feed = 50.0;
   std::vector<Vec3> pts, axes;
   straight_piece(s, 30, 6.0, pts, axes, [](double t, const ToolPose& p0, const Kinematics&) {
@@ -242,7 +242,7 @@ TEST(ExecutorRuled, ScheduleFromTheJointLimitsKeepsEveryJointWithinItsVelocity) 
 // middle, resumed and stopped at the end, no joint exceeds its acceleration limit on any cycle:
 // neither the analytic acceleration feed-forward nor the setpoints' second differences.
 TEST(ExecutorRuled, TangentialAccelerationKeepsEveryJointWithinItsAcceleration) {
-  Piece s;
+  ExecutorPiece s;
   s.feed = 20.0;
   std::vector<Vec3> pts, axes;
   straight_piece(s, 20, 4.0, pts, axes, [&s](double t, const ToolPose&, const Kinematics& kin) {
@@ -299,7 +299,7 @@ TEST(ExecutorRuled, TangentialAccelerationKeepsEveryJointWithinItsAcceleration) 
 // part unchanged to the end without a jump, every tip on the original piece, and lands on the
 // host's end joints. Refused without the rotary joints and off the piece.
 TEST(ExecutorRuled, ResumedInsideTheBlockFromWhereTheMachineStands) {
-  const Piece s = make_setup();
+  const ExecutorPiece s = make_setup();
   Runner run(s);
   ExecInput in;
   while (run.ex.progress() < 3.0 || run.ex.seq() != 1) run.step(s, in);
@@ -323,7 +323,7 @@ TEST(ExecutorRuled, ResumedInsideTheBlockFromWhereTheMachineStands) {
   EXPECT_EQ(r.rotary.start, rot);
   EXPECT_EQ(r.rotary.joint_end, b.rotary.joint_end);
 
-  Piece rest = s;
+  ExecutorPiece rest = s;
   rest.xyz = at;
   rest.rot = rot;
   rest.blocks.assign(s.blocks.begin() + 1, s.blocks.end());
@@ -374,7 +374,7 @@ TEST(ExecutorRuled, ResumedInsideTheBlockFromWhereTheMachineStands) {
 }
 
 TEST(ExecutorRuled, BlockCheckRefusesCorruptRuledBlocks) {
-  const Piece s = make_setup();
+  const ExecutorPiece s = make_setup();
   const Block good = s.blocks[0];
   const Vec3 start = good.start;  // under TCP: the tip the joints give
   auto verdict = [&](const Block& b, const MachineConfig& c) {

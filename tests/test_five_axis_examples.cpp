@@ -23,15 +23,15 @@
 #include "geometry/kinematics.hpp"
 #include "geometry/tcp_path.hpp"
 #include "test_paths.hpp"
+#include "test_constants.hpp"
+#include "machine_runner.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kTipTol = 1.5e-4;   // X Y Z written with 4 decimals
 constexpr double kAxisTol = 3e-5;    // rad; A C written with 4 decimals (1.7e-6 rad), tips over 5 mm
 
-MachineConfig machine() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
 
 Joints home(const MachineConfig& c) {
   return {c.axes[0].home_mm, c.axes[1].home_mm, c.axes[2].home_mm, c.tilt_joint()->home_rad, c.rotary_joint()->home_rad};
@@ -55,7 +55,7 @@ Vec3 axis_of(const MachineConfig& c, const test::ReadPose& p) {
   return forward(c.kinematics, Joints{0.0, 0.0, 0.0, p.a_deg * kDeg, p.c_deg * kDeg}).axis;
 }
 
-double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
+double angle_between_axes(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
 test::ReadProgram read_example(const std::string& file) {
   const std::string text = read_file(test::source_dir() + "/examples/5axis/" + file);
@@ -64,7 +64,7 @@ test::ReadProgram read_example(const std::string& file) {
 }
 
 TEST(FiveAxisExamples, CommittedFilesAreWhatTheGeneratorWrites) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   for (const FiveAxisExample& e : five_axis_examples()) {
     const std::string committed = read_file(test::source_dir() + "/examples/5axis/" + e.file);
     EXPECT_EQ(committed, example_text(e, c)) << e.file << ": regenerate with `pcnc examples-5axis --config "
@@ -75,7 +75,7 @@ TEST(FiveAxisExamples, CommittedFilesAreWhatTheGeneratorWrites) {
 // Every move from the home pose on, under TCP: joints inside the travel at every sample, and the
 // move's end joints are the written A and C.
 void check_joints(const std::string& file, int* pole_crossings = nullptr, int* turns_off_tcp = nullptr) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   const test::ReadProgram prog = read_example(file);
   ASSERT_TRUE(prog.errors.empty()) << file << ": " << prog.errors.front();
   EXPECT_EQ(prog.warnings, 0u) << file << ": the lexer warns (LinuxCNC refuses what it warns about)";
@@ -102,7 +102,7 @@ void check_joints(const std::string& file, int* pole_crossings = nullptr, int* t
     }
     const ToolPose to{p.tip + g54, axis_of(c, p)};
     const double length = norm(to.tip - from.tip);
-    const double turn = angle_between(from.axis, to.axis);
+    const double turn = angle_between_axes(from.axis, to.axis);
     if (length < 1e-12 && turn < 1e-12) continue;
     const std::vector<JointSample> s =
         sample_tcp_move(c.kinematics, TcpMove{from, to}, length > 1e-12 ? length : turn, q, 64, travel);
@@ -165,7 +165,7 @@ TEST(FiveAxisExamples, CommittedFilesPassTheFrontEnd) {
 }
 
 TEST(FiveAxisExamples, BladeFlankPassesLieOnTheOffsetRuledSurface) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   const Blade b;
   const test::ReadProgram prog = read_example("impeller-blade.ngc");
   const double offsets[2] = {b.half_thickness + b.tool_radius + b.stock, b.half_thickness + b.tool_radius};
@@ -180,17 +180,17 @@ TEST(FiveAxisExamples, BladeFlankPassesLieOnTheOffsetRuledSurface) {
     double best = 1e9, best_u = 0.0;
     for (int i = 0; i <= 4000; ++i) {
       const double u = i / 4000.0;
-      const double d = angle_between(axis, blade_ruling(b, u));
+      const double d = angle_between_axes(axis, blade_ruling(b, u));
       if (d < best) { best = d; best_u = u; }
     }
     // refine by ternary search around the best grid point
     double lo = std::max(0.0, best_u - 1.0 / 4000), hi = std::min(1.0, best_u + 1.0 / 4000);
     for (int k = 0; k < 100; ++k) {
       const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
-      if (angle_between(axis, blade_ruling(b, m1)) < angle_between(axis, blade_ruling(b, m2))) hi = m2; else lo = m1;
+      if (angle_between_axes(axis, blade_ruling(b, m1)) < angle_between_axes(axis, blade_ruling(b, m2))) hi = m2; else lo = m1;
     }
     const double u = 0.5 * (lo + hi);
-    EXPECT_LT(angle_between(axis, blade_ruling(b, u)), kAxisTol) << p.line;
+    EXPECT_LT(angle_between_axes(axis, blade_ruling(b, u)), kAxisTol) << p.line;
     double nearest = 1e9;
     int face = -1;
     for (int side = 0; side < 2; ++side)
@@ -207,7 +207,7 @@ TEST(FiveAxisExamples, BladeFlankPassesLieOnTheOffsetRuledSurface) {
 }
 
 TEST(FiveAxisExamples, HelixPointsLieOnTheTiltedHelixInInverseTime) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   const TiltedHelix h;
   Vec3 w, e1, e2;
   helix_frame(h, w, e1, e2);
@@ -235,7 +235,7 @@ TEST(FiveAxisExamples, HelixPointsLieOnTheTiltedHelixInInverseTime) {
     EXPECT_NEAR(along, h.pitch * theta / (2.0 * std::numbers::pi), kTipTol) << p.line;
     const double lean = h.lean_deg * kDeg;
     const Vec3 want = std::cos(lean) * w + std::sin(lean) * normalized(radial);
-    EXPECT_LT(angle_between(axis_of(c, p), want), kAxisTol) << p.line;
+    EXPECT_LT(angle_between_axes(axis_of(c, p), want), kAxisTol) << p.line;
     // G93: F is the inverse of the move's minutes at 300 mm/min of the tip
     ASSERT_TRUE(p.has_f) << p.line;
     const double length = norm(p.tip - last_tip);
@@ -250,7 +250,7 @@ TEST(FiveAxisExamples, HelixPointsLieOnTheTiltedHelixInInverseTime) {
 }
 
 TEST(FiveAxisExamples, DomePassesAreNormalToTheDomeAndCrossThePole) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   const Dome d;
   const test::ReadProgram prog = read_example("singularity.ngc");
   std::vector<std::vector<test::ReadPose>> passes(1);
@@ -261,7 +261,7 @@ TEST(FiveAxisExamples, DomePassesAreNormalToTheDomeAndCrossThePole) {
     }
     const Vec3 r = p.tip - d.centre;
     EXPECT_NEAR(norm(r), d.radius, kTipTol) << p.line;
-    EXPECT_LT(angle_between(axis_of(c, p), r), kAxisTol) << p.line;
+    EXPECT_LT(angle_between_axes(axis_of(c, p), r), kAxisTol) << p.line;
     EXPECT_TRUE(p.has_f && p.f == 200.0) << p.line;
     passes.back().push_back(p);
   }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gcode_test_util.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
@@ -16,7 +17,6 @@ namespace {
 using test::run_program;
 using test::wide_config;
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 // The ends of the feed moves: a canned cycle's hole bottoms.
 std::vector<Vec3> feed_ends(const test::RunResult& r) {

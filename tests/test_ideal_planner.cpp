@@ -16,7 +16,7 @@
 namespace pcnc {
 namespace {
 
-MachineConfig mill() {
+MachineConfig ideal_mill() {
   MachineConfig c;
   for (std::size_t i = 0; i < 3; ++i) {
     c.axes[i].max_velocity_mm_s = 100.0;
@@ -56,7 +56,7 @@ double trapezoid(double l, double v0, double v1, double v, double a) {
 }
 
 TEST(IdealPlanner, OneLineIsATrapezoidAtItsAxisLimits) {
-  const MachineConfig c = mill();
+  const MachineConfig c = ideal_mill();
   // along X at F50: 2000 mm/s²
   IdealPlan p = ideal_planner_time({line({0, 0, 0}, {10, 0, 0}, 50.0)}, c);
   EXPECT_NEAR(p.time_s, trapezoid(10.0, 50.0, 2000.0), 1e-12);
@@ -71,7 +71,7 @@ TEST(IdealPlanner, OneLineIsATrapezoidAtItsAxisLimits) {
 }
 
 TEST(IdealPlanner, AStraightRunInPiecesTakesWhatOneMoveTakes) {
-  const MachineConfig c = mill();
+  const MachineConfig c = ideal_mill();
   std::vector<Move> run;
   for (int i = 0; i < 10; ++i) run.push_back(line({1.0 * i, 0, 0}, {1.0 * (i + 1), 0, 0}, 80.0));
   const IdealPlan p = ideal_planner_time(run, c);
@@ -82,7 +82,7 @@ TEST(IdealPlanner, AStraightRunInPiecesTakesWhatOneMoveTakes) {
 }
 
 TEST(IdealPlanner, ACornerIsPassedAtTheJunctionDeviationSpeed) {
-  const MachineConfig c = mill();
+  const MachineConfig c = ideal_mill();
   IdealPlannerOptions o;
   o.tolerance_mm = 0.01;
   Move a = line({0, 0, 0}, {20, 0, 0}, 60.0);
@@ -101,7 +101,7 @@ TEST(IdealPlanner, ACornerIsPassedAtTheJunctionDeviationSpeed) {
 }
 
 TEST(IdealPlanner, AReversalAndAnExactStopStop) {
-  const MachineConfig c = mill();
+  const MachineConfig c = ideal_mill();
   const IdealPlan back =
       ideal_planner_time({line({0, 0, 0}, {5, 0, 0}, 50.0), line({5, 0, 0}, {0, 0, 0}, 50.0)}, c);
   EXPECT_NEAR(back.time_s, 2.0 * trapezoid(5.0, 50.0, 2000.0), 1e-9);
@@ -121,7 +121,7 @@ TEST(IdealPlanner, AReversalAndAnExactStopStop) {
 }
 
 TEST(IdealPlanner, AnArcIsOneSegmentAtItsCentripetalLimit) {
-  const MachineConfig c = mill();
+  const MachineConfig c = ideal_mill();
   // a half circle of radius 2 in XY at F100: sqrt(2000·2) = 63.2 mm/s, entered along the tangent
   // of a 10 mm line (no junction limit), ramps at 2000 mm/s² on both
   Move arc = xy_arc({10, 2, 0}, 2.0, -std::numbers::pi / 2.0, std::numbers::pi, 100.0);
@@ -160,7 +160,7 @@ TEST(IdealPlanner, AnArcIsOneSegmentAtItsCentripetalLimit) {
 }
 
 TEST(IdealPlanner, AnArcIsCutIntoChordsWithinTheChordTolerance) {
-  const MachineConfig c = mill();
+  const MachineConfig c = ideal_mill();
   const Move arc = xy_arc({0, 0, 0}, 2.0, 0.0, std::numbers::pi / 2.0, 20.0);
   IdealPlannerOptions o;
   o.chord_tolerance_mm = 0.002;
@@ -177,7 +177,7 @@ TEST(IdealPlanner, AnArcIsCutIntoChordsWithinTheChordTolerance) {
 TEST(IdealPlanner, ItsSpeedOnAFinelyDrawnCircleAsksMoreThanTheAxesGive) {
   // a circle of radius 1 mm in 3600 G1 moves at F100: each junction turns 0.1°, so the ideal
   // passes it at F, where v²/r = 10,000 mm/s², five times the XY axes' 2000
-  const MachineConfig c = mill();
+  const MachineConfig c = ideal_mill();
   std::vector<Move> circle;
   const int n = 3600;
   for (int i = 0; i < n; ++i) {

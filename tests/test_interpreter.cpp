@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "gcode_test_util.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
@@ -13,9 +14,8 @@ namespace {
 using test::run_program;
 using test::wide_config;
 
-constexpr double kPi = 3.14159265358979323846;
 
-void expect_point(const Vec3& p, double x, double y, double z, double tol = 1e-9) {
+void expect_position(const Vec3& p, double x, double y, double z, double tol = 1e-9) {
   EXPECT_NEAR(p[0], x, tol);
   EXPECT_NEAR(p[1], y, tol);
   EXPECT_NEAR(p[2], z, tol);
@@ -29,10 +29,10 @@ TEST(Interpreter, RapidAndFeedLinesInMillimetres) {
   const auto m = r.motion();
   ASSERT_EQ(m.size(), 2u);
   EXPECT_EQ(m[0].kind, BlockKind::kRapid);
-  expect_point(m[0].end, 1, 2, 3);
+  expect_position(m[0].end, 1, 2, 3);
   EXPECT_EQ(m[1].kind, BlockKind::kLine);
-  expect_point(m[1].start, 1, 2, 3);
-  expect_point(m[1].end, 4, 2, 3);
+  expect_position(m[1].start, 1, 2, 3);
+  expect_position(m[1].end, 4, 2, 3);
   EXPECT_NEAR(m[1].speed, 10.0, 1e-12);  // F600 mm/min
   EXPECT_EQ(m[1].line, 3u);
   EXPECT_EQ(r.blocks.back().kind, BlockKind::kEnd);
@@ -43,7 +43,7 @@ TEST(Interpreter, InchUnitsConvertPositionsAndFeed) {
   ASSERT_TRUE(r.check.ok);
   const auto m = r.motion();
   ASSERT_EQ(m.size(), 1u);
-  expect_point(m[0].end, 25.4, -50.8, 0);
+  expect_position(m[0].end, 25.4, -50.8, 0);
   EXPECT_NEAR(m[0].speed, 10 * 25.4 / 60.0, 1e-12);
 }
 
@@ -52,9 +52,9 @@ TEST(Interpreter, IncrementalMoves) {
   ASSERT_TRUE(r.check.ok);
   const auto m = r.motion();
   ASSERT_EQ(m.size(), 3u);
-  expect_point(m[0].end, 1, 0, 0);
-  expect_point(m[1].end, 2, 1, 0);
-  expect_point(m[2].end, 0, 1, 0);
+  expect_position(m[0].end, 1, 0, 0);
+  expect_position(m[1].end, 2, 1, 0);
+  expect_position(m[2].end, 0, 1, 0);
 }
 
 TEST(Interpreter, SpacesInsideWordsAndLowerCase) {
@@ -74,9 +74,9 @@ TEST(Interpreter, WorkOffsetsFromConfig) {
   ASSERT_TRUE(r.check.ok);
   const auto m = r.motion();
   ASSERT_EQ(m.size(), 2u);
-  expect_point(m[0].end, 11, 21, 31);
-  expect_point(m[1].end, -4, 1, 2);
-  expect_point(r.check.transform.offset, 10, 20, 30);
+  expect_position(m[0].end, 11, 21, 31);
+  expect_position(m[1].end, -4, 1, 2);
+  expect_position(r.check.transform.offset, 10, 20, 30);
 }
 
 TEST(Interpreter, OffsetOptionReplacesG54) {
@@ -85,7 +85,7 @@ TEST(Interpreter, OffsetOptionReplacesG54) {
   o.offset = Vec3{1, 2, 3};
   const auto r = run_program("G0 X1 Y1 Z1\nM2\n", c, o);
   ASSERT_TRUE(r.check.ok);
-  expect_point(r.motion().at(0).end, 2, 3, 4);
+  expect_position(r.motion().at(0).end, 2, 3, 4);
 }
 
 TEST(Interpreter, ArcCenterFormQuarterCircle) {
@@ -95,7 +95,7 @@ TEST(Interpreter, ArcCenterFormQuarterCircle) {
   ASSERT_EQ(m.size(), 2u);
   const Block& a = m[1];
   EXPECT_EQ(a.kind, BlockKind::kArc);
-  expect_point(a.arc.center, 0, 0, 0);
+  expect_position(a.arc.center, 0, 0, 0);
   EXPECT_NEAR(a.arc.radius, 10, 1e-12);
   EXPECT_NEAR(a.arc.start_angle, 0, 1e-12);
   EXPECT_NEAR(a.arc.sweep, kPi / 2, 1e-12);
@@ -143,15 +143,15 @@ TEST(Interpreter, ArcTurnsAddFullCirclesBeforeTheArc) {
     const double sweep = k < 3 ? 2 * kPi : kPi / 2;
     EXPECT_NEAR(a.arc.sweep, sweep, 1e-12) << k;
     EXPECT_NEAR(a.arc.radius, 10, 1e-12);
-    expect_point(a.arc.center, 0, 0, z, 1e-12);
-    expect_point(a.start, 10, 0, z, 1e-12);
+    expect_position(a.arc.center, 0, 0, z, 1e-12);
+    expect_position(a.start, 10, 0, z, 1e-12);
     const double z_end = z - 3.0 * sweep / total;
     EXPECT_NEAR(a.arc.helix, z_end - z, 1e-12) << k;
-    if (k < 3) expect_point(a.end, 10, 0, z_end, 1e-12);
+    if (k < 3) expect_position(a.end, 10, 0, z_end, 1e-12);
     z = z_end;
   }
-  expect_point(m[3].end, 0, 10, -3, 1e-12);
-  expect_point(m[4].start, 0, 10, -3, 1e-12);
+  expect_position(m[3].end, 0, 10, -3, 1e-12);
+  expect_position(m[4].start, 0, 10, -3, 1e-12);
 
   // R form and clockwise: a half circle with P2 is one and a half turns
   const auto h = run_program("G0 X0 Y1\nG2 X10 Y1 R5 P2 F600\nM2\n", wide_config());
@@ -159,7 +159,7 @@ TEST(Interpreter, ArcTurnsAddFullCirclesBeforeTheArc) {
   ASSERT_EQ(h.motion().size(), 3u);
   EXPECT_NEAR(h.motion()[1].arc.sweep, -2 * kPi, 1e-12);
   EXPECT_NEAR(h.motion()[2].arc.sweep, -kPi, 1e-12);
-  expect_point(h.motion()[1].arc.center, 5, 1, 0, 1e-9);
+  expect_position(h.motion()[1].arc.center, 5, 1, 0, 1e-9);
   // P1 is the arc alone
   EXPECT_EQ(run_program("G0 X10 Y0\nG3 X0 Y10 I-10 P1 F600\nM2\n", wide_config()).motion().size(), 2u);
 }
@@ -194,7 +194,7 @@ TEST(Interpreter, RFormPicksTheShortOrLongArc) {
   // G2 from (0,0) to (10,0) with R5: half circle, center (5,0).
   auto r = run_program("G0 X0 Y0\nG2 X10 Y0 R5 F600\nM2\n", wide_config());
   ASSERT_TRUE(r.check.ok);
-  expect_point(r.motion().at(0).arc.center, 5, 0, 0, 1e-9);
+  expect_position(r.motion().at(0).arc.center, 5, 0, 0, 1e-9);
   // G3 R10 from (0,0) to (10,0): minor arc, center left of the chord (+Y side for travel +X).
   r = run_program("G0 X0 Y0\nG3 X10 Y0 R10 F600\nM2\n", wide_config());
   ASSERT_TRUE(r.check.ok);
@@ -289,10 +289,10 @@ TEST(Interpreter, G28RetractIdiomGoesHome) {
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
   const auto m = r.motion();
   ASSERT_EQ(m.size(), 5u);
-  expect_point(m[1].end, 5, 5, 30);
-  expect_point(m[2].end, 1, 2, 30);
-  expect_point(m[3].end, 7, 2, 30);  // the intermediate point in G90
-  expect_point(m[4].end, 1, 2, 30);
+  expect_position(m[1].end, 5, 5, 30);
+  expect_position(m[2].end, 1, 2, 30);
+  expect_position(m[3].end, 7, 2, 30);  // the intermediate point in G90
+  expect_position(m[4].end, 1, 2, 30);
 }
 
 TEST(Interpreter, G53MovesInMachineCoordinates) {
@@ -300,7 +300,7 @@ TEST(Interpreter, G53MovesInMachineCoordinates) {
   c.gcode.work_offsets[0] = {10, 10, 10};
   const auto r = run_program("G0 X0 Y0 Z0\nG53 G0 Z-5\nM2\n", c);
   ASSERT_TRUE(r.check.ok);
-  expect_point(r.motion().at(1).end, 10, 10, -5);
+  expect_position(r.motion().at(1).end, 10, 10, -5);
 }
 
 TEST(Interpreter, FeedAboveMaximumIsClampedWithWarning) {
@@ -476,7 +476,7 @@ TEST(Interpreter, ExpressionsAreEvaluated) {
   const auto r = run_program("G0 X[1 + 2 * 3] Y[SQRT[16] - ABS[-1]] Z[2 ** 3 / 4]\nG0 X[ATAN[1]/[1]] Y[COS[60]]\nM2\n",
                              wide_config());
   ASSERT_TRUE(r.check.ok);
-  expect_point(r.motion().at(0).end, 7, 3, 2, 1e-12);
+  expect_position(r.motion().at(0).end, 7, 3, 2, 1e-12);
   EXPECT_NEAR(r.motion().at(1).end[0], 45, 1e-12);
   EXPECT_NEAR(r.motion().at(1).end[1], 0.5, 1e-12);
 }

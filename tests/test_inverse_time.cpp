@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "gcode_test_util.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
@@ -16,7 +17,6 @@ namespace {
 using test::run_program;
 using test::wide_config;
 
-constexpr double kPi = 3.14159265358979323846;
 
 // The time a block takes at its planned speed (its programmed time when no cap applies).
 double block_time(const Block& b) { return b.length / b.speed; }

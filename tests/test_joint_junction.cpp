@@ -16,13 +16,13 @@
 #include "motion/junction.hpp"
 #include "motion/path.hpp"
 #include "test_paths.hpp"
+#include "machine_runner.hpp"
 
 namespace pcnc {
 namespace {
 
 using test::run_program;
 
-MachineConfig five() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
 
 JointRate joint_accels(const MachineConfig& cfg) {
   JointRate a{};
@@ -59,7 +59,7 @@ double junction(const PreparedBlock& p, const PreparedBlock& q, const MachineCon
 }
 
 TEST(JointJunction, AStraightContinuationPassesAtSpeed) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   // TCP off: two lines turning C at the same rate per mm along the same direction
   {
     const auto b = prepared("G21 G90 M21\nG1 X0 Y0 Z-5 F600\nG1 X1 C10 F600\nG1 X2 C20\nM2\n", cfg);
@@ -83,7 +83,7 @@ TEST(JointJunction, AStraightContinuationPassesAtSpeed) {
 }
 
 TEST(JointJunction, AJointThatReversesPracticallyStops) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   // TCP on, the tip straight on along X, A 10 -> 20 -> 10: A's rate reverses at the junction
   const auto b = prepared("G21 G90 M21\nG1 X0 Y0 Z-5 F600\nG1 A10 F3600\nM428\nG1 X1 A20 F600\nG1 X2 A10\nM2\n", cfg);
   ASSERT_EQ(b.size(), 4u);

@@ -10,14 +10,13 @@
 #include <random>
 
 #include "geometry/kinematics.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
-void expect_near(const Vec3& a, const Vec3& b, double tol) {
+void expect_near_vec(const Vec3& a, const Vec3& b, double tol) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], b[i], tol) << "component " << i;
 }
 
@@ -28,7 +27,7 @@ Kinematics head_table(const Vec3& b_pivot, const Vec3& c_pivot, double tool) {
   return {KinematicsKind::kHeadTable, b_pivot, c_pivot, tool};
 }
 
-Vec3 random_unit(std::mt19937_64& rng) {
+Vec3 random_unit_vec(std::mt19937_64& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
   for (;;) {
     const Vec3 v{n(rng), n(rng), n(rng)};
@@ -46,8 +45,8 @@ Kinematics random_machine(KinematicsKind kind, std::mt19937_64& rng) {
 TEST(Kinematics, ZeroJointsAreTheMachineFrameWithTheToolAlongZ) {
   for (const Kinematics& k : {table_table({1, 2, 30}, {4, -5, 0}, 25), head_table({0, 0, 90}, {3, 3, 0}, 25)}) {
     const ToolPose p = forward(k, {10, 20, 30, 0, 0});
-    expect_near(p.tip, {10, 20, 5}, 1e-12);  // gauge point minus the tool length
-    expect_near(p.axis, {0, 0, 1}, 1e-12);
+    expect_near_vec(p.tip, {10, 20, 5}, 1e-12);  // gauge point minus the tool length
+    expect_near_vec(p.axis, {0, 0, 1}, 1e-12);
   }
 }
 
@@ -59,8 +58,8 @@ TEST(Kinematics, TableTableKnownPoseByHand) {
   // +90° about X is −ey, then +90° about Z is +ex.
   const Kinematics k = table_table({0, 0, 50}, {5, 3, 0}, 20);
   const ToolPose p = forward(k, {5, 3, 90, 90 * kDeg, 90 * kDeg});
-  expect_near(p.tip, {28, 3, 53}, 1e-12);
-  expect_near(p.axis, {1, 0, 0}, 1e-12);
+  expect_near_vec(p.tip, {28, 3, 53}, 1e-12);
+  expect_near_vec(p.axis, {1, 0, 0}, 1e-12);
   // and the inverse finds the same joints from near them
   const Joints q = inverse(k, p, {0, 0, 0, 80 * kDeg, 80 * kDeg});
   const Joints want{5, 3, 90, 90 * kDeg, 90 * kDeg};
@@ -73,11 +72,11 @@ TEST(Kinematics, HeadTableKnownPoseByHand) {
   // tip (−130, 0, 100), axis +ex. C = +90° then turns both +90° about Z (C axis on Z).
   const Kinematics k = head_table({0, 0, 100}, {0, 0, 0}, 30);
   ToolPose p = forward(k, {0, 0, 0, 90 * kDeg, 0});
-  expect_near(p.tip, {-130, 0, 100}, 1e-12);
-  expect_near(p.axis, {1, 0, 0}, 1e-12);
+  expect_near_vec(p.tip, {-130, 0, 100}, 1e-12);
+  expect_near_vec(p.axis, {1, 0, 0}, 1e-12);
   p = forward(k, {0, 0, 0, 90 * kDeg, 90 * kDeg});
-  expect_near(p.tip, {0, -130, 100}, 1e-12);
-  expect_near(p.axis, {0, 1, 0}, 1e-12);
+  expect_near_vec(p.tip, {0, -130, 100}, 1e-12);
+  expect_near_vec(p.axis, {0, 1, 0}, 1e-12);
 }
 
 TEST(Kinematics, RotaryDirectionsAsDocumented) {
@@ -89,8 +88,8 @@ TEST(Kinematics, RotaryDirectionsAsDocumented) {
   std::uniform_real_distribution<double> ang(-kPi, kPi);
   for (int i = 0; i < 100; ++i) {
     const double t = ang(rng), c = ang(rng);
-    expect_near(forward(ac, {0, 0, 0, t, c}).axis, {std::sin(t) * std::sin(c), -std::sin(t) * std::cos(c), std::cos(t)}, 1e-14);
-    expect_near(forward(bc, {0, 0, 0, t, c}).axis, {std::sin(t) * std::cos(c), std::sin(t) * std::sin(c), std::cos(t)}, 1e-14);
+    expect_near_vec(forward(ac, {0, 0, 0, t, c}).axis, {std::sin(t) * std::sin(c), -std::sin(t) * std::cos(c), std::cos(t)}, 1e-14);
+    expect_near_vec(forward(bc, {0, 0, 0, t, c}).axis, {std::sin(t) * std::cos(c), std::sin(t) * std::sin(c), std::cos(t)}, 1e-14);
   }
   // A small +A tilts the tool towards −Y of the part; a point of the part on +X seen at +C
   // lies (relative to the tool) turned the other way: the table carries it to −C.
@@ -98,7 +97,7 @@ TEST(Kinematics, RotaryDirectionsAsDocumented) {
   EXPECT_GT(forward(bc, {0, 0, 0, 0.1, 0}).axis[0], 0.0);
   // With the tool at machine (10, 0, 0) and C = +90°, the tip sits at the part's (0, 10, 0):
   // the table has turned −90° (clockwise seen from above) to bring that point under the tool.
-  expect_near(forward(ac, {10, 0, 0, 0, 90 * kDeg}).tip, {0, 10, 0}, 1e-12);
+  expect_near_vec(forward(ac, {10, 0, 0, 0, 90 * kDeg}).tip, {0, 10, 0}, 1e-12);
 }
 
 TEST(Kinematics, TheSeedsSphericalRulingIsTheHeadTablesBC) {
@@ -111,16 +110,16 @@ TEST(Kinematics, TheSeedsSphericalRulingIsTheHeadTablesBC) {
   for (int i = 0; i < 100; ++i) {
     const double th = theta(rng), ph = phi(rng);
     const Vec3 r{std::cos(th) * std::sin(ph), std::sin(th) * std::sin(ph), std::cos(ph)};
-    expect_near(forward(bc, {9, 8, 7, ph, th}).axis, r, 1e-14);
-    expect_near(forward(ac, {9, 8, 7, ph, th + kPi / 2}).axis, r, 1e-14);
+    expect_near_vec(forward(bc, {9, 8, 7, ph, th}).axis, r, 1e-14);
+    expect_near_vec(forward(ac, {9, 8, 7, ph, th + kPi / 2}).axis, r, 1e-14);
   }
 }
 
 TEST(Kinematics, TrivialMachineIsXyzMinusToolLength) {
   const Kinematics k{KinematicsKind::kTrivial, {1, 2, 3}, {4, 5, 6}, 12};
   const ToolPose p = forward(k, {1, 2, 3, 0.5, 0.7});
-  expect_near(p.tip, {1, 2, -9}, 0);
-  expect_near(p.axis, {0, 0, 1}, 0);
+  expect_near_vec(p.tip, {1, 2, -9}, 0);
+  expect_near_vec(p.axis, {0, 0, 1}, 0);
   const Joints q = inverse(k, {{4, 5, 6}, {1, 0, 0}}, {0, 0, 0, 1, 1});
   EXPECT_EQ(q, (Joints{4, 5, 18, 0, 0}));
 }
@@ -133,7 +132,7 @@ void forward_of_inverse_is_identity(KinematicsKind kind, std::uint64_t seed) {
   double worst_tip = 0, worst_axis = 0;
   for (int i = 0; i < 5000; ++i) {
     const Kinematics k = random_machine(kind, rng);
-    const ToolPose pose{{pos(rng), pos(rng), pos(rng)}, random_unit(rng)};
+    const ToolPose pose{{pos(rng), pos(rng), pos(rng)}, random_unit_vec(rng)};
     const Joints prev{pos(rng), pos(rng), pos(rng), ang(rng) / 4, ang(rng)};
     const Joints q = inverse(k, pose, prev);
     const ToolPose back = forward(k, q);

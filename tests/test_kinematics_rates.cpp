@@ -12,13 +12,13 @@
 #include "geometry/axis_slerp.hpp"
 #include "geometry/kinematics.hpp"
 #include "geometry/kinematics_rates.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
-Kinematics random_machine(KinematicsKind kind, std::mt19937_64& rng) {
+Kinematics random_rates_machine(KinematicsKind kind, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> p(-80.0, 80.0), len(0.0, 60.0);
   return {kind, {p(rng), p(rng), p(rng)}, {p(rng), p(rng), p(rng)}, len(rng)};
 }
@@ -42,7 +42,7 @@ TEST(KinematicsRates, JacobianMatchesCentralDifferences) {
   const double h = 1e-6;
   for (KinematicsKind kind : kKinds)
     for (int i = 0; i < 500; ++i) {
-      const Kinematics k = random_machine(kind, rng);
+      const Kinematics k = random_rates_machine(kind, rng);
       const Joints q = random_joints(rng, 0.0);
       const Jacobian j = jacobian(k, q);
       for (int col = 0; col < kJoints; ++col) {
@@ -61,7 +61,7 @@ TEST(KinematicsRates, JointRatesInvertTheJacobian) {
   std::uniform_real_distribution<double> r(-2.0, 2.0);
   for (KinematicsKind kind : {KinematicsKind::kTableTable, KinematicsKind::kHeadTable})
     for (int i = 0; i < 2000; ++i) {
-      const Kinematics k = random_machine(kind, rng);
+      const Kinematics k = random_rates_machine(kind, rng);
       const Joints q = random_joints(rng, 0.05);
       const Joints dq{r(rng), r(rng), r(rng), r(rng), r(rng)};
       const Jacobian j = jacobian(k, q);
@@ -97,7 +97,7 @@ TEST(KinematicsRates, RatesAndAccelsMatchDifferencesOfTheInverse) {
   int tested = 0;
   for (KinematicsKind kind : kKinds)
     for (int i = 0; i < 400; ++i) {
-      const Kinematics k = random_machine(kind, rng);
+      const Kinematics k = random_rates_machine(kind, rng);
       const Vec3 a = normalized(Vec3{n(rng), n(rng), 1.5 + std::abs(n(rng))});
       const Vec3 b = normalized(Vec3{n(rng), n(rng), 1.5 + std::abs(n(rng))});
       const MovingPose m{{pos(rng), pos(rng), pos(rng)}, {pos(rng), pos(rng), pos(rng)}, make_axis_slerp(a, b)};

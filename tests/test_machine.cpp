@@ -45,7 +45,6 @@ using test::MachineRunner;
 using test::run_to_line;
 using test::ProgramBuilder;
 
-MachineConfig cfg() { return test::default_machine_config(); }
 
 bool moving_cycle(const test::CycleRecord& a, const test::CycleRecord& b) { return norm(b.cmd - a.cmd) > 0.0; }
 
@@ -67,7 +66,7 @@ int rests_between_motion(const std::vector<test::CycleRecord>& r, std::size_t fr
 }
 
 TEST(Machine, SquareWithM22StopsAtEveryCorner) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(test::square_program(c, {5, 5, 20}, 10.0, 25.0, false));
   run.run_until_done();
@@ -86,7 +85,7 @@ TEST(Machine, SquareWithM22StopsAtEveryCorner) {
 }
 
 TEST(Machine, SquareWithM21StillStopsAt90Degrees) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(test::square_program(c, {5, 5, 20}, 10.0, 25.0, true));
   run.run_until_done();
@@ -102,7 +101,7 @@ TEST(Machine, SquareWithM21StillStopsAt90Degrees) {
 // instead of stopping: no rest cycle at the three corners, the speed there is above zero and
 // no higher than the rule allows, the square ends where it began, and it takes less time.
 TEST(Machine, SquareWithACornerTolerancePassesTheCornersAtTheDeviationSpeed) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   c.motion.path_tolerance_mm = 0.01;
   MachineRunner run(c);
   run.start(test::square_program(c, {5, 5, 20}, 10.0, 25.0, true));
@@ -132,13 +131,13 @@ TEST(Machine, SquareWithACornerTolerancePassesTheCornersAtTheDeviationSpeed) {
   EXPECT_NEAR(s.commanded[1], 5.0, 1e-12);
   // the corners cost the servo a little contour accuracy, far less than the tolerance
   EXPECT_LT(s.max_contour_error, 0.01);
-  MachineRunner stops(cfg());
-  stops.start(test::square_program(cfg(), {5, 5, 20}, 10.0, 25.0, true));
+  MachineRunner stops(test::default_machine_config());
+  stops.start(test::square_program(test::default_machine_config(), {5, 5, 20}, 10.0, 25.0, true));
   EXPECT_LT(cycles, stops.run_until_done());
 }
 
 double run_polygon(bool contouring, Status* out, std::string* limits, int* rests) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(test::polygon_circle_program(c, {12.5, 12.5, 20}, 5.0, 360, 25.0, contouring));
   run.run_until_done();
@@ -184,7 +183,7 @@ TEST(Machine, PolygonCircleWithM21NeverStopsAndTakesUnderHalfTheM22Time) {
 }
 
 TEST(Machine, ArcCircleAtF500ContourErrorUnder5Micrometres) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   const Vec3 center{12.5, 12.5, 20.0};
   ProgramBuilder p(c, test::home(c));
@@ -222,7 +221,7 @@ TEST(Machine, ArcCircleAtF500ContourErrorUnder5Micrometres) {
 }
 
 TEST(Machine, HelixAndArcsInAllPlanesRespectLimits) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   ProgramBuilder p(c, test::home(c));
   p.contouring(true);
@@ -241,7 +240,7 @@ TEST(Machine, HelixAndArcsInAllPlanesRespectLimits) {
 }
 
 TEST(Machine, FeedOverrideChangesSpeedWithoutVelocityStep) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(long_line(c, 10.0));
   run_to_line(run, 2, 10.0);
@@ -271,7 +270,7 @@ TEST(Machine, FeedOverrideChangesSpeedWithoutVelocityStep) {
 }
 
 TEST(Machine, FeedHoldDeceleratesOnThePathAndResumesThere) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   ProgramBuilder p(c, test::home(c));
   p.rapid({2.0, 2.0, 20.0});
@@ -305,7 +304,7 @@ TEST(Machine, FeedHoldDeceleratesOnThePathAndResumesThere) {
 }
 
 TEST(Machine, M00PausesAtTheBlockEndUntilResume) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   ProgramBuilder p(c, test::home(c));
   p.line({15.0, 12.5, 25.0}, 20.0).pause().line({15.0, 15.0, 25.0}, 20.0).end();
@@ -323,7 +322,7 @@ TEST(Machine, M00PausesAtTheBlockEndUntilResume) {
 }
 
 TEST(Machine, DwellWaitsItsTime) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   ProgramBuilder p(c, test::home(c));
   p.dwell(0.25).end();
@@ -334,7 +333,7 @@ TEST(Machine, DwellWaitsItsTime) {
 }
 
 TEST(Machine, StopDeceleratesFlushesAndDiscardsTheRest) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(long_line(c, 40.0));
   run_to_line(run, 2, 40.0);
@@ -352,7 +351,7 @@ TEST(Machine, StopDeceleratesFlushesAndDiscardsTheRest) {
 // pcnc-rt asked to exit (SIGTERM): the program stops along the path as on a stop, and nothing
 // starts moving again, neither a new program, a resume, queued blocks nor a jog.
 TEST(Machine, UnderrunsAreCountedWhenTheHostIsSlow) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.set_feeding(false);
   run.start(test::polygon_circle_program(c, {12.5, 12.5, 20}, 5.0, 36, 25.0, false));
@@ -379,7 +378,7 @@ TEST(Machine, UnderrunsAreCountedWhenTheHostIsSlow) {
 }
 
 TEST(Machine, FollowingErrorFaultOnABlockedAxis) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(long_line(c, 40.0));
   run_to_line(run, 2, 40.0);
@@ -407,7 +406,7 @@ TEST(Machine, FollowingErrorFaultOnABlockedAxis) {
 }
 
 TEST(Machine, FollowingErrorFaultWithAnImpossibleAcceleration) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   c.axes[0].max_accel_mm_s2 = 200000.0;  // the X motor can give about 24 m/s² (48 N on 2 kg)
   c.axes[0].max_velocity_mm_s = 1000.0;
   MachineRunner run(c);
@@ -436,7 +435,7 @@ TEST(Machine, CorruptBlocksAreRefusedWithAReasonAndNeverMovedOn) {
       {"seq gap", [](Block& b) { b.seq += 1; }, FaultCode::kSequence},
       {"seq repeat", [](Block& b) { b.seq -= 1; }, FaultCode::kSequence},
   };
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   for (const BadCase& bc : cases) {
     for (std::size_t which : {0u, 1u}) {  // the first block, or one further down the ring
       if (which == 0 && std::string(bc.name) == "seq repeat") continue;
@@ -465,7 +464,7 @@ TEST(Machine, CorruptBlocksAreRefusedWithAReasonAndNeverMovedOn) {
 }
 
 TEST(Machine, PointsWithinToleranceOfTheTravelEndAreHeldOnIt) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   {
     MachineRunner run(c);
     ProgramBuilder p(c, test::home(c));
@@ -487,7 +486,7 @@ TEST(Machine, PointsWithinToleranceOfTheTravelEndAreHeldOnIt) {
 }
 
 TEST(Machine, ArcRadiusMismatchIsRefused) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   ProgramBuilder p(c, test::home(c));
   p.arc({12.5, 17.5, 25.0}, {12.5, 15.0, 25.0}, 2, false, 10.0).end();
@@ -499,7 +498,7 @@ TEST(Machine, ArcRadiusMismatchIsRefused) {
 }
 
 TEST(Machine, ArcBulgingOutsideTheTravelIsRefused) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   ProgramBuilder p(c, test::home(c));
   p.rapid({24.0, 12.5, 25.0});
@@ -512,7 +511,7 @@ TEST(Machine, ArcBulgingOutsideTheTravelIsRefused) {
 }
 
 TEST(Machine, EstopCutsAmplifiersAndZHoldsOnItsBrake) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(long_line(c, 40.0));
   run_to_line(run, 2, 40.0);
@@ -560,7 +559,7 @@ std::vector<Block> nurbs_quarter_program(const MachineConfig& c, double feed, bo
 }
 
 TEST(Machine, NurbsBlocksRunOnTheExactCurve) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   const auto prog = nurbs_quarter_program(c, 20.0, true);
   ASSERT_GE(prog.size(), 4u);
@@ -588,7 +587,7 @@ TEST(Machine, NurbsBlocksRunOnTheExactCurve) {
 }
 
 TEST(Machine, CorruptNurbsBlockIsRefused) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   auto prog = nurbs_quarter_program(c, 20.0, false);
   prog[1].nurbs.knots[3] = -1.0;  // decreasing knots
   MachineRunner run(c);
@@ -600,7 +599,7 @@ TEST(Machine, CorruptNurbsBlockIsRefused) {
 }
 
 TEST(Machine, CycleNeverAllocates) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   Machine m(c);
   MotionRing ring;
   ProgramBuilder p(c, test::home(c));
@@ -650,7 +649,7 @@ TEST(Machine, CycleNeverAllocates) {
 }
 
 TEST(Machine, NurbsCycleNeverAllocates) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   const std::vector<Block> blocks = nurbs_quarter_program(c, 30.0, true);
   Machine m(c);
   MotionRing ring;

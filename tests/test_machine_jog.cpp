@@ -18,10 +18,9 @@ using test::MachineRunner;
 using test::ProgramBuilder;
 using test::run_to_line;
 
-MachineConfig cfg() { return test::default_machine_config(); }
 
 TEST(Machine, JogIncrementContinuousDeadmanAndSoftLimits) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.send(CommandKind::kJogIncrement, 1.5, 0, 10.0);
   EXPECT_EQ(run.status().state, MachineState::kJogging);
@@ -96,7 +95,7 @@ std::size_t departure(const std::vector<test::CycleRecord>& r, std::size_t from,
 }
 
 TEST(Machine, JogWhilePausedReturnsToThePausePointAndResumesTheSamePath) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   // Reference: pause and resume without jogging.
   MachineRunner ref(c);
   const Vec3 pp_ref = pause_at_rest(ref);
@@ -170,7 +169,7 @@ TEST(Machine, JogWhilePausedReturnsToThePausePointAndResumesTheSamePath) {
 }
 
 TEST(Machine, JogWhilePausedAtM00ResumesWithTheNextBlock) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   ProgramBuilder p(c, test::home(c));
   p.line({15.0, 12.5, 25.0}, 20.0).pause().line({15.0, 15.0, 25.0}, 20.0).end();
@@ -192,7 +191,7 @@ TEST(Machine, JogWhilePausedAtM00ResumesWithTheNextBlock) {
 }
 
 TEST(Machine, JogIsRefusedWhileRunningAndWhileTheHoldDecelerates) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(paused_jog_program(c));
   run_to_line(run, 2, 40.0);
@@ -218,7 +217,7 @@ TEST(Machine, JogIsRefusedWhileRunningAndWhileTheHoldDecelerates) {
 }
 
 TEST(Machine, StopAfterAPausedJogIdlesWhereTheMachineStands) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   {
     MachineRunner run(c);
     const Vec3 pp = pause_at_rest(run);

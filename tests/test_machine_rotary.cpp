@@ -13,10 +13,9 @@
 namespace pcnc {
 namespace {
 
-MachineConfig five() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
 
 TEST(MachineRotary, JointsStartAtHomeAndHoldStill) {
-  test::MachineRunner run(five());
+  test::MachineRunner run(test::five_axis_config());
   run.run(2000);
   const Status& s = run.status();
   EXPECT_EQ(s.rotary_mask, 0b101);
@@ -28,7 +27,7 @@ TEST(MachineRotary, JointsStartAtHomeAndHoldStill) {
 }
 
 TEST(MachineRotary, JogMovesAJointAndStopsAtItsTravel) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   test::MachineRunner run(cfg);
   const double deg = kRadPerDeg;
   run.send(CommandKind::kJogIncrement, 10.0 * deg, 3, 60.0 * deg);  // A +10 deg at 60 deg/s
@@ -61,7 +60,7 @@ TEST(MachineRotary, JogMovesAJointAndStopsAtItsTravel) {
 }
 
 TEST(MachineRotary, AJointTheMachineLacksIsNotJogged) {
-  test::MachineRunner run(five());
+  test::MachineRunner run(test::five_axis_config());
   run.send(CommandKind::kJogIncrement, 0.1, 4, 1.0);  // B on an XYZAC machine
   run.run(10);
   EXPECT_EQ(run.status().state, MachineState::kIdle);

@@ -18,10 +18,9 @@ using test::long_line;
 using test::MachineRunner;
 using test::run_to_line;
 
-MachineConfig cfg() { return test::default_machine_config(); }
 
 TEST(Machine, ShutdownStopsAlongThePathAndStartsNothing) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(long_line(c, 40.0));
   run_to_line(run, 2, 40.0);
@@ -44,7 +43,7 @@ TEST(Machine, ShutdownStopsAlongThePathAndStartsNothing) {
 }
 
 TEST(Machine, ShutdownWhileJoggingDeceleratesTheJog) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.send(CommandKind::kJogContinuous, 1.0, 0, 20.0);
   run.run(200);
@@ -59,7 +58,7 @@ TEST(Machine, ShutdownWhileJoggingDeceleratesTheJog) {
 // A restarted rt takes up where its predecessor last measured the axes: at rest there, IDLE,
 // the setpoint on the measured position (no jump when the servo comes on), jogs start there.
 TEST(Machine, TakeUpPositionStandsAtRestThere) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   const Vec3 at{3.2501, 20.0, 21.5};
   ASSERT_TRUE(run.machine().take_up_position(at));
@@ -87,7 +86,7 @@ TEST(Machine, TakeUpPositionStandsAtRestThere) {
 // The trace failed with process.on_trace_failure = "stop": the program stops along the path,
 // the status says so, and no program starts afterwards (jogs still do).
 TEST(Machine, TraceFailureWithStopStopsTheProgramAndStartsNoOther) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(long_line(c, 40.0));
   run_to_line(run, 2, 40.0);
@@ -107,7 +106,7 @@ TEST(Machine, TraceFailureWithStopStopsTheProgramAndStartsNoOther) {
 }
 
 TEST(Machine, TraceFailureWithContinueOnlyTellsTheStatus) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(long_line(c, 40.0));
   run_to_line(run, 2, 40.0);
@@ -118,7 +117,7 @@ TEST(Machine, TraceFailureWithContinueOnlyTellsTheStatus) {
 }
 
 TEST(Machine, HostLostStopsAlongThePathThenHolds) {
-  MachineConfig c = cfg();
+  MachineConfig c = test::default_machine_config();
   MachineRunner run(c);
   run.start(long_line(c, 40.0));
   run_to_line(run, 2, 40.0);

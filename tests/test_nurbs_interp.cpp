@@ -21,7 +21,7 @@
 namespace pcnc {
 namespace {
 
-const double kS = test::kCircleWeight;
+const double kInterpScale = test::kCircleWeight;
 using test::full_circle;
 using test::quarter_circle;
 constexpr double kT = 0.0005;
@@ -38,7 +38,7 @@ NurbsLimits limits(double feed, double delta = 0.001) {
 }
 
 // nurbs-xy.ngc (order 3) scaled up to a few mm, and trident-xy.ngc (order 4, doubled start).
-NurbsCurve nurbs_xy() {
+NurbsCurve nurbs_xy_curve() {
   return make_nurbs({{0, 0, 0}, {0, 5, 0}, {10, 10, 0}, {10, 0, 0}, {0, 0, 0}}, {1, 1, 1, 1, 2}, 3);
 }
 NurbsCurve trident_xy() {
@@ -47,7 +47,7 @@ NurbsCurve trident_xy() {
       std::vector<double>(8, 1.0), 4);
 }
 
-struct Cycle {
+struct NurbsCycle {
   double u0, u1;  // parameter before and after
   Vec3 p;         // setpoint
   double chord;   // |p - previous p|
@@ -55,7 +55,7 @@ struct Cycle {
 };
 
 struct BlockRun {
-  std::vector<Cycle> cycles;
+  std::vector<NurbsCycle> cycles;
   bool finished = false;
 };
 
@@ -84,7 +84,7 @@ Block single_block(const NurbsCurve& c, const NurbsLimits& lim) {
 }
 
 TEST(NurbsStep, TaylorStepWithCorrectionHitsTheStepLength) {
-  for (const NurbsCurve& c : {nurbs_xy(), trident_xy(), full_circle(3, {0, 0, 0})}) {
+  for (const NurbsCurve& c : {nurbs_xy_curve(), trident_xy(), full_circle(3, {0, 0, 0})}) {
     const NurbsView v = c.view();
     for (double ds : {1e-4, 0.005, 0.05}) {
       double u = v.u_min();
@@ -114,7 +114,7 @@ TEST(NurbsStep, TaylorStepWithCorrectionHitsTheStepLength) {
 // to the last span midway) and across repeated knots (the circle's).
 TEST(NurbsStep, TheSpanHintGivesTheSameStepBitForBit) {
   auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
-  for (const NurbsCurve& c : {nurbs_xy(), trident_xy(), full_circle(3, {0, 0, 0})}) {
+  for (const NurbsCurve& c : {nurbs_xy_curve(), trident_xy(), full_circle(3, {0, 0, 0})}) {
     const NurbsView v = c.view();
     for (double ds : {1e-4, 0.005, 0.05}) {
       int hint = 0, stepped = 0;
@@ -145,7 +145,7 @@ TEST(NurbsInterp, CircleSetpointsOnTheTrueCircle) {
     const BlockRun run = run_block(b);
     ASSERT_TRUE(run.finished);
     ASSERT_GT(run.cycles.size(), 100u);
-    for (const Cycle& c : run.cycles) {
+    for (const NurbsCycle& c : run.cycles) {
       EXPECT_NEAR(norm(c.p - center), r, 1e-5) << "u=" << c.u1;  // 0.01 µm
       EXPECT_NEAR(c.p[2], 20.0, 1e-12);
     }
@@ -177,7 +177,7 @@ TEST(NurbsInterp, LineSetpointsOnTheLine) {
   ASSERT_TRUE(run.finished);
   const Vec3 dir = normalized(e - a);
   double along = 0.0;
-  for (const Cycle& cy : run.cycles) {
+  for (const NurbsCycle& cy : run.cycles) {
     const Vec3 off = cy.p - a;
     EXPECT_NEAR(norm(off - dot(off, dir) * dir), 0.0, 1e-11);
     EXPECT_GE(dot(off, dir), along - 1e-12);  // never backwards
@@ -203,7 +203,7 @@ double chord_error(const NurbsView& v, double u0, double u1) {
 
 TEST(NurbsInterp, FreeFormChordErrorWithinDeltaAndSpeedFollowsSchedule) {
   for (const double delta : {0.001, 0.0001}) {
-    for (const NurbsCurve& curve : {nurbs_xy(), trident_xy()}) {
+    for (const NurbsCurve& curve : {nurbs_xy_curve(), trident_xy()}) {
       const double feed = 80.0;
       const NurbsLimits lim = limits(feed, delta);
       const Block b = single_block(curve, lim);
@@ -214,7 +214,7 @@ TEST(NurbsInterp, FreeFormChordErrorWithinDeltaAndSpeedFollowsSchedule) {
       int compared = 0;
       int hint = 0;
       for (std::size_t k = 0; k < run.cycles.size(); ++k) {
-        const Cycle& c = run.cycles[k];
+        const NurbsCycle& c = run.cycles[k];
         worst = std::max(worst, chord_error(v, c.u0, c.u1));
         // Path speed measured from the setpoints against the block's schedule, where no limit
         // binds: the follower is neither accelerating nor capped (constant speed over three
@@ -237,7 +237,7 @@ TEST(NurbsInterp, FreeFormChordErrorWithinDeltaAndSpeedFollowsSchedule) {
 }
 
 TEST(NurbsInterp, AccelerationLimitAndEndSpeeds) {
-  const Block b = single_block(nurbs_xy(), limits(60.0));
+  const Block b = single_block(nurbs_xy_curve(), limits(60.0));
   // From rest to rest: speed steps never exceed a T (plus rounding), a the schedule's tangential
   // acceleration where the cycle starts (the smaller of the two points around it), never less
   // than the block's accel (the smallest of the schedule's).
@@ -245,7 +245,7 @@ TEST(NurbsInterp, AccelerationLimitAndEndSpeeds) {
   double prev_v = 0.0;
   int hint = 0;
   bool above_block_accel = false;
-  for (const Cycle& c : run.cycles) {
+  for (const NurbsCycle& c : run.cycles) {
     const double a = std::max(b.accel, block_schedule_accel(b.nurbs, c.u0, hint));
     EXPECT_LE(std::fabs(c.v - prev_v), a * kT * (1 + 1e-9));
     if (std::fabs(c.v - prev_v) > b.accel * kT * 1.01) above_block_accel = true;
@@ -269,7 +269,7 @@ TEST(NurbsInterp, FeedHoldStopsOnThePathAndResumes) {
   double prev_v = 0.0;
   int hint = 0;
   for (std::size_t k = 0; k < run.cycles.size(); ++k) {
-    const Cycle& c = run.cycles[k];
+    const NurbsCycle& c = run.cycles[k];
     EXPECT_NEAR(norm(c.p - center), 6.0, 1e-5);
     EXPECT_LE(std::fabs(c.v - prev_v), std::max(b.accel, block_schedule_accel(b.nurbs, c.u0, hint)) * kT * (1 + 1e-9));  // hold decelerates
     prev_v = c.v;

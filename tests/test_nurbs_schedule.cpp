@@ -21,17 +21,17 @@
 namespace pcnc {
 namespace {
 
-const double kS = test::kCircleWeight;
+const double kScheduleScale = test::kCircleWeight;
 using test::full_circle;
 using test::quarter_circle;
 
-NurbsCurve line(Vec3 a, Vec3 b) {
+NurbsCurve straight_curve(Vec3 a, Vec3 b) {
   std::vector<Vec3> pts;
   for (double s : {0.0, 0.2, 0.5, 0.8, 1.0}) pts.push_back(a + s * (b - a));
   return make_nurbs(pts, {1, 1, 1, 1, 1}, 4);
 }
 
-NurbsCurve random_curve(int count, int degree, unsigned seed) {
+NurbsCurve random_scheduled_curve(int count, int degree, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> coord(0.0, 20.0);
   std::uniform_real_distribution<double> weight(0.5, 2.0);
@@ -102,7 +102,7 @@ TEST(NurbsSchedule, LimitsComeFromTheConfig) {
 TEST(NurbsSchedule, StraightLineAcceleratesOnceAndDeceleratesOnce) {
   const NurbsLimits lim = desktop_limits(40.0);
   // along X, no curvature: the whole 2000 mm/s² but the 5 % sampling margin is tangential
-  const NurbsCurve c = line({1, 1, 0}, {21, 1, 0});
+  const NurbsCurve c = straight_curve({1, 1, 0}, {21, 1, 0});
   const FeedSchedule fs = plan_nurbs_feed(c, lim);
   EXPECT_NEAR(fs.length_mm, 20.0, 1e-9);
   const double a = kTangentialAccelMargin * 2000.0;  // 1900
@@ -132,9 +132,9 @@ TEST(NurbsSchedule, StraightLineAcceleratesOnceAndDeceleratesOnce) {
 
 TEST(NurbsSchedule, AxisVelocityProjectedOnTheTangent) {
   NurbsLimits lim = desktop_limits(500.0);
-  const FeedSchedule along_x = plan_nurbs_feed(line({0, 0, 0}, {20, 0, 0}), lim, 500.0, 500.0);
-  const FeedSchedule diagonal = plan_nurbs_feed(line({0, 0, 0}, {20, 20, 0}), lim, 500.0, 500.0);
-  const FeedSchedule steep = plan_nurbs_feed(line({0, 0, 0}, {10, 0, 10}), lim, 500.0, 500.0);
+  const FeedSchedule along_x = plan_nurbs_feed(straight_curve({0, 0, 0}, {20, 0, 0}), lim, 500.0, 500.0);
+  const FeedSchedule diagonal = plan_nurbs_feed(straight_curve({0, 0, 0}, {20, 20, 0}), lim, 500.0, 500.0);
+  const FeedSchedule steep = plan_nurbs_feed(straight_curve({0, 0, 0}, {10, 0, 10}), lim, 500.0, 500.0);
   const std::size_t mid = along_x.samples.size() / 2;
   EXPECT_NEAR(along_x.samples[mid].speed, 100.0, 1e-9);
   EXPECT_NEAR(diagonal.samples[mid].speed, 100.0 * std::sqrt(2.0), 1e-9);
@@ -182,7 +182,7 @@ TEST(NurbsSchedule, ChordErrorLimitMatchesItsFormula) {
 
 TEST(NurbsSchedule, BlockScheduleNeverExceedsTheDenseOne) {
   const NurbsLimits lim = desktop_limits(80.0);
-  const NurbsCurve c = random_curve(30, 3, 3);
+  const NurbsCurve c = random_scheduled_curve(30, 3, 3);
   const FeedSchedule fs = plan_nurbs_feed(c, lim);
   ASSERT_GT(fs.samples.size(), static_cast<std::size_t>(kMaxFeedSchedule));
   Block b;
@@ -220,7 +220,7 @@ TEST(NurbsSchedule, BlockScheduleNeverExceedsTheDenseOne) {
 
 TEST(NurbsSchedule, MoveBecomesChainedBlocks) {
   const NurbsLimits lim = desktop_limits(60.0);
-  const NurbsCurve c = random_curve(100, 3, 9);
+  const NurbsCurve c = random_scheduled_curve(100, 3, 9);
   const NurbsBlocks nb = plan_nurbs_blocks(c, lim);
   ASSERT_EQ(nb.error, "");
   ASSERT_GE(nb.blocks.size(), 4u);
@@ -319,7 +319,7 @@ TEST(NurbsSchedule, TangentialAccelerationIsWhatTheAxesLeaveAtEachSample) {
 // sample, keeps each axis within its velocity and acceleration limits.
 TEST(NurbsSchedule, BlockSchedulesKeepEveryAxisWithinItsLimits) {
   const NurbsLimits lim = desktop_limits(80.0);
-  const NurbsCurve c = random_curve(60, 3, 5);
+  const NurbsCurve c = random_scheduled_curve(60, 3, 5);
   const NurbsBlocks nb = plan_nurbs_blocks(c, lim);
   ASSERT_EQ(nb.error, "");
   double worst = 0.0;

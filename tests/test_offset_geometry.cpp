@@ -8,11 +8,11 @@
 
 #include "geometry/intersect.hpp"
 #include "geometry/offset.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 TEST(OffsetGeometry, TurnAngleFollowsTheDirection) {
   EXPECT_NEAR(turn_angle({1, 0}, {0, 0}, 1, {0, 1}), kPi / 2, 1e-15);

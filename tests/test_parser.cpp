@@ -70,16 +70,16 @@ TEST(Parser, G80NextToAMotionCodeKeepsTheMotion) {
   EXPECT_EQ(r.line.g80_col, 1);
 }
 
-struct ErrorCase {
+struct ParseErrorCase {
   const char* text;
   const char* fragment;
   int column;
 };
 
-class ParseErrors : public ::testing::TestWithParam<ErrorCase> {};
+class ParseErrors : public ::testing::TestWithParam<ParseErrorCase> {};
 
 TEST_P(ParseErrors, Reported) {
-  const ErrorCase& c = GetParam();
+  const ParseErrorCase& c = GetParam();
   const Parsed r = parse(c.text);
   EXPECT_FALSE(r.ok);
   ASSERT_EQ(r.diags.size(), 1u) << c.text;
@@ -90,13 +90,13 @@ TEST_P(ParseErrors, Reported) {
 
 INSTANTIATE_TEST_SUITE_P(
     Table, ParseErrors,
-    ::testing::Values(ErrorCase{"G0 G1", "same modal group", 4}, ErrorCase{"G17 G18", "same modal group", 5},
-                      ErrorCase{"G54 G55", "same modal group", 5}, ErrorCase{"G4 G53", "same modal group", 4},
-                      ErrorCase{"M0 M30", "same modal group", 4}, ErrorCase{"M21 M22", "same modal group", 5},
-                      ErrorCase{"X1 Y2 X3", "second X word", 7}, ErrorCase{"F1 F2", "second F word", 4},
-                      ErrorCase{"G2.5", "unknown G code", 1}, ErrorCase{"G-1", "bad G number", 1},
-                      ErrorCase{"G1.05", "bad G number", 1}, ErrorCase{"M3.5", "bad M number", 1},
-                      ErrorCase{"M999", "unknown M code", 1}, ErrorCase{"G99999", "bad G number", 1}));
+    ::testing::Values(ParseErrorCase{"G0 G1", "same modal group", 4}, ParseErrorCase{"G17 G18", "same modal group", 5},
+                      ParseErrorCase{"G54 G55", "same modal group", 5}, ParseErrorCase{"G4 G53", "same modal group", 4},
+                      ParseErrorCase{"M0 M30", "same modal group", 4}, ParseErrorCase{"M21 M22", "same modal group", 5},
+                      ParseErrorCase{"X1 Y2 X3", "second X word", 7}, ParseErrorCase{"F1 F2", "second F word", 4},
+                      ParseErrorCase{"G2.5", "unknown G code", 1}, ParseErrorCase{"G-1", "bad G number", 1},
+                      ParseErrorCase{"G1.05", "bad G number", 1}, ParseErrorCase{"M3.5", "bad M number", 1},
+                      ParseErrorCase{"M999", "unknown M code", 1}, ParseErrorCase{"G99999", "bad G number", 1}));
 
 }  // namespace
 }  // namespace pcnc

@@ -24,11 +24,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string gcode_dir() { return test::shared_dir() + "/gcode"; }
+std::string corpus_gcode_dir() { return test::shared_dir() + "/gcode"; }
 
 std::vector<std::string> corpus_programs() {
   std::vector<std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(gcode_dir())) {
+  for (const auto& e : fs::recursive_directory_iterator(corpus_gcode_dir())) {
     const std::string ext = e.path().extension().string();
     if (e.is_regular_file() && (ext == ".ngc" || ext == ".nc" || ext == ".gcode" || ext == ".tap"))
       out.push_back(e.path().string());
@@ -47,7 +47,7 @@ std::string meaningful_bytes(const Block& b) {
   return s;
 }
 
-std::string first_error(const CheckResult& r) {
+std::string first_check_error(const CheckResult& r) {
   for (const Diagnostic& d : r.diagnostics) {
     if (d.severity == Diagnostic::Severity::kError) return format_diagnostic(d);
   }
@@ -115,7 +115,7 @@ TEST(Pipeline, CheckAndStreamAgreeWithTheSegmentMergeOn) {
     JobOptions o;
     o.contouring = true;
     o.fit = true;
-    if (same_blocks_from_check_and_stream(gcode_dir() + "/" + rel, c, o)) ++accepted;
+    if (same_blocks_from_check_and_stream(corpus_gcode_dir() + "/" + rel, c, o)) ++accepted;
   }
   EXPECT_GE(accepted, 3);
 }
@@ -133,8 +133,8 @@ JobOptions bad_block_z_options() {
 
 TEST(Pipeline, BadBlockZPassesTheRtsBlockCheckNow) {
   const MachineConfig c = load_config(test::source_dir() + "/configs/bench-peers.toml");
-  const CheckResult r = check_program(gcode_dir() + "/regress/bad-block-z.ngc", c, bad_block_z_options());
-  EXPECT_TRUE(r.ok) << first_error(r);
+  const CheckResult r = check_program(corpus_gcode_dir() + "/regress/bad-block-z.ngc", c, bad_block_z_options());
+  EXPECT_TRUE(r.ok) << first_check_error(r);
   EXPECT_GE(r.blocks, 8u);
 }
 
@@ -153,7 +153,7 @@ const char* kRefusedArc = "G20 G17 G90\nG0 X0 Y0 Z0\nG1 X0.1 F10\nG2 X0.30453 Y0
 TEST(Pipeline, CheckRefusesTheBlockTheRtRefuses) {
   const CheckResult r = check_program_text(kRefusedArc, "refused.ngc", wide_arc_config(), JobOptions{});
   EXPECT_FALSE(r.ok);
-  const std::string e = first_error(r);
+  const std::string e = first_check_error(r);
   EXPECT_NE(e.find("refused.ngc:4:"), std::string::npos) << e;
   EXPECT_NE(e.find("refused by the rt's block check"), std::string::npos) << e;
   EXPECT_NE(e.find("not on the radius"), std::string::npos) << e;
@@ -168,7 +168,7 @@ TEST(Pipeline, ARefusedBlockDoesNotHideLaterErrors) {
   EXPECT_FALSE(r.ok);
   int errors = 0;
   for (const Diagnostic& d : r.diagnostics) errors += d.severity == Diagnostic::Severity::kError;
-  EXPECT_GE(errors, 2) << first_error(r);
+  EXPECT_GE(errors, 2) << first_check_error(r);
 }
 
 // Every program of ../shared/gcode under every shipped config (configs/*.toml), contouring
@@ -200,7 +200,7 @@ TEST(Pipeline, EveryCorpusProgramUnderEveryShippedConfigPassesTheBlockCheck) {
         ++accepted;
         continue;
       }
-      const std::string e = first_error(r);
+      const std::string e = first_check_error(r);
       EXPECT_EQ(e.find("refused by the rt's block check"), std::string::npos) << cfg << ": " << e;
     }
     if (test::sanitizer_build()) {
@@ -228,10 +228,10 @@ TEST(Pipeline, SmoothingMakesFewBlocksOfARunAndPassesArcsUnchanged) {
   MachineConfig c = test::wide_config();
   set_operator_tolerance(c.motion, 0.005);
   const CheckResult r = check_program_text(prog.str(), "s.ngc", c, JobOptions{}, [&](const Block& b) { smoothed.push_back(b); });
-  ASSERT_TRUE(r.ok) << first_error(r);
+  ASSERT_TRUE(r.ok) << first_check_error(r);
   set_operator_tolerance(c.motion, 0.0);
   const CheckResult r0 = check_program_text(prog.str(), "s.ngc", c, JobOptions{}, [&](const Block& b) { plain.push_back(b); });
-  ASSERT_TRUE(r0.ok) << first_error(r0);
+  ASSERT_TRUE(r0.ok) << first_check_error(r0);
   EXPECT_EQ(r.smoothed_moves, 300u);
   EXPECT_EQ(r.smoothed_curves, 2u);
   EXPECT_EQ(r.smoothed_blocks, r.blocks - 3) << "the rapid, the arc and the End are not smoothed";
@@ -263,7 +263,7 @@ TEST(Pipeline, G64PSetsThePathTolerance) {
   const auto blocks_of = [](const std::string& text, const MachineConfig& c) {
     std::vector<Block> v;
     const CheckResult r = check_program_text(text, "t.ngc", c, JobOptions{}, [&](const Block& b) { v.push_back(b); });
-    EXPECT_TRUE(r.ok) << first_error(r);
+    EXPECT_TRUE(r.ok) << first_check_error(r);
     return v;
   };
   MachineConfig c = test::wide_config();
@@ -282,7 +282,7 @@ TEST(Pipeline, G64PSetsThePathTolerance) {
 TEST(Pipeline, CheckRecordsTheLinesOfRapidBlocks) {
   const std::string text = "G21 G90\nG0 X1\nG0 Y1\nG1 X2 F600\nG0 Z-1\nG1 X3\nM30\n";
   const CheckResult r = check_program_text(text, "r.ngc", test::wide_config(), JobOptions{});
-  ASSERT_TRUE(r.ok) << first_error(r);
+  ASSERT_TRUE(r.ok) << first_check_error(r);
   ASSERT_EQ(r.rapid_lines.size(), 2u);
   EXPECT_EQ(r.rapid_lines[0].first, 2u);
   EXPECT_EQ(r.rapid_lines[0].last, 3u);
@@ -301,23 +301,23 @@ TEST(Pipeline, AByteOrderMarkBeforeTheFirstLineIsNotPartOfTheProgram) {
   std::vector<std::string> plain, marked, from_file;
   const CheckResult a = check_program_text(text, "p.ngc", c, JobOptions{}, [&](const Block& b) { plain.push_back(format_block(b)); });
   const CheckResult b = check_program_text(bom + text, "p.ngc", c, JobOptions{}, [&](const Block& x) { marked.push_back(format_block(x)); });
-  ASSERT_TRUE(a.ok) << first_error(a);
-  ASSERT_TRUE(b.ok) << first_error(b);
+  ASSERT_TRUE(a.ok) << first_check_error(a);
+  ASSERT_TRUE(b.ok) << first_check_error(b);
   EXPECT_EQ(marked, plain);
   const std::string path = (fs::temp_directory_path() / ("pcnc-bom-" + std::to_string(::getpid()) + ".ngc")).string();
   std::ofstream(path, std::ios::binary) << bom << text;
   const CheckResult f = check_program(path, c, JobOptions{}, [&](const Block& x) { from_file.push_back(format_block(x)); });
   fs::remove(path);
-  ASSERT_TRUE(f.ok) << first_error(f);
+  ASSERT_TRUE(f.ok) << first_check_error(f);
   EXPECT_EQ(from_file, plain);
 
   const CheckResult bad = check_program_text(bom + "G21 Q1\nM30\n", "p.ngc", c, JobOptions{});
   ASSERT_FALSE(bad.ok);
   EXPECT_EQ(bad.diagnostics[0].line, 1);
-  EXPECT_EQ(bad.diagnostics[0].column, 5) << first_error(bad);
+  EXPECT_EQ(bad.diagnostics[0].column, 5) << first_check_error(bad);
   const CheckResult inside = check_program_text("G21\n" + bom + "G0 X1\nM30\n", "p.ngc", c, JobOptions{});
   ASSERT_FALSE(inside.ok);
-  EXPECT_EQ(inside.diagnostics[0].line, 2) << first_error(inside);
+  EXPECT_EQ(inside.diagnostics[0].line, 2) << first_check_error(inside);
 }
 
 // ---- progress of a long check (gcode/check_progress.hpp) ----
@@ -343,14 +343,14 @@ TEST(CheckProgress, ReportsBothPassesInOrderAndChangesNothing) {
   JobOptions plain;
   plain.fit = true;
   const CheckResult quiet = check_program_text(text, "p.ngc", c, plain);
-  ASSERT_TRUE(quiet.ok) << first_error(quiet);
+  ASSERT_TRUE(quiet.ok) << first_check_error(quiet);
 
   std::vector<CheckProgress> seen;
   JobOptions o = plain;
   o.check_progress_interval_s = 0.0;  // every MoveSource::kLineHookEvery lines
   o.on_check_progress = [&](const CheckProgress& p) { seen.push_back(p); };
   const CheckResult r = check_program_text(text, "p.ngc", c, o);
-  ASSERT_TRUE(r.ok) << first_error(r);
+  ASSERT_TRUE(r.ok) << first_check_error(r);
   EXPECT_FALSE(r.interrupted);
   EXPECT_EQ(r.blocks, quiet.blocks);
   EXPECT_EQ(r.moves, quiet.moves);
@@ -415,7 +415,7 @@ TEST(CheckProgress, AnInterruptedCheckFailsAtTheLineReachedAndMakesNoMoreBlocks)
     EXPECT_TRUE(r.interrupted);
     EXPECT_EQ(reports, 3);
     EXPECT_EQ(stopped_at, 3 * MoveSource::kLineHookEvery);
-    ASSERT_EQ(r.diagnostics.size(), 1u) << first_error(r);
+    ASSERT_EQ(r.diagnostics.size(), 1u) << first_check_error(r);
     EXPECT_EQ(r.diagnostics[0].severity, Diagnostic::Severity::kError);
     EXPECT_EQ(r.diagnostics[0].message, "stopped by the test");
     EXPECT_EQ(static_cast<std::uint64_t>(r.diagnostics[0].line), stopped_at);

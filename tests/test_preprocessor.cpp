@@ -9,11 +9,11 @@
 
 #include "config/config.hpp"
 #include "gcode/preprocessor.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 MachineConfig limits() {
   MachineConfig c;
@@ -27,7 +27,7 @@ MachineConfig limits() {
   return c;
 }
 
-Move line(Vec3 a, Vec3 b, double feed) {
+Move line_at_feed(Vec3 a, Vec3 b, double feed) {
   Move m;
   m.kind = MoveKind::kLine;
   m.start = a;
@@ -38,7 +38,7 @@ Move line(Vec3 a, Vec3 b, double feed) {
 }
 
 TEST(Preprocessor, SingleAxisLine) {
-  const Block b = make_block(line({0, 0, 0}, {0, -10, 0}, 20), limits());
+  const Block b = make_block(line_at_feed({0, 0, 0}, {0, -10, 0}, 20), limits());
   EXPECT_EQ(b.kind, BlockKind::kLine);
   EXPECT_EQ(b.line, 4u);
   EXPECT_EQ(b.motion_class, MotionClass::kSingleAxis);
@@ -57,7 +57,7 @@ TEST(Preprocessor, SingleAxisLine) {
 
 TEST(Preprocessor, FeedProjectedSoNoAxisExceedsItsLimit) {
   // 3-4-0 direction: u = (0.6, 0.8, 0). F = 1000 mm/s is far too fast.
-  const Block b = make_block(line({0, 0, 0}, {30, 40, 0}, 1000), limits());
+  const Block b = make_block(line_at_feed({0, 0, 0}, {30, 40, 0}, 1000), limits());
   EXPECT_EQ(b.motion_class, MotionClass::kPlane);
   EXPECT_NEAR(b.speed, std::min(100 / 0.6, 80 / 0.8), 1e-9);  // Y limits: 100 mm/s
   EXPECT_NEAR(b.accel, std::min(2000 / 0.6, 1500 / 0.8), 1e-9);
@@ -72,7 +72,7 @@ TEST(Preprocessor, FeedProjectedSoNoAxisExceedsItsLimit) {
 
 TEST(Preprocessor, SpaceLineAndTriangularProfile) {
   // Short move: cannot reach 100 mm/s and stop again; deceleration starts at the midpoint.
-  const Block b = make_block(line({0, 0, 0}, {1, 1, 1}, 100), limits());
+  const Block b = make_block(line_at_feed({0, 0, 0}, {1, 1, 1}, 100), limits());
   EXPECT_EQ(b.motion_class, MotionClass::kSpace);
   const double u = 1 / std::sqrt(3.0);
   EXPECT_NEAR(b.speed, 50 / u, 1e-9);      // Z limit
@@ -87,7 +87,7 @@ TEST(Preprocessor, DecelStartDistance) {
 }
 
 TEST(Preprocessor, RapidUsesAxisMaximaOrTheConfiguredRapid) {
-  Move m = line({0, 0, 0}, {10, 0, 0}, 0);
+  Move m = line_at_feed({0, 0, 0}, {10, 0, 0}, 0);
   m.kind = MoveKind::kRapid;
   MachineConfig c = limits();
   EXPECT_DOUBLE_EQ(make_block(m, c).speed, 100);
@@ -244,7 +244,7 @@ TEST(Preprocessor, DwellPauseEnd) {
 }
 
 TEST(Preprocessor, InPlaceVariantSetsEveryFieldButTheNurbsArrays) {
-  const Move moves[] = {line({0, 0, 0}, {3, 4, 0}, 10), arc({10, 0, 0}, {0, 10, 1}, {0, 0, 0}, 10, kPi / 2, 2, 20)};
+  const Move moves[] = {line_at_feed({0, 0, 0}, {3, 4, 0}, 10), arc({10, 0, 0}, {0, 10, 1}, {0, 0, 0}, 10, kPi / 2, 2, 20)};
   for (const Move& m : moves) {
     Block dirty;
     std::memset(static_cast<void*>(&dirty), 0xAB, sizeof dirty);
@@ -258,7 +258,7 @@ TEST(Preprocessor, InPlaceVariantSetsEveryFieldButTheNurbsArrays) {
 }
 
 TEST(Preprocessor, ContouringFlagCarried) {
-  Move m = line({0, 0, 0}, {1, 0, 0}, 10);
+  Move m = line_at_feed({0, 0, 0}, {1, 0, 0}, 10);
   m.contouring = true;
   EXPECT_EQ(make_block(m, limits()).contouring, 1);
   m.contouring = false;

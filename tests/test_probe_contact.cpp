@@ -116,7 +116,7 @@ std::string shipped() {
   return ss.str();
 }
 
-std::string refusal(const std::string& text) {
+std::string probe_refusal(const std::string& text) {
   try {
     parse_config(text, "v.toml");
   } catch (const ConfigError& e) {
@@ -134,8 +134,8 @@ TEST(ProbeConfig, TheWorkpieceSectionIsCheckedLikeTheRest) {
     t.replace(t.find(surface), surface.size(), to);
     return t;
   };
-  EXPECT_NE(refusal(with("surface = \"wavy\"")).find("surface 'wavy' must be"), std::string::npos);
-  EXPECT_NE(refusal(with("surface = \"bump\"")).find("missing key 'bump_height_mm'"), std::string::npos);
+  EXPECT_NE(probe_refusal(with("surface = \"wavy\"")).find("surface 'wavy' must be"), std::string::npos);
+  EXPECT_NE(probe_refusal(with("surface = \"bump\"")).find("missing key 'bump_height_mm'"), std::string::npos);
   const MachineConfig bump = parse_config(
       with("surface = \"bump\"\nbump_x_mm = 5.0\nbump_y_mm = 6.0\nbump_height_mm = 0.5\nbump_sigma_mm = 3.0\n"
            "sphere_center_mm = [20.0, 20.0, 10.0]\nsphere_radius_mm = 2.0\n"
@@ -145,15 +145,15 @@ TEST(ProbeConfig, TheWorkpieceSectionIsCheckedLikeTheRest) {
   EXPECT_DOUBLE_EQ(bump.table.sphere_radius_mm, 2.0);
   EXPECT_TRUE(bump.table.has_gauge);
   EXPECT_DOUBLE_EQ(bump.table.gauge_max[2], 16.0);
-  EXPECT_NE(refusal(with("surface = \"plane\"\ngauge_min_mm = [1.0, 1.0, 10.0]")).find("go together"), std::string::npos);
-  EXPECT_NE(refusal(with("surface = \"plane\"\ngauge_min_mm = [1.0, 1.0, 10.0]\ngauge_max_mm = [0.0, 3.0, 16.0]"))
+  EXPECT_NE(probe_refusal(with("surface = \"plane\"\ngauge_min_mm = [1.0, 1.0, 10.0]")).find("go together"), std::string::npos);
+  EXPECT_NE(probe_refusal(with("surface = \"plane\"\ngauge_min_mm = [1.0, 1.0, 10.0]\ngauge_max_mm = [0.0, 3.0, 16.0]"))
                 .find("must exceed gauge_min_mm"),
             std::string::npos);
-  EXPECT_NE(refusal(with("surface = \"plane\"\nsurfce = 1")).find("unknown key 'surfce'"), std::string::npos);
+  EXPECT_NE(probe_refusal(with("surface = \"plane\"\nsurfce = 1")).find("unknown key 'surfce'"), std::string::npos);
   const std::string lobe = "pretravel_lobe_mm = 0.003";
   std::string t = text;
   t.replace(t.find(lobe), lobe.size(), "pretravel_lobe_mm = 0.009");
-  EXPECT_NE(refusal(t).find("must not exceed pretravel_lateral_mm"), std::string::npos);
+  EXPECT_NE(probe_refusal(t).find("must not exceed pretravel_lateral_mm"), std::string::npos);
 }
 
 }  // namespace

@@ -25,6 +25,7 @@
 #include "report/run_summary.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "service_procs.hpp"
 
 namespace pcnc::test {
 namespace {
@@ -32,7 +33,6 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string cam_dir() { return shared_dir() + "/gcode/cam"; }
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 // Refused before anything moves, with this in the message (the same reasons test_corpus states).
 const std::map<std::string, std::string> kRefused = {

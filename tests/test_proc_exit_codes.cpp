@@ -21,6 +21,7 @@
 #include "service_procs.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "text_lines.hpp"
 
 namespace pcnc::test {
 namespace {
@@ -45,7 +46,6 @@ Args plus(Args a, const Args& more) {
   return a;
 }
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // The shipped config without [axis.z] (everything from its header on).
 std::string write_config_without_z(const std::string& dir, const std::string& tag) {

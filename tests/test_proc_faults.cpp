@@ -30,11 +30,6 @@ namespace {
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
-int error_code(const json& reply) { return reply.contains("error") ? reply["error"]["code"].get<int>() : 0; }
-bool idle_after_job(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].get<bool>() && s["last_job"].is_object(); }
-
-MachineConfig machine() { return load_config(default_config()); }
 
 
 // Program for the host-kill tests: long enough to be killed in the middle under either clock.
@@ -96,7 +91,7 @@ TEST_P(KillHost, RtHoldsOnThePathAndANewHostResumesTheProgram) {
   ServicePair p(tag);
   const std::string trace = p.dir() + "/trace.csv";
   ASSERT_TRUE(p.start(clock, {"--trace", trace})) << p.host_log();
-  const MachineConfig m = machine();
+  const MachineConfig m = mill_config();
   const std::string prog = program_for(p.dir(), clock);
   ASSERT_TRUE(p.call("run", {{"file", prog}}).contains("result"));
   const json running = p.wait_status([](const json& s) { return s["state"] == "RUNNING" && s["blocks_done"].get<int>() >= 3; }, 30);

@@ -22,11 +22,12 @@
 #include "geometry/kinematics.hpp"
 #include "ipc/trace_format.hpp"
 #include "five_axis_trace.hpp"
+#include "service_procs.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc::test {
 namespace {
 
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 // A program written line by line, with each line's number.
 struct ProgramText {
@@ -56,7 +57,6 @@ std::vector<Row> read_trace(const std::string& path, RotaryMask mask, std::strin
 }
 
 constexpr double kToolLength = 4.25;  // T2 of configs/desktop-mill.tbl
-const Vec3 kG54{12.5, 12.5, 25.0};
 
 TEST(FiveAxisRun, TcpProgramKeepsTheTipOnTheLineAndTheJointsWithinTheirLimits) {
   const std::string dir = make_temp_dir("five");

@@ -36,8 +36,6 @@ namespace {
 using namespace std::chrono_literals;
 using steady = std::chrono::steady_clock;
 
-int error_code(const json& reply) { return reply.contains("error") ? reply["error"]["code"].get<int>() : 0; }
-std::string error_message(const json& reply) { return reply.contains("error") ? reply["error"]["message"].get<std::string>() : ""; }
 double seconds_since(steady::time_point t0) { return std::chrono::duration<double>(steady::now() - t0).count(); }
 
 
@@ -489,7 +487,6 @@ TEST(Journal, Sha256KnownAnswers) {
   EXPECT_EQ(m.hex(), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
-bool idle_after_job(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].get<bool>() && s["last_job"].is_object(); }
 
 TEST(Journal, ResumeAfterTheProgramChangedIsRefused) {
   ServicePair p("hard-jchg");

@@ -21,9 +21,7 @@
 namespace pcnc::test {
 namespace {
 
-double pos(const json& v, int axis) { return v[std::string(1, "xyz"[axis])].get<double>(); }
-int error_code(const json& reply) { return reply.contains("error") ? reply["error"]["code"].get<int>() : 0; }
-bool idle(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].get<bool>(); }
+double axis_value(const json& v, int axis) { return v[std::string(1, "xyz"[axis])].get<double>(); }
 
 // Runs `text` as MDI and waits for its end; returns the status after it.
 json mdi(ServicePair& p, const std::string& text, int* code = nullptr) {
@@ -45,18 +43,18 @@ TEST(ServiceOperator, TouchOffSetsTheActiveOffsetAndSurvivesARestart) {
   ServicePair p("op-touch");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();
   ASSERT_TRUE(p.call("jog", {{"axis", "Z"}, {"distance", -1.5}, {"feed", 300}}).contains("result"));
-  json s = p.wait_status([](const json& x) { return x["state"] == "IDLE" && std::abs(pos(x["commanded"], 2) - 23.5) < 1e-9; }, 20);
-  ASSERT_NEAR(pos(s["commanded"], 2), 23.5, 1e-9) << s.dump();
+  json s = p.wait_status([](const json& x) { return x["state"] == "IDLE" && std::abs(axis_value(x["commanded"], 2) - 23.5) < 1e-9; }, 20);
+  ASSERT_NEAR(axis_value(s["commanded"], 2), 23.5, 1e-9) << s.dump();
 
   const json r = p.call("touch_off", {{"axis", "z"}, {"value", 2.0}});
   ASSERT_TRUE(r.contains("result")) << r.dump();
   EXPECT_EQ(r["result"]["offset"], "G54");
   EXPECT_NEAR(r["result"]["z"].get<double>(), 21.5, 1e-9) << "offset = machine 23.5 - value 2";
-  EXPECT_NEAR(pos(r["result"]["work_position"], 2), 2.0, 1e-9);
+  EXPECT_NEAR(axis_value(r["result"]["work_position"], 2), 2.0, 1e-9);
   s = p.status();
-  EXPECT_NEAR(pos(s["work_offsets"]["G54"], 2), 21.5, 1e-9);
-  EXPECT_NEAR(pos(s["work_offsets"]["G54"], 0), 12.5, 1e-9) << "the other axes keep their offset";
-  EXPECT_NEAR(pos(s["work_position"]["commanded"], 2), 2.0, 1e-9) << s.dump();
+  EXPECT_NEAR(axis_value(s["work_offsets"]["G54"], 2), 21.5, 1e-9);
+  EXPECT_NEAR(axis_value(s["work_offsets"]["G54"], 0), 12.5, 1e-9) << "the other axes keep their offset";
+  EXPECT_NEAR(axis_value(s["work_position"]["commanded"], 2), 2.0, 1e-9) << s.dump();
 
   EXPECT_EQ(error_code(p.call("touch_off", {{"axis", "A"}, {"value", 0}})), rpc::kInvalidParams);
   EXPECT_EQ(error_code(p.call("touch_off", {{"axis", "X"}})), rpc::kInvalidParams);
@@ -69,15 +67,15 @@ TEST(ServiceOperator, TouchOffSetsTheActiveOffsetAndSurvivesARestart) {
   ASSERT_TRUE(p.start_host()) << p.host_log();
   s = p.wait_status([](const json& x) { return x["rt"]["state"] == "attached" && x["state"] == "IDLE"; }, 20);
   ASSERT_EQ(s["state"], "IDLE") << s.dump();
-  EXPECT_NEAR(pos(s["work_offsets"]["G54"], 2), 21.5, 1e-9) << s.dump();
-  EXPECT_NEAR(pos(s["work_position"]["commanded"], 2), 2.0, 1e-9) << s.dump();
+  EXPECT_NEAR(axis_value(s["work_offsets"]["G54"], 2), 21.5, 1e-9) << s.dump();
+  EXPECT_NEAR(axis_value(s["work_position"]["commanded"], 2), 2.0, 1e-9) << s.dump();
 
   // A program run afterwards uses it: Z0 is 2 mm below where the touch-off was made.
   const std::string prog = write_program(p.dir(), "z0.ngc", "G21 G90\nG01 Z0 F300\nM30\n");
   ASSERT_TRUE(p.call("run", {{"file", prog}}).contains("result"));
   s = p.wait_status([](const json& x) { return idle(x) && x["last_job"].is_object(); }, 60);
   EXPECT_EQ(s["last_job"]["end"], "completed") << s.dump();
-  EXPECT_NEAR(pos(s["commanded"], 2), 21.5, 1e-6);
+  EXPECT_NEAR(axis_value(s["commanded"], 2), 21.5, 1e-6);
 }
 
 TEST(ServiceOperator, MdiRunsThroughThePipelineAndKeepsItsOffsets) {
@@ -86,14 +84,14 @@ TEST(ServiceOperator, MdiRunsThroughThePipelineAndKeepsItsOffsets) {
   // G54 is (12.5, 12.5, 25): X5 in work coordinates is machine 17.5.
   json s = mdi(p, "G1 X5 F300");
   EXPECT_EQ(s["last_job"]["end"], "completed") << s.dump();
-  EXPECT_NEAR(pos(s["commanded"], 0), 17.5, 1e-6);
-  EXPECT_NEAR(pos(s["work_position"]["commanded"], 0), 5.0, 1e-6);
+  EXPECT_NEAR(axis_value(s["commanded"], 0), 17.5, 1e-6);
+  EXPECT_NEAR(axis_value(s["work_position"]["commanded"], 0), 5.0, 1e-6);
 
   // Several lines, relative moves from where the machine stands.
   s = mdi(p, "G91\nG1 Y-2 F600\nG1 Z-0.5\n");
   EXPECT_EQ(s["last_job"]["end"], "completed") << s.dump();
-  EXPECT_NEAR(pos(s["commanded"], 1), 10.5, 1e-6);
-  EXPECT_NEAR(pos(s["commanded"], 2), 24.5, 1e-6);
+  EXPECT_NEAR(axis_value(s["commanded"], 1), 10.5, 1e-6);
+  EXPECT_NEAR(axis_value(s["commanded"], 2), 24.5, 1e-6);
 
   // Checked whole before anything moves: an error on line 2 is reported with line:col and the
   // good first line did not run.
@@ -102,7 +100,7 @@ TEST(ServiceOperator, MdiRunsThroughThePipelineAndKeepsItsOffsets) {
   EXPECT_EQ(code, rpc::kPreflightFailed) << e.dump();
   ASSERT_TRUE(e["error"]["data"]["errors"].is_array()) << e.dump();
   EXPECT_EQ(e["error"]["data"]["errors"][0].get<std::string>().rfind("mdi:2:", 0), 0u) << e.dump();
-  EXPECT_NEAR(pos(p.status()["commanded"], 0), 17.5, 1e-6) << "nothing moved";
+  EXPECT_NEAR(axis_value(p.status()["commanded"], 0), 17.5, 1e-6) << "nothing moved";
   // Outside the travel: refused too (the preflight's soft limits).
   EXPECT_EQ(error_code(p.call("mdi", {{"text", "G90 G1 X100 F300"}})), rpc::kPreflightFailed);
   EXPECT_EQ(error_code(p.call("mdi", {{"text", " \n"}})), rpc::kInvalidParams);
@@ -111,12 +109,12 @@ TEST(ServiceOperator, MdiRunsThroughThePipelineAndKeepsItsOffsets) {
   // G10 and G92 made by MDI are kept: in status and in the file.
   s = mdi(p, "G10 L2 P2 X1 Y2 Z3");
   EXPECT_EQ(s["last_job"]["end"], "completed") << s.dump();
-  EXPECT_NEAR(pos(s["work_offsets"]["G55"], 0), 1.0, 1e-9) << s.dump();
-  EXPECT_NEAR(pos(s["work_offsets"]["G55"], 2), 3.0, 1e-9) << s.dump();
+  EXPECT_NEAR(axis_value(s["work_offsets"]["G55"], 0), 1.0, 1e-9) << s.dump();
+  EXPECT_NEAR(axis_value(s["work_offsets"]["G55"], 2), 3.0, 1e-9) << s.dump();
   s = mdi(p, "G92 X0");  // machine X 17.5 reads 0: G92 X = 5
   EXPECT_TRUE(s["work_state"]["G92_applied"].get<bool>()) << s.dump();
-  EXPECT_NEAR(pos(s["work_state"]["G92"], 0), 5.0, 1e-9) << s.dump();
-  EXPECT_NEAR(pos(s["work_position"]["commanded"], 0), 0.0, 1e-9) << s.dump();
+  EXPECT_NEAR(axis_value(s["work_state"]["G92"], 0), 5.0, 1e-9) << s.dump();
+  EXPECT_NEAR(axis_value(s["work_position"]["commanded"], 0), 0.0, 1e-9) << s.dump();
   const WorkState saved = load_work_state(load_config(p.config()), p.dir() + "/state/work_state.json");
   EXPECT_EQ(saved.g5x[1], (Vec3{1.0, 2.0, 3.0}));
   EXPECT_TRUE(saved.g92_applied);
@@ -125,7 +123,7 @@ TEST(ServiceOperator, MdiRunsThroughThePipelineAndKeepsItsOffsets) {
   const json t = p.call("touch_off", {{"axis", "X"}, {"value", 1.0}});
   ASSERT_TRUE(t.contains("result")) << t.dump();
   EXPECT_NEAR(t["result"]["x"].get<double>(), 11.5, 1e-9);
-  EXPECT_NEAR(pos(p.status()["work_position"]["commanded"], 0), 1.0, 1e-9);
+  EXPECT_NEAR(axis_value(p.status()["work_position"]["commanded"], 0), 1.0, 1e-9);
 }
 
 TEST(ServiceOperator, TheToolMdiLoadedIsInStatusAndTouchOffMeasuresItsTip) {
@@ -139,17 +137,17 @@ TEST(ServiceOperator, TheToolMdiLoadedIsInStatusAndTouchOffMeasuresItsTip) {
   ASSERT_EQ(s["last_job"]["end"], "completed") << s.dump();
   EXPECT_EQ(s["work_state"]["tool"], 2) << s.dump();
   EXPECT_TRUE(s["work_state"]["tool_offset_applied"].get<bool>());
-  EXPECT_NEAR(pos(s["work_state"]["tool_offset"], 2), 4.25, 1e-9);
-  const double machine_z = pos(s["commanded"], 2);
-  EXPECT_NEAR(pos(s["work_position"]["commanded"], 2), machine_z - 25.0 - 4.25, 1e-9) << "the tip, not the spindle";
+  EXPECT_NEAR(axis_value(s["work_state"]["tool_offset"], 2), 4.25, 1e-9);
+  const double machine_z = axis_value(s["commanded"], 2);
+  EXPECT_NEAR(axis_value(s["work_position"]["commanded"], 2), machine_z - 25.0 - 4.25, 1e-9) << "the tip, not the spindle";
   // Touch-off Z 0 with T2 in: G54 Z = machine - 4.25, and Z0 then brings the same tip back there.
   const json t = p.call("touch_off", {{"axis", "Z"}, {"value", 0.0}});
   ASSERT_TRUE(t.contains("result")) << t.dump();
   EXPECT_NEAR(t["result"]["z"].get<double>(), machine_z - 4.25, 1e-9);
-  EXPECT_NEAR(pos(t["result"]["work_position"], 2), 0.0, 1e-9);
+  EXPECT_NEAR(axis_value(t["result"]["work_position"], 2), 0.0, 1e-9);
   s = mdi(p, "G91 G1 Z-1 F300\nG90 G1 Z0\n");
   ASSERT_EQ(s["last_job"]["end"], "completed") << s.dump();
-  EXPECT_NEAR(pos(s["commanded"], 2), machine_z, 1e-6) << "a program's Z0 is the touched-off tip";
+  EXPECT_NEAR(axis_value(s["commanded"], 2), machine_z, 1e-6) << "a program's Z0 is the touched-off tip";
   // G49 by MDI: the offset is off, the tool stays in the spindle.
   s = mdi(p, "G49");
   EXPECT_EQ(s["work_state"]["tool"], 2);
@@ -210,7 +208,7 @@ TEST(ServiceOperator, StopDuringTheCheckOfALongProgramEndsItAndNothingMoves) {
   const json after = p.wait_status([](const json& x) { return idle(x); }, 10);
   EXPECT_TRUE(idle(after)) << after.dump();
   EXPECT_EQ(after["last_job"], before["last_job"]) << "no job ran";
-  for (int a = 0; a < 3; ++a) EXPECT_EQ(pos(after["commanded"], a), pos(before["commanded"], a));
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(axis_value(after["commanded"], a), axis_value(before["commanded"], a));
   EXPECT_EQ(after["blocks_done"], before["blocks_done"]);
 }
 
@@ -251,7 +249,7 @@ TEST(ServiceOperator, StopInHostLostEndsAResumeStillBeingChecked) {
   const json after = p.wait_status([](const json& x) { return idle(x); }, 10);
   ASSERT_TRUE(idle(after)) << after.dump();
   EXPECT_TRUE(after["resume"].is_null()) << "nothing left to resume: " << after.dump();
-  for (int a = 0; a < 3; ++a) EXPECT_EQ(pos(after["commanded"], a), lost.commanded[static_cast<std::size_t>(a)]);
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(axis_value(after["commanded"], a), lost.commanded[static_cast<std::size_t>(a)]);
   // and it stays there: the abandoned resume never starts the rest of the program
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const json later = p.status();
@@ -276,8 +274,8 @@ TEST(ServiceOperator, CtlMdiAndTouchOff) {
   r = ctl({"touch-off", "Y", "0"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("G54"), std::string::npos) << r.out;
-  EXPECT_NEAR(pos(p.status()["work_offsets"]["G54"], 1), 15.5, 1e-9);
-  EXPECT_NEAR(pos(p.status()["work_position"]["commanded"], 1), 0.0, 1e-9);
+  EXPECT_NEAR(axis_value(p.status()["work_offsets"]["G54"], 1), 15.5, 1e-9);
+  EXPECT_NEAR(axis_value(p.status()["work_position"]["commanded"], 1), 0.0, 1e-9);
 
   r = ctl({"touch-off", "W", "0"});
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;

@@ -25,7 +25,6 @@
 namespace pcnc::test {
 namespace {
 
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 TEST(ProcProbe, G38_2OnTheFlatWorkpieceAndReadingTheResultBack) {
   const std::string dir = make_temp_dir("probe");

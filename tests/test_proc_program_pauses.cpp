@@ -15,21 +15,21 @@
 
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "service_procs.hpp"
+#include "text_lines.hpp"
 
 namespace pcnc::test {
 namespace {
 
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 // Three moves with `stop1` on line 3 and `stop2` on line 5 between them.
-std::string write_program(const std::string& dir, const std::string& name, const std::string& stop1,
+std::string write_stop_program(const std::string& dir, const std::string& name, const std::string& stop1,
                           const std::string& stop2) {
   const std::string path = dir + "/" + name;
   std::ofstream(path) << "G21 G90 G54\nG1 X1 Y1 F600\n" << stop1 << "\nG1 X2 Y1\n" << stop2 << "\nG1 X3 Y2\nG1 X4 Y2\nM30\n";
   return path;
 }
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // "  commanded         X15.5000 Y14.5000 Z25.0000 mm" -> X and Y
 std::pair<double, double> commanded_xy(const std::string& report) {
@@ -41,8 +41,8 @@ std::pair<double, double> commanded_xy(const std::string& report) {
 TEST(ProgramPauses, ContinueComesToRestAndGoesOnLikeADwellOfZeroSeconds) {
   const std::string dir = make_temp_dir("pauses");
   const std::string config = write_test_config(dir, "pauses");
-  const std::string paused = write_program(dir, "paused.ngc", "M0", "M1");
-  const std::string dwelled = write_program(dir, "dwelled.ngc", "G4 P0", "G4 P0");
+  const std::string paused = write_stop_program(dir, "paused.ngc", "M0", "M1");
+  const std::string dwelled = write_stop_program(dir, "dwelled.ngc", "G4 P0", "G4 P0");
   auto run = [&](const std::string& prog, const std::string& summary, std::vector<std::string> extra) {
     std::vector<std::string> argv{pcnc_exe(), "run", prog, "--clock", "virtual", "--config", config, "--summary", summary};
     argv.insert(argv.end(), extra.begin(), extra.end());
@@ -72,7 +72,7 @@ TEST(ProgramPauses, ContinueComesToRestAndGoesOnLikeADwellOfZeroSeconds) {
 TEST(ProgramPauses, AskWaitsForEnterAndStopsThereWhenNoOneAnswers) {
   const std::string dir = make_temp_dir("ask");
   const std::string config = write_test_config(dir, "ask");
-  const std::string prog = write_program(dir, "ask.ngc", "M0", "M1");
+  const std::string prog = write_stop_program(dir, "ask.ngc", "M0", "M1");
   auto run_with_stdin = [&](const std::string& answers) {
     const std::string in = dir + "/stdin.txt";
     std::ofstream(in) << answers;
@@ -104,7 +104,7 @@ TEST(ProgramPauses, AskWaitsForEnterAndStopsThereWhenNoOneAnswers) {
 TEST(ProgramPauses, AStopSignalWhileTheOperatorIsAskedStopsTheProgramAtThePause) {
   const std::string dir = make_temp_dir("asksig");
   const std::string config = write_test_config(dir, "asksig");
-  const std::string prog = write_program(dir, "asksig.ngc", "M0", "M1");
+  const std::string prog = write_stop_program(dir, "asksig.ngc", "M0", "M1");
   // stdin: a FIFO that the shell also holds open for writing, so it never ends and never speaks
   const std::string fifo = dir + "/stdin";
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);

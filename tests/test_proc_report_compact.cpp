@@ -24,13 +24,13 @@
 #include "five_axis_trace.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "service_procs.hpp"
 
 namespace pcnc::test {
 namespace {
 
 using nlohmann::json;
 
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 // The page's part from `open` up to the next `close` ("" when absent).
 std::string section(const std::string& html, const std::string& open, const std::string& close) {

@@ -23,7 +23,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
 
 
 // Lines 1-3 lead in; the curve is lines 4-8 (G5.2 .. G5.3); line 9 leads out.

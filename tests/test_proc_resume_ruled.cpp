@@ -20,11 +20,11 @@
 #include "geometry/ruled_model.hpp"
 #include "service_procs.hpp"
 #include "test_paths.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc::test {
 namespace {
 
-const Vec3 kG54{12.5, 12.5, 25.0};
 constexpr int kPieceLine = 5;  // the G5.4
 
 // The pair's config replaced by desktop-5axis with the pair's segment, socket and state dir.

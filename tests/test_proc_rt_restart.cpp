@@ -25,8 +25,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-MachineConfig machine() { return load_config(default_config()); }
-double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
 bool attached_idle(const json& s) { return s["rt"]["state"] == "attached" && s["state"] == "IDLE"; }
 
 
@@ -45,7 +43,7 @@ class RtRestart : public ::testing::TestWithParam<std::string> {};
 TEST_P(RtRestart, ANewRtStartsAtRestWhereTheKilledOneLastMeasured) {
   const std::string clock = GetParam();
   const std::string tag = "restart-" + clock;
-  const MachineConfig m = machine();
+  const MachineConfig m = mill_config();
   ServicePair p(tag);
   ASSERT_TRUE(p.start(clock)) << p.host_log();
   // Jog away from home (12.5, 12.5, 25).
@@ -82,7 +80,7 @@ INSTANTIATE_TEST_SUITE_P(Clocks, RtRestart, ::testing::Values("virtual", "real")
 // without a jump.
 TEST(RtRestartMidMove, ANewRtStartsAtRestWhereTheMovingOneWasLastMeasured) {
   const std::string tag = "restart-move";
-  const MachineConfig m = machine();
+  const MachineConfig m = mill_config();
   ServicePair p(tag);
   ASSERT_TRUE(p.start("real")) << p.host_log();
   const std::string prog = zigzag_program(p.dir(), 8, 20.0, 3000.0);

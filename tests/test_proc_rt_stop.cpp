@@ -31,8 +31,6 @@ using namespace std::chrono_literals;
 
 using Clock = std::chrono::steady_clock;
 
-MachineConfig machine() { return load_config(default_config()); }
-
 // X strokes across most of the travel at `feed` mm/min (program zero is the travel's centre).
 std::string strokes_program(const std::string& dir, int strokes, double feed) {
   std::ostringstream p;
@@ -129,7 +127,7 @@ TEST(RtStop, PcncRunWhoseHostIsKilledMidMoveLeavesTheMachineAtRest) {
   const std::string dir = make_temp_dir(tag);
   const std::string config = write_test_config(dir, tag);
   const std::string trace = dir + "/trace.csv";
-  const MachineConfig m = machine();
+  const MachineConfig m = mill_config();
   BackgroundProcess run = start_process(
       {pcnc_exe(), "run", strokes_program(dir, 20, 3000.0), "--clock", "real", "--config", config, "--trace", trace},
       dir + "/pcnc");
@@ -173,7 +171,7 @@ TEST_P(SigtermRt, ComesToRestAlongThePathThenExitsZero) {
   const std::string dir = make_temp_dir(tag);
   const std::string config = write_test_config(dir, tag);
   const std::string trace = dir + "/trace.csv";
-  const MachineConfig m = machine();
+  const MachineConfig m = mill_config();
   BackgroundProcess rt = start_process({rt_exe(), "--config", config, "--clock", c.clock, "--trace", trace}, dir + "/rt");
   BackgroundProcess host =
       start_process({host_exe(), "--config", config, "--run", strokes_program(dir, c.clock == "virtual" ? 400 : 20, c.feed)},

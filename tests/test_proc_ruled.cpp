@@ -25,11 +25,12 @@
 #include "ipc/trace_format.hpp"
 #include "five_axis_trace.hpp"
 #include "test_paths.hpp"
+#include "service_procs.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc::test {
 namespace {
 
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 using Row = FiveAxisRow;
 
@@ -64,7 +65,6 @@ double axis_deviation(const Piece& p, const Vec3& tip, const Vec3& axis, double 
 }
 
 constexpr double kFeed = 600.0;  // mm/min
-const Vec3 kG54{12.5, 12.5, 25.0};
 
 TEST(RuledRun, PiecesFollowTheRuledSurfaceAtTheFeedWithinTheJointLimits) {
   const std::string dir = make_temp_dir("ruled");

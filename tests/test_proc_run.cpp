@@ -13,11 +13,11 @@
 #include "ipc/segment.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "service_procs.hpp"
 
 namespace pcnc::test {
 namespace {
 
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 // "  final position    machine X12.5000 Y12.5000 Z24.0000 mm; ..." -> the three numbers
 bool parse_position(const std::string& report, const std::string& label, Vec3& out) {

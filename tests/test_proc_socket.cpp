@@ -27,20 +27,14 @@ namespace {
 
 using namespace std::chrono_literals;
 
-double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
-int error_code(const json& reply) { return reply.contains("error") ? reply["error"]["code"].get<int>() : 0; }
-std::string error_message(const json& reply) { return reply.contains("error") ? reply["error"]["message"].get<std::string>() : ""; }
 
-MachineConfig machine() { return load_config(default_config()); }
-
-bool idle(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].get<bool>(); }
 
 // ---------------------------------------------------------------- idle machine
 
 TEST(ServiceSocket, StatusAndRefusalsOnAnIdleMachine) {
   ServicePair p("sock-idle");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();
-  const MachineConfig m = machine();
+  const MachineConfig m = mill_config();
   const json s = p.status();
   EXPECT_EQ(s["state"], "IDLE");
   EXPECT_EQ(s["rt"]["state"], "attached");
@@ -89,7 +83,7 @@ TEST(ServiceSocket, StatusAndRefusalsOnAnIdleMachine) {
 TEST(ServiceSocket, IncrementalJogMovesExactlyAndClampsAtEachSoftLimit) {
   ServicePair p("sock-jog");
   ASSERT_TRUE(p.start("virtual")) << p.host_log();
-  const MachineConfig m = machine();
+  const MachineConfig m = mill_config();
 
   auto jog = [&](const char* axis, double d, double feed) {
     const json r = p.call("jog", {{"axis", axis}, {"distance", d}, {"feed", feed}});
@@ -130,7 +124,7 @@ TEST(ServiceSocket, IncrementalJogMovesExactlyAndClampsAtEachSoftLimit) {
 TEST(ServiceSocket, ContinuousJogKeepAliveStopDeadmanDisconnectAndLimit) {
   ServicePair p("sock-cjog");
   ASSERT_TRUE(p.start("real")) << p.host_log();
-  const MachineConfig m = machine();
+  const MachineConfig m = mill_config();
   const double x0 = m.axes[0].home_mm;
 
   {  // kept alive, then jog_stop: it moved, it stopped before the limit

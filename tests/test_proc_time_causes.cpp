@@ -12,13 +12,13 @@
 
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "service_procs.hpp"
 
 namespace pcnc::test {
 namespace {
 
 using nlohmann::json;
 
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 // Runs `program_text` (or the file `path` when text is empty) with --summary; returns the summary.
 json run_summary(const std::string& tag, const std::string& program_text, std::string path = "") {

@@ -20,17 +20,17 @@
 #include "one_cpu.hpp"
 #include "subprocess.hpp"
 #include "test_paths.hpp"
+#include "service_procs.hpp"
 
 namespace pcnc::test {
 namespace {
 
 using nlohmann::json;
 
-std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
 // A spiral of short G1 moves turning by a few degrees (they flow under M21), with a square
 // corner every 100 moves (a stop), around program zero (the top of Z).
-std::string write_program(const std::string& dir) {
+std::string write_spiral_program(const std::string& dir) {
   const std::string path = dir + "/spiral.ngc";
   std::ofstream f(path);
   f << "G21 G90 G17\nG0 X0 Y0 Z-1\nG1 Z-1.5 F300\nF1200\n";
@@ -87,7 +87,7 @@ Replay replay(const std::string& dir, const std::string& config, const std::stri
 TEST(VirtualReplay, SameTraceOnTwoCoresAndOnOneEveryBlockDone) {
   const std::string dir = make_temp_dir("vreplay");
   const std::string config = write_test_config(dir, "vreplay");
-  const std::string program = write_program(dir);
+  const std::string program = write_spiral_program(dir);
 
   const Replay first = replay(dir, config, program, "first");
   const Replay second = replay(dir, config, program, "second");

@@ -16,8 +16,6 @@
 namespace pcnc::test {
 namespace {
 
-double pos(const json& s, const char* which, int axis) { return s[which][std::string(1, "xyz"[axis])].get<double>(); }
-bool idle(const json& s) { return s["state"] == "IDLE" && !s["job"]["active"].get<bool>(); }
 
 mode_t mode_of(const std::string& path) {
   struct stat st {};

@@ -29,12 +29,12 @@
 #include "report/trace_joints.hpp"
 #include "report/trace_reader.hpp"
 #include "test_paths.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct Synthetic {
   Kinematics kin;

@@ -28,7 +28,6 @@
 namespace pcnc {
 namespace {
 
-MachineConfig config() { return test::default_machine_config(); }
 
 // A wavy cubic in XY with a dip in Z, open-uniform knots (domain [0, 5]), 8 points.
 NurbsCurve wave() {
@@ -103,7 +102,7 @@ void expect_same_curve_beyond(const Block& orig, const Block& cont, double u_sta
 }
 
 TEST(ResumeNurbs, StoppedAnywhereContinuesOnTheSameCurveAndPassesTheBlockCheck) {
-  const MachineConfig c = config();
+  const MachineConfig c = test::default_machine_config();
   for (const NurbsCurve& curve : {wave(), test::full_circle(6.0, {12.5, 12.5, 20})}) {
     const Block b = nurbs_block(c, curve, 20.0);
     const NurbsView v = view_of(b.nurbs);
@@ -142,7 +141,7 @@ TEST(ResumeNurbs, StoppedOffTheCurveByACornerBlendBeginsWhereTheMachineStands) {
   // The rt's corner blend can hold the machine up to 40 % of the block's path tolerance (2 µm at
   // 0.005 mm) off the block's curve: the continuation begins exactly there (its first control
   // point moved), passes the block check from that point, and rejoins the original curve.
-  const MachineConfig c = config();
+  const MachineConfig c = test::default_machine_config();
   const Block b = nurbs_block(c, wave(), 20.0);
   const NurbsView v = view_of(b.nurbs);
   for (double f : {0.01, 0.3, 0.7}) {
@@ -171,7 +170,7 @@ TEST(ResumeNurbs, StoppedOffTheCurveByACornerBlendBeginsWhereTheMachineStands) {
 }
 
 TEST(ResumeNurbs, OffTheCurveIsRefusedAndAtItsEndIsSkipped) {
-  const MachineConfig c = config();
+  const MachineConfig c = test::default_machine_config();
   const Block b = nurbs_block(c, wave(), 20.0);
   const NurbsView v = view_of(b.nurbs);
   std::string why;
@@ -188,7 +187,7 @@ TEST(ResumeNurbs, OffTheCurveIsRefusedAndAtItsEndIsSkipped) {
 }
 
 TEST(ResumeNurbs, MultiTurnFlatArcIsStillRefusedWithTheReason) {
-  const MachineConfig c = config();
+  const MachineConfig c = test::default_machine_config();
   test::ProgramBuilder pb(c, {18.5, 12.5, 20});
   pb.arc({12.5, 18.5, 20}, {12.5, 12.5, 20}, 2, false, 10.0, 1);  // 1.25 turns
   const Block& b = pb.blocks().back();
@@ -203,7 +202,7 @@ TEST(ResumeNurbs, MultiTurnFlatArcIsStillRefusedWithTheReason) {
 // new program from rest to the original end, with no step in the commanded position larger
 // than the cycle's motion at the original speeds, and within every axis limit.
 TEST(ResumeNurbs, AfterAHostLostInsideTheCurveTheContinuationRunsFromRestToTheEnd) {
-  const MachineConfig c = config();
+  const MachineConfig c = test::default_machine_config();
   const NurbsCurve curve = wave();
   Block nb = nurbs_block(c, curve, 15.0);
   for (double lost_at : {0.2, 0.55, 0.9}) {
@@ -294,7 +293,7 @@ TEST(Resume, ArcsAndLinesStoppedOffTheirPathByACornerBlendContinueFromThere) {
   // Inside a corner blend's window the machine stands up to 0.35 of the path tolerance (1.75 µm at
   // 0.005 mm) off the block: an arc (the G18 lead-in arcs of LHchips4 have r 1.09 mm) and a line
   // continue from where it stands and pass the rt's block check from there.
-  const MachineConfig c = config();
+  const MachineConfig c = test::default_machine_config();
   Move m;
   m.kind = MoveKind::kArc;
   m.line = 5;
@@ -340,7 +339,7 @@ TEST(Resume, ArcsAndLinesStoppedOffTheirPathByACornerBlendContinueFromThere) {
 }
 
 TEST(Resume, AFewMicronsShortOfTheEndIsStillCutNotSkipped) {
-  const MachineConfig c = config();
+  const MachineConfig c = test::default_machine_config();
   Move m;
   m.kind = MoveKind::kLine;
   m.line = 9;

@@ -14,13 +14,13 @@
 #include "drive/plant.hpp"
 #include "drive/servo_pid.hpp"
 #include "test_paths.hpp"
+#include "machine_runner.hpp"
 
 namespace pcnc {
 namespace {
 
 constexpr double kDt = 0.0005;  // the 2 kHz cycle
 
-MachineConfig five() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
 
 // RK4 of J·dω/dt = Kt·i − b·ω − Tc·sign(ω) with the current held over `h_total` (ω keeps its sign).
 void rk4(const RotaryAxisConfig& j, double current, double h_total, double& th, double& w) {
@@ -43,7 +43,7 @@ void rk4(const RotaryAxisConfig& j, double current, double h_total, double& th, 
 
 TEST(RotaryPlant, ExactZohAgainstAFineIndependentIntegration) {
   for (int idx : {0, 2}) {
-    const RotaryAxisConfig j = *five().rotary[static_cast<std::size_t>(idx)];
+    const RotaryAxisConfig j = *test::five_axis_config().rotary[static_cast<std::size_t>(idx)];
     AxisPlant plant(plant_model(j), kDt, 1, 0.3);
     // currents that always beat Coulomb friction: from rest the joint breaks away and turns one way
     const double i_min = 1.5 * j.coulomb_friction_nm / j.torque_constant_nm_per_a;
@@ -65,7 +65,7 @@ TEST(RotaryPlant, ExactZohAgainstAFineIndependentIntegration) {
 
 // b = 0: constant deceleration through zero speed, then stiction decides, by hand.
 TEST(RotaryPlant, FrictionReversalMatchesTheAnalyticSolution) {
-  RotaryAxisConfig j = *five().rotary[2];  // C: J 2e-4, Kt 0.15, Tc 0.01
+  RotaryAxisConfig j = *test::five_axis_config().rotary[2];  // C: J 2e-4, Kt 0.15, Tc 0.01
   j.viscous_friction_nm_s_per_rad = 0.0;
   const double J = j.inertia_kg_m2, kt = j.torque_constant_nm_per_a, tc = j.coulomb_friction_nm;
   AxisPlant plant(plant_model(j), kDt, 1, 0.0);
@@ -85,7 +85,7 @@ TEST(RotaryPlant, FrictionReversalMatchesTheAnalyticSolution) {
 }
 
 TEST(RotaryPlant, StictionCurrentLimitAndTheRotaryEncoder) {
-  const RotaryAxisConfig a = *five().rotary[0];
+  const RotaryAxisConfig a = *test::five_axis_config().rotary[0];
   AxisPlant plant(plant_model(a), kDt, 1, 0.5);
   const double below = 0.9 * a.coulomb_friction_nm / a.torque_constant_nm_per_a;
   for (int k = 0; k < 100; ++k) plant.step(below, true);
@@ -102,7 +102,7 @@ TEST(RotaryPlant, StictionCurrentLimitAndTheRotaryEncoder) {
 }
 
 TEST(RotaryServo, FeedForwardAloneAtZeroErrorPerRadian) {
-  const RotaryAxisConfig a = *five().rotary[0];
+  const RotaryAxisConfig a = *test::five_axis_config().rotary[0];
   AxisPid pid(pid_gains(a), kDt);
   const double w = 2.0, acc = 50.0;  // rad/s, rad/s^2
   EXPECT_NEAR(pid.update(1.0, 1.0, w, acc),
@@ -113,7 +113,7 @@ TEST(RotaryServo, FeedForwardAloneAtZeroErrorPerRadian) {
 
 struct RotaryLoop {
   explicit RotaryLoop(int idx)
-      : j(*five().rotary[static_cast<std::size_t>(idx)]), pid(pid_gains(j), kDt), plant(plant_model(j), kDt, 1, 0.0) {}
+      : j(*test::five_axis_config().rotary[static_cast<std::size_t>(idx)]), pid(pid_gains(j), kDt), plant(plant_model(j), kDt, 1, 0.0) {}
   double step(double sp, double v = 0.0, double acc = 0.0) {
     const double y = plant.encoder();
     plant.step(pid.update(sp, y, v, acc), true);
@@ -184,8 +184,8 @@ TEST(RotaryServo, FollowingErrorOfAFullSpeedMoveOnAAndC) {
   // at rest within a few encoder counts
   EXPECT_LT(fa * deg, 0.0015);
   EXPECT_LT(fc * deg, 0.004);
-  EXPECT_LT(final_a, 4 * five().rotary[0]->encoder_resolution_rad);
-  EXPECT_LT(final_c, 4 * five().rotary[2]->encoder_resolution_rad);
+  EXPECT_LT(final_a, 4 * test::five_axis_config().rotary[0]->encoder_resolution_rad);
+  EXPECT_LT(final_c, 4 * test::five_axis_config().rotary[2]->encoder_resolution_rad);
 }
 
 }  // namespace

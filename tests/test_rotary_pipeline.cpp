@@ -16,13 +16,13 @@
 #include "ipc/block_check.hpp"
 #include "ipc/trace_format.hpp"
 #include "test_paths.hpp"
+#include "machine_runner.hpp"
 
 namespace pcnc {
 namespace {
 
 using test::run_program;
 
-MachineConfig five() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
 
 JobOptions at_home() {
   JobOptions o;
@@ -68,7 +68,7 @@ TEST(RotaryTrace, HeaderAndRowCarryTheDeclaredJointsInDegrees) {
 // ---- the front end ----
 
 TEST(RotaryGcode, AbcWordsInDegreesBecomeTheBlocksJointsInRadians) {
-  const auto r = run_program("G21 G90\nG1 X1 A30 C-45 F600\nG91 G1 A10 C10\nG90 G1 Y2\nM2\n", five(), at_home());
+  const auto r = run_program("G21 G90\nG1 X1 A30 C-45 F600\nG91 G1 A10 C10\nG90 G1 Y2\nM2\n", test::five_axis_config(), at_home());
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
   const auto m = r.motion();
   ASSERT_EQ(m.size(), 3u);
@@ -90,7 +90,7 @@ TEST(RotaryGcode, AbcWordsInDegreesBecomeTheBlocksJointsInRadians) {
 
 TEST(RotaryGcode, TheJointsCapTheSpeedOfAMoveTheyTurnIn) {
   // 1 mm of X while C turns 90 degrees: C at 720 deg/s max would need 100 mm/s * 90 deg/mm
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   const auto r = run_program("G21 G90\nG1 X1 C90 F6000\nG0 A90\nM2\n", cfg, at_home());
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
   const auto m = r.motion();
@@ -103,19 +103,19 @@ TEST(RotaryGcode, TheJointsCapTheSpeedOfAMoveTheyTurnIn) {
 }
 
 TEST(RotaryGcode, RotaryWordsWhereTheyCannotMoveAreRefusedAtTheirColumn) {
-  auto r = run_program("G21 G90\nG2 X1 Y1 I1 A30 F100\nM2\n", five(), at_home());
+  auto r = run_program("G21 G90\nG2 X1 Y1 I1 A30 F100\nM2\n", test::five_axis_config(), at_home());
   ASSERT_NE(r.first_error(), nullptr);
   EXPECT_EQ(r.first_error()->line, 2);
   EXPECT_EQ(r.first_error()->column, 13);
   EXPECT_NE(r.first_error()->message.find("rotary joints move with G0 or G1 only"), std::string::npos);
-  r = run_program("G21 G90\nG1 B30 F100\nM2\n", five(), at_home());
+  r = run_program("G21 G90\nG1 B30 F100\nM2\n", test::five_axis_config(), at_home());
   ASSERT_NE(r.first_error(), nullptr);
   EXPECT_NE(r.first_error()->message.find("the machine has no B axis"), std::string::npos);
   EXPECT_EQ(r.first_error()->column, 4);
 }
 
 TEST(RotaryGcode, PreflightRefusesAJointOutsideItsTravelBeforeAnythingMoves) {
-  const auto r = run_program("G21 G90\nG1 A30 F600\nG1 A100\nG1 A0\nM2\n", five(), at_home());
+  const auto r = run_program("G21 G90\nG1 A30 F600\nG1 A100\nG1 A0\nM2\n", test::five_axis_config(), at_home());
   EXPECT_FALSE(r.check.ok);
   ASSERT_NE(r.first_error(), nullptr);
   EXPECT_EQ(r.first_error()->line, 3);
@@ -125,12 +125,12 @@ TEST(RotaryGcode, PreflightRefusesAJointOutsideItsTravelBeforeAnythingMoves) {
 }
 
 TEST(RotaryGcode, NoRotaryMotionOrTcpUnderCutterCompensation) {
-  auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG41.1 D2\nG1 X5 A10\nM2\n", five(), at_home());
+  auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG41.1 D2\nG1 X5 A10\nM2\n", test::five_axis_config(), at_home());
   ASSERT_NE(r.first_error(), nullptr);
   EXPECT_EQ(r.first_error()->line, 4);
   EXPECT_NE(r.first_error()->message.find("does not turn under cutter radius compensation"), std::string::npos)
       << r.first_error()->message;
-  r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG41.1 D2\nG1 X5\nM428\nM2\n", five(), at_home());
+  r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG41.1 D2\nG1 X5\nM428\nM2\n", test::five_axis_config(), at_home());
   ASSERT_NE(r.first_error(), nullptr);
   EXPECT_NE(r.first_error()->message.find("M428: tool-centre-point control under cutter radius compensation"),
             std::string::npos)
@@ -140,7 +140,7 @@ TEST(RotaryGcode, NoRotaryMotionOrTcpUnderCutterCompensation) {
 // ---- tool-centre-point control ----
 
 TEST(RotaryTcp, M428KeepsTheMachineWhereItIsAndBlocksFollowTheTip) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   const auto r = run_program("G21 G90\nG1 X1 Y1 Z-5 F600\nG1 A20 C30 F3600\nM428\nG1 X2 Y0 Z-6 F300\nM429\nG1 Z-2\nM2\n",
                              cfg, at_home());
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
@@ -162,7 +162,7 @@ TEST(RotaryTcp, M428KeepsTheMachineWhereItIsAndBlocksFollowTheTip) {
 }
 
 TEST(RotaryTcp, ToolLengthGoesAlongTheToolAxisNotOntoZ) {
-  MachineConfig cfg = five();
+  MachineConfig cfg = test::five_axis_config();
   JobOptions o = at_home();
   o.tools = std::make_shared<ToolTable>(load_tool_table(test::source_dir() + "/configs/desktop-mill.tbl"));
   // T2: 4.25 mm. A tilted 30 deg with TCP on: the gauge point lies 4.25 mm up the tool axis.
@@ -190,7 +190,7 @@ TEST(RotaryTcp, ToolLengthGoesAlongTheToolAxisNotOntoZ) {
 }
 
 TEST(RotaryTcp, TheTcpBlocksSpeedKeepsEveryJointWithinItsLimits) {
-  MachineConfig cfg = five();
+  MachineConfig cfg = test::five_axis_config();
   // a short move with a large turn: the joints, not the feed, set the speed
   const auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG1 A10 F3600\nM428\nG1 X1 A30 C40 F3000\nM2\n", cfg, at_home());
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
@@ -226,18 +226,18 @@ TEST(RotaryTcp, TheTcpBlocksSpeedKeepsEveryJointWithinItsLimits) {
 
 TEST(RotaryTcp, MovesTheRtCannotRunAsProgrammedAreRefused) {
   // from the pole (A0) the great circle leaves along C = 45, but C stands at 0
-  auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG1 X1 A20 C45 F300\nM2\n", five(), at_home());
+  auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG1 X1 A20 C45 F300\nM2\n", test::five_axis_config(), at_home());
   ASSERT_NE(r.first_error(), nullptr);
   EXPECT_EQ(r.first_error()->line, 4);
   EXPECT_NE(r.first_error()->message.find("leaves the pole of the C axis towards C 45 deg but C stands at 0 deg"),
             std::string::npos)
       << r.first_error()->message;
   // C 10 -> 350 with the tool tilted: the orientation goes the short way (through C 0)
-  r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG1 A20 C10 F3600\nM428\nG1 X1 C350 F300\nM2\n", five(), at_home());
+  r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG1 A20 C10 F3600\nM428\nG1 X1 C350 F300\nM2\n", test::five_axis_config(), at_home());
   ASSERT_NE(r.first_error(), nullptr);
   EXPECT_NE(r.first_error()->message.find("turns the short way"), std::string::npos) << r.first_error()->message;
   // arcs under TCP
-  r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG2 X1 Y1 I1 F300\nM2\n", five(), at_home());
+  r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG2 X1 Y1 I1 F300\nM2\n", test::five_axis_config(), at_home());
   ASSERT_NE(r.first_error(), nullptr);
   EXPECT_NE(r.first_error()->message.find("only G0 and G1 moves run"), std::string::npos);
 }
@@ -248,14 +248,14 @@ TEST(RotaryTcp, ANullMoveIsAcceptedAndRunsNothingUnderTcpAndOff) {
   const auto r = run_program(
       "G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG0 Z-5\nG1 X0 Y0 Z-5\nM429\nG1 A20 C30 F3600\nM428\nG91 G0 Z0\nG1 X0 "
       "F300\nG90\nG1 X1 F300\nM429\nG91 G0 X0\nG90\nM2\n",
-      five(), at_home());
+      test::five_axis_config(), at_home());
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
   const auto m = r.motion();
   ASSERT_EQ(m.size(), 3u);  // to the start, the tilt, the one TCP move that moves
   EXPECT_EQ(m[2].rotary.tcp, 1);
   EXPECT_GT(m[2].length, 0.5);
   // C turning on the pole with the tip still is still refused under TCP
-  const auto c = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG1 C30 F300\nM2\n", five(), at_home());
+  const auto c = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nM428\nG1 C30 F300\nM2\n", test::five_axis_config(), at_home());
   ASSERT_NE(c.first_error(), nullptr);
   EXPECT_EQ(c.first_error()->line, 4);
   EXPECT_NE(c.first_error()->message.find("neither moves the tool tip nor turns the tool axis"), std::string::npos)
@@ -263,7 +263,7 @@ TEST(RotaryTcp, ANullMoveIsAcceptedAndRunsNothingUnderTcpAndOff) {
 }
 
 TEST(RotaryTcp, PassingThroughThePoleKeepsC) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   const auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG1 A20 C30 F3600\nM428\nG1 X2 A-20 C30 F300\nM2\n", cfg, at_home());
   ASSERT_TRUE(r.check.ok) << (r.first_error() ? r.first_error()->message : "");
   const Block b = r.motion()[2];
@@ -287,7 +287,7 @@ TEST(RotaryTcp, PassingThroughThePoleKeepsC) {
 // ---- the rotary block check ----
 
 TEST(RotaryBlockCheck, RefusesWhatTheRtCannotRun) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   const auto r = run_program("G21 G90\nG1 X0 Y0 Z-5 F600\nG1 A20 C30 F3600\nM428\nG1 X2 Y1 F300\nM2\n", cfg, at_home());
   ASSERT_TRUE(r.check.ok);
   const Block tcp = r.motion()[2];
@@ -317,7 +317,7 @@ TEST(RotaryBlockCheck, RefusesWhatTheRtCannotRun) {
 }
 
 TEST(RotaryMoves, AngularLengthAndToolAxis) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   Move m;
   m.kind = MoveKind::kLine;
   m.rot_end = {0.3, 0.0, 0.4};

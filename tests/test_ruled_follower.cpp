@@ -17,11 +17,11 @@
 #include "geometry/ruled_model.hpp"
 #include "ipc/block_ruled.hpp"
 #include "motion/ruled_follower.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kPeriod = 0.0005;  // 2 kHz
 
 Kinematics desktop_kinematics(double tool_length) {

@@ -20,12 +20,12 @@
 #include "geometry/kinematics.hpp"
 #include "test_paths.hpp"
 #include "subprocess.hpp"
+#include "test_constants.hpp"
+#include "machine_runner.hpp"
 
 namespace pcnc {
 namespace {
 
-MachineConfig five() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
-const Vec3 kG54{12.5, 12.5, 25.0};
 
 // What `pcnc ruled` writes, in miniature (program coordinates): an approach down from 3 mm above
 // the tilted tool's tip, a 24-point pass along X with the axis swinging toward +Y by `swing`
@@ -84,7 +84,7 @@ void expect_same_blocks(const std::vector<Block>& a, const std::vector<Block>& b
 }
 
 TEST(RuledJsonInput, BothFormsGiveTheSameBlocksThroughCheckAndStream) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   const std::vector<RuledPiece> ps = pieces(cfg);
   const std::string ngc = gcode_form(cfg, ps, 600.0), json = ruled_program_json(ps, 600.0);
   std::vector<Block> from_ngc, from_json;
@@ -126,7 +126,7 @@ TEST(RuledJsonInput, BothFormsGiveTheSameBlocksThroughCheckAndStream) {
 // point's (the turn its tool vector's), each piece's blocks the line of its object, the end the
 // last set point's.
 TEST(RuledJsonInput, BlocksNameTheirPlaceInTheJsonFile) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   const std::string json = ruled_program_json(pieces(cfg), 600.0);
   const RuledJsonProgram places = read_ruled_program_json(json, "p.json");
   ASSERT_EQ(places.error, "");
@@ -148,7 +148,7 @@ TEST(RuledJsonInput, BlocksNameTheirPlaceInTheJsonFile) {
 // The preamble from the config: the joints turned with TCP off to the first tool vector, M428,
 // the rapids (Z to the higher end, X Y, down to the first point), back up, M429, the joints back.
 TEST(RuledJsonInput, PreambleIsMadeFromTheConfig) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   std::vector<RuledPiece> ps = pieces(cfg);
   ps.erase(ps.begin());  // start with the pass itself, 3 mm lower than its end point after the retract
   const RuledJsonInput in = ruled_json_input(ruled_program_json(ps, 450.0), "p.json", cfg, kG54, 1.0);
@@ -173,7 +173,7 @@ TEST(RuledJsonInput, PreambleIsMadeFromTheConfig) {
 
 // Refusals name the JSON file, the line and column and the key path; nothing runs then.
 TEST(RuledJsonInput, RefusedAtThePlaceInTheFileBeforeAnythingRuns) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   int blocks = 0;
   auto count = [&](const Block&) { ++blocks; };
   // a tool vector that is not a unit vector (the reader's rules)

@@ -99,10 +99,10 @@ TEST(RuledSetPoints, VelocityAndAxisRateAreContinuousAcrossSetPoints) {
 
 // Largest distance of the model's directrix from the helix and of its ruling from the true
 // axis, sampled within every segment (the nearest helix point by the parameter's chord share).
-struct ModelError {
+struct SweptModelError {
   double position = 0.0, angle = 0.0;
 };
-ModelError model_error(int n) {
+SweptModelError model_error(int n) {
   const std::vector<double> ts = uneven_t(n);
   std::vector<Vec3> pts, vecs;
   for (double t : ts) {
@@ -111,7 +111,7 @@ ModelError model_error(int n) {
   }
   const RuledModelResult r = ruled_model_through(pts, vecs, RulingForm::kAngles);
   const RuledCurves c = r.model.curves();
-  ModelError e;
+  SweptModelError e;
   for (int i = 0; i < n; ++i)
     for (double f : {0.25, 0.5, 0.75}) {
       const RuledJet j = ruled_jet(c, i + f);
@@ -129,7 +129,7 @@ ModelError model_error(int n) {
 }
 
 TEST(RuledSetPoints, ConvergesToTheSurfaceItSamples) {
-  const ModelError coarse = model_error(10), fine = model_error(20), finer = model_error(40);
+  const SweptModelError coarse = model_error(10), fine = model_error(20), finer = model_error(40);
   EXPECT_LT(fine.position, coarse.position / 4);
   EXPECT_LT(finer.position, fine.position / 4);
   EXPECT_LT(fine.angle, coarse.angle / 4);

@@ -12,12 +12,12 @@
 #include "gcode/program.hpp"
 #include "geometry/kinematics.hpp"
 #include "test_paths.hpp"
+#include "test_constants.hpp"
+#include "machine_runner.hpp"
 
 namespace pcnc {
 namespace {
 
-MachineConfig five() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
-const Vec3 kG54{12.5, 12.5, 25.0};
 
 // The tool tilted (TCP off: G0 X-4 Y-2 Z-5, G1 A12 C35), then M428 and a G5.4 group of
 // `points` + 1 set points along X from the tip, the axis swinging by `swing` rad toward +Y.
@@ -41,7 +41,7 @@ std::string program(const MachineConfig& cfg, int points, double length, double 
   return o.str();
 }
 
-std::string errors(const CheckResult& r) {
+std::string check_errors(const CheckResult& r) {
   std::string s;
   for (const Diagnostic& d : r.diagnostics) {
     if (d.severity == Diagnostic::Severity::kError) s += format_diagnostic(d) + "\n";
@@ -50,11 +50,11 @@ std::string errors(const CheckResult& r) {
 }
 
 TEST(RuledPipeline, GroupBecomesRuledBlocksSplitAtThirtyTwoSegments) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   std::vector<Block> blocks;
   const CheckResult r =
       check_program_text(program(cfg, 40, 8.0, 0.1), "r.ngc", cfg, JobOptions{}, [&](const Block& b) { blocks.push_back(b); });
-  ASSERT_TRUE(r.ok) << errors(r);
+  ASSERT_TRUE(r.ok) << check_errors(r);
   std::vector<Block> ruled;
   for (const Block& b : blocks) {
     if (b.kind == BlockKind::kRuled) ruled.push_back(b);
@@ -74,28 +74,28 @@ TEST(RuledPipeline, GroupBecomesRuledBlocksSplitAtThirtyTwoSegments) {
 }
 
 TEST(RuledPipeline, FirstPointMustBeWhereTheToolStands) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   const CheckResult r = check_program_text(program(cfg, 4, 4.0, 0.05, 0.2), "r.ngc", cfg, JobOptions{});
   EXPECT_FALSE(r.ok);
-  EXPECT_NE(errors(r).find("r.ngc:6:1: error: the first set point of the G5.4 group is 0.2"), std::string::npos) << errors(r);
+  EXPECT_NE(check_errors(r).find("r.ngc:6:1: error: the first set point of the G5.4 group is 0.2"), std::string::npos) << check_errors(r);
 }
 
 TEST(RuledPipeline, JointsOutsideTheTravelAreRefusedBeforeAnythingMoves) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   // 30 mm along X: the linear joints leave the 25 mm travel along the piece
   const CheckResult r = check_program_text(program(cfg, 30, 30.0, 0.05), "r.ngc", cfg, JobOptions{});
   EXPECT_FALSE(r.ok);
-  EXPECT_NE(errors(r).find("r.ngc:5:1: error: X "), std::string::npos) << errors(r);
-  EXPECT_NE(errors(r).find("(machine, along the TCP move) is above the travel maximum 25.0000 mm"), std::string::npos) << errors(r);
+  EXPECT_NE(check_errors(r).find("r.ngc:5:1: error: X "), std::string::npos) << check_errors(r);
+  EXPECT_NE(check_errors(r).find("(machine, along the TCP move) is above the travel maximum 25.0000 mm"), std::string::npos) << check_errors(r);
 }
 
 TEST(RuledPipeline, LeavingThePoleTowardAnotherAngleIsRefused) {
-  const MachineConfig cfg = five();
+  const MachineConfig cfg = test::five_axis_config();
   // the tool vertical (A0): the piece tilts it toward +Y, which C = 35 does not point to
   const CheckResult r = check_program_text(program(cfg, 8, 4.0, 0.1, 0.0, 0.0), "r.ngc", cfg, JobOptions{});
   EXPECT_FALSE(r.ok);
-  EXPECT_NE(errors(r).find("r.ngc:5:1: error: G5.4 group: the ruled piece turns the rotary joint by"), std::string::npos)
-      << errors(r);
+  EXPECT_NE(check_errors(r).find("r.ngc:5:1: error: G5.4 group: the ruled piece turns the rotary joint by"), std::string::npos)
+      << check_errors(r);
 }
 
 }  // namespace

@@ -12,10 +12,9 @@
 namespace pcnc {
 namespace {
 
-MachineConfig cfg() { return test::default_machine_config(); }
 
 TEST(Servo, FeedForwardAloneAtZeroError) {
-  AxisConfig a = cfg().axes[0];
+  AxisConfig a = test::default_machine_config().axes[0];
   AxisPid pid(a, 0.0005);
   const double u = pid.update(5.0, 5.0, 30.0, 1000.0);
   EXPECT_NEAR(u, a.velocity_ff_a_s_per_mm * 30.0 + a.accel_ff_a_s2_per_mm * 1000.0 + a.friction_ff_a, 1e-12);
@@ -24,7 +23,7 @@ TEST(Servo, FeedForwardAloneAtZeroError) {
 }
 
 TEST(Servo, OutputSaturatesAndTheIntegratorDoesNotWindUp) {
-  AxisConfig a = cfg().axes[0];
+  AxisConfig a = test::default_machine_config().axes[0];
   AxisPid pid(a, 0.0005);
   for (int k = 0; k < 10000; ++k) {
     const double u = pid.update(10.0, 0.0, 0.0, 0.0);  // huge error: saturated
@@ -48,7 +47,7 @@ AxisConfig without_coulomb(AxisConfig a, bool remove) {
 // Closed loop of one axis on its plant model, setpoint given per cycle.
 struct Loop {
   explicit Loop(int axis, bool coulomb = true)
-      : c(cfg()), a(without_coulomb(c.axes[axis], !coulomb)), pid(a, c.cycle_period_s()), plant(a, c.cycle_period_s(), 8, 10.0) {
+      : c(test::default_machine_config()), a(without_coulomb(c.axes[axis], !coulomb)), pid(a, c.cycle_period_s()), plant(a, c.cycle_period_s(), 8, 10.0) {
     pid.reset(a.gravity_load_n / a.force_constant_n_per_a);
   }
   double step(double sp, double v = 0.0, double acc = 0.0) {

@@ -18,7 +18,7 @@ namespace {
 
 // z = 5 + 0.2 x - 0.1 y over [0, 10]^2 as a bicubic patch with unevenly spaced control points
 // in x (the parameter is not x: the gradient must come through the Jacobian).
-BSplineSurface tilted_plane() {
+BSplineSurface tilted_table_plane() {
   return bicubic_patch([](int i, int j) {
     const double u = i / 3.0, v = j / 3.0;
     const double x = 10.0 * u * u * 0.5 + 10.0 * u * 0.5, y = 10.0 * v;  // x = 5u² + 5u: monotone, not linear
@@ -31,7 +31,7 @@ TEST(SimTable, ABSplineTopGivesTheHeightAndGradientOfThePlaneItHolds) {
   // to 1) every point of the patch lies on the plane, whatever x(u) is
   TableScene s;
   s.has_surface = true;
-  s.bspline = std::make_shared<const BSplineSurface>(tilted_plane());
+  s.bspline = std::make_shared<const BSplineSurface>(tilted_table_plane());
   for (double x : {1.0, 3.3, 7.9})
     for (double y : {0.5, 4.0, 9.5}) {
       double gx = 0, gy = 0;

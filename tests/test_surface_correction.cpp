@@ -34,7 +34,7 @@ std::vector<Move> run_stage(SurfaceCorrection& stage, const std::vector<Move>& i
   return test::run_move_stage(stage, in);
 }
 
-Move line(Vec3 a, Vec3 b, MoveKind k = MoveKind::kLine) {
+Move surface_move(Vec3 a, Vec3 b, MoveKind k = MoveKind::kLine) {
   Move m;
   m.kind = k;
   m.start = a;
@@ -69,7 +69,7 @@ TEST(SurfaceCorrection, ShiftsZAndSplitsLongLinesWithinTheTolerance) {
   SurfaceCorrection stage(s, SurfaceCorrection::reference_at(*s, {12.5, 12.5, 0}), tol, nullptr);
   const Vec3 a{1, 2, 5}, b{23, 21, 4};
   // a plunge at (1, 2) first: its end is lifted, the start (the machine's position) is not
-  const std::vector<Move> out = run_stage(stage, {line({1, 2, 8}, a, MoveKind::kRapid), line(a, b)});
+  const std::vector<Move> out = run_stage(stage, {surface_move({1, 2, 8}, a, MoveKind::kRapid), surface_move(a, b)});
   ASSERT_GE(out.size(), 3u);
   EXPECT_EQ(out[0].start, (Vec3{1, 2, 8}));
   EXPECT_EQ(out[0].kind, MoveKind::kRapid);
@@ -105,7 +105,7 @@ TEST(SurfaceCorrection, APlaneNeedsNoSplit) {
   const auto s = wavy_surface([](double x, double y) { return 0.01 * x - 0.02 * y; });
   SurfaceCorrection stage(s, 0.0, 0.001, nullptr);
   // the first move starts at the machine's (uncorrected) position: the gap fades along it
-  const std::vector<Move> out = run_stage(stage, {line({1, 1, 3}, {24, 20, 3})});
+  const std::vector<Move> out = run_stage(stage, {surface_move({1, 1, 3}, {24, 20, 3})});
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].start, (Vec3{1, 1, 3}));
   EXPECT_NEAR(out[0].end[2], 3 + 0.01 * 24 - 0.02 * 20, 1e-9);
@@ -115,7 +115,7 @@ TEST(SurfaceCorrection, ArcsBecomeLinesWithinTheTolerance) {
   const auto s = wavy_surface();
   const double tol = 0.002;
   SurfaceCorrection stage(s, 0.0, tol, nullptr);
-  Move arc = line({15, 10, 2}, {5, 10, 1});
+  Move arc = surface_move({15, 10, 2}, {5, 10, 1});
   arc.kind = MoveKind::kArc;
   arc.center = {10, 10, 2};
   arc.radius = 5;
@@ -142,11 +142,11 @@ TEST(SurfaceCorrection, NurbsMovesBecomeLinesWithinTheTolerance) {
   SurfaceCorrection stage(s, 0.0, tol, nullptr);
   const auto curve = std::make_shared<const NurbsCurve>(
       make_nurbs({{2, 3, 4}, {8, 20, 4}, {15, 2, 3}, {22, 18, 3}}, {1, 2, 1, 1}, 4));
-  Move m = line(curve->points.front(), curve->points.back());
+  Move m = surface_move(curve->points.front(), curve->points.back());
   m.kind = MoveKind::kNurbs;
   m.nurbs = curve;
   // a plunge to the curve's start first, so that the curve starts on the corrected path
-  std::vector<Move> out = run_stage(stage, {line({2, 3, 10}, {2, 3, 4}), m});
+  std::vector<Move> out = run_stage(stage, {surface_move({2, 3, 10}, {2, 3, 4}), m});
   out.erase(out.begin());
   ASSERT_GT(out.size(), 10u);
   double worst = 0;
@@ -166,12 +166,12 @@ TEST(SurfaceCorrection, NurbsMovesBecomeLinesWithinTheTolerance) {
 TEST(SurfaceCorrection, MachineFrameMovesAndDwellsAreNotLifted) {
   const auto s = wavy_surface();
   SurfaceCorrection stage(s, 0.0, 0.001, nullptr);
-  Move up = line({10, 10, 2}, {10, 10, 24}, MoveKind::kRapid);
+  Move up = surface_move({10, 10, 2}, {10, 10, 24}, MoveKind::kRapid);
   up.machine_frame = true;
   Move dwell;
   dwell.kind = MoveKind::kDwell;
   dwell.dwell_s = 1;
-  const std::vector<Move> out = run_stage(stage, {line({10, 10, 5}, {10, 10, 2}), up, dwell});
+  const std::vector<Move> out = run_stage(stage, {surface_move({10, 10, 5}, {10, 10, 2}), up, dwell});
   ASSERT_EQ(out.size(), 3u);
   EXPECT_NEAR(out[0].end[2], 2 + stage.offset_at(10, 10), 1e-12);
   EXPECT_EQ(out[1].start, out[0].end);
@@ -189,7 +189,7 @@ TEST(SurfaceCorrection, OutsideTheSurfaceWarnsOnce) {
   const auto s = std::make_shared<const BSplineSurface>(interpolate_grid(g, 3, 1.0).surface);
   DiagnosticSink sink("t.ngc");
   SurfaceCorrection stage(s, 0.0, 0.001, &sink);
-  const std::vector<Move> out = run_stage(stage, {line({12, 12, 5}, {20, 12, 5}), line({20, 12, 5}, {22, 12, 5})});
+  const std::vector<Move> out = run_stage(stage, {surface_move({12, 12, 5}, {20, 12, 5}), surface_move({20, 12, 5}, {22, 12, 5})});
   const auto d = sink.take();
   ASSERT_EQ(d.size(), 1u);
   EXPECT_NE(d[0].message.find("footprint"), std::string::npos);

@@ -21,13 +21,13 @@
 #include "gcode/tcp_fit_travel.hpp"
 #include "geometry/tcp_path.hpp"
 #include "test_paths.hpp"
+#include "test_constants.hpp"
+#include "machine_runner.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
-MachineConfig machine() { return load_config(test::source_dir() + "/configs/desktop-5axis.toml"); }
 
 Vec3 axis_at(double a, double c) { return forward(Kinematics{KinematicsKind::kTableTable}, {0, 0, 0, a, c}).axis; }
 
@@ -64,7 +64,7 @@ double dense_margin(const std::vector<FitPose>& poses, const MachineConfig& c, d
 }
 
 TEST(TcpFit, AVerticalToolGetsTheThreeAxisScale) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   // a 40 x 10 x 5 rectangle path, tool vertical
   std::vector<FitPose> p;
   const Vec3 corners[] = {{-20, -5, -10}, {20, -5, -10}, {20, 5, -15}, {-20, 5, -15}, {-20, -5, -10}};
@@ -84,7 +84,7 @@ TEST(TcpFit, AVerticalToolGetsTheThreeAxisScale) {
 }
 
 TEST(TcpFit, AConstantTiltScalesByTheTurnedExtents) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   const double a = 30.0 * kDeg, cc = 40.0 * kDeg;
   const Vec3 axis = axis_at(a, cc);
   std::vector<FitPose> p;
@@ -113,7 +113,7 @@ TEST(TcpFit, AConstantTiltScalesByTheTurnedExtents) {
 }
 
 TEST(TcpFit, ATooLargeTiltedHelixIsScaledUntilItsJointsFit) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   TiltedHelix h;
   h.radius = 24.0;
   h.pitch = 9.0;
@@ -135,7 +135,7 @@ TEST(TcpFit, ATooLargeTiltedHelixIsScaledUntilItsJointsFit) {
 }
 
 TEST(TcpFit, TheExamplesFitAsWritten) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   for (const FiveAxisExample& e : five_axis_examples()) {
     const TcpFitResult r = fit_tcp_to_travel(poses_of(e.poses), c);
     ASSERT_TRUE(r.ok) << e.file << ": " << r.error;
@@ -174,7 +174,7 @@ TEST(TcpFit, ScalesThatFitNeedNotStartAtZero) {
 }
 
 TEST(TcpFit, ATcpOffProgramThatTurnsARotaryJointIsRefused) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   const std::vector<FitPose> p = {FitPose{ToolPose{{0, 0, -10}, {0, 0, 1}}, false, 0.0, 0.0, 3},
                                   FitPose{ToolPose{{5, 0, -10}, {0, 0, 1}}, false, 20 * kDeg, 0.0, 4}};
   const TcpFitResult r = fit_tcp_to_travel(p, c);
@@ -190,7 +190,7 @@ TEST(TcpFit, ATcpOffProgramThatTurnsARotaryJointIsRefused) {
 }
 
 TEST(TcpFit, AnAxisBeyondTheTiltTravelIsRefused) {
-  const MachineConfig c = machine();
+  const MachineConfig c = test::five_axis_config();
   const std::vector<FitPose> p = {FitPose{ToolPose{{0, 0, -10}, {0, 0, 1}}, true, 0, 0, 7},
                                   FitPose{ToolPose{{1, 0, -10}, axis_at(60 * kDeg, 0)}, true, 0, 0, 8},
                                   FitPose{ToolPose{{2, 0, -10}, axis_at(120 * kDeg, 0)}, true, 0, 0, 9}};

@@ -12,12 +12,11 @@
 
 #include "geometry/kinematics.hpp"
 #include "geometry/tcp_path.hpp"
+#include "test_constants.hpp"
 
 namespace pcnc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
 JointLimits desk_limits() {
   // x y z: 50 mm/s, 500 mm/s²; A: 90°/s, 600°/s²; C: 180°/s, 1200°/s²

@@ -17,6 +17,8 @@ MachineConfig default_machine_config() {
   return c;
 }
 
+MachineConfig five_axis_config() { return load_config(source_dir() + "/configs/desktop-5axis.toml"); }
+
 std::vector<Block> long_line(const MachineConfig& c, double feed) {
   ProgramBuilder p(c, home(c));
   p.rapid({1.0, 12.5, 20.0});

@@ -64,6 +64,8 @@ class MachineRunner {
 
 /// The default config loaded from configs/desktop-mill.toml.
 MachineConfig default_machine_config();
+/// configs/desktop-5axis.toml loaded as shipped.
+MachineConfig five_axis_config();
 
 /// A long straight line along X at `feed` (mm/s), from home: rapid to X1, line to X24, end.
 std::vector<Block> long_line(const MachineConfig& config, double feed);

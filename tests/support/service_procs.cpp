@@ -20,6 +20,18 @@ std::string rt_exe() { return bin_dir() + "/rt/pcnc-rt"; }
 std::string host_exe() { return bin_dir() + "/host/pcnc-host"; }
 std::string pcnc_exe() { return bin_dir() + "/tools/pcnc"; }
 
+MachineConfig mill_config() { return load_config(default_config()); }
+
+double pos(const json& status, const char* which, int axis) {
+  return status[which][std::string(1, "xyz"[axis])].get<double>();
+}
+int error_code(const json& reply) { return reply.contains("error") ? reply["error"]["code"].get<int>() : 0; }
+std::string error_message(const json& reply) {
+  return reply.contains("error") ? reply["error"]["message"].get<std::string>() : "";
+}
+bool idle(const json& status) { return status["state"] == "IDLE" && !status["job"]["active"].get<bool>(); }
+bool idle_after_job(const json& status) { return idle(status) && status["last_job"].is_object(); }
+
 ProcessResult ServicePair::ctl(const std::vector<std::string>& args, double timeout_s) const {
   std::vector<std::string> argv = {pcnc_exe(), "ctl", "--config", config_};
   argv.insert(argv.end(), args.begin(), args.end());

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "config/config.hpp"
 #include "ctl.hpp"
 #include "ipc/status.hpp"
 #include "subprocess.hpp"
@@ -61,6 +62,19 @@ class ServicePair {
 std::string rt_exe();
 std::string host_exe();
 std::string pcnc_exe();
+
+/// The shipped desktop-mill config as pcnc-host loads it (its path tolerance included).
+MachineConfig mill_config();
+
+/// Readers of the socket's replies and status (docs/protocol.md).
+/// status[which][x|y|z] for axis 0-2 (`which`: "machine", "work", ...).
+double pos(const json& status, const char* which, int axis);
+/// A reply's error code (0 when it is a result) and message ("" when it is a result).
+int error_code(const json& reply);
+std::string error_message(const json& reply);
+/// Idle with no job running; idle_after_job: and the last job's record is there.
+bool idle(const json& status);
+bool idle_after_job(const json& status);
 
 /// Writes `text` to dir/name; returns the path.
 std::string write_program(const std::string& dir, const std::string& name, const std::string& text);

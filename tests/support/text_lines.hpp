@@ -1,11 +1,13 @@
 // text_lines.hpp — a text as its lines (without '\n'; a '\r' stays), for tests that compare
-// programs line by line.
+// programs line by line; and whether a text has a part (messages, reports).
 #pragma once
 
 #include <string>
 #include <vector>
 
 namespace pcnc::test {
+
+inline bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 inline std::vector<std::string> split_lines(const std::string& s) {
   std::vector<std::string> out;
