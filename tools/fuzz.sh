@@ -4,7 +4,8 @@
 # N seconds (default 60, or $PCNC_FUZZ_SECONDS): fuzz_gcode (the G-code front end, seeded from
 # ../shared/gcode) and fuzz_protocol (the control protocol's parsing and dispatch against an
 # in-process machine, seeded from fuzz/corpus_protocol). Exits non-zero on a crash, a hang or
-# a leak; the input that caused it is left in build-fuzz (crash-*, timeout-*, leak-*).
+# a leak; the input that caused it is left in build-fuzz/fuzz-out-TARGET (crash-*, timeout-*,
+# leak-*). The targets run at the same time, one process each.
 # Ends with one line per target: executions, exec/s, coverage (cov: edges, ft: features).
 # Usage: tools/fuzz.sh [SECONDS] [gcode|protocol ...]   (no target: both)
 set -euo pipefail
@@ -27,12 +28,14 @@ else
 fi
 cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}"
 
-summary=()
-cd "$build"  # crash-* files land here
+# The targets run side by side (one core each on CI's two), each in a directory of its own so
+# that a crash-* file names its target; the reports follow in order once all have ended.
+cd "$build"
+pids=()
 for t in "${targets[@]}"; do
   # New inputs go to the first (scratch) directory; the seed directories are only read.
   work="$build/fuzz-corpus-$t"
-  mkdir -p "$work"
+  mkdir -p "$work" "$build/fuzz-out-$t"
   seeds=()
   case "$t" in
     gcode)
@@ -45,24 +48,35 @@ for t in "${targets[@]}"; do
       ;;
     *) echo "fuzz.sh: unknown target '$t' (gcode, protocol)" >&2; exit 2 ;;
   esac
+  echo "fuzzing $t for ${secs} s (seeds: ${seeds[*]:-none}; log: $build/fuzz-$t.log)"
+  (cd "$build/fuzz-out-$t" &&  # crash-* files land here
+    exec "$build/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 "${args[@]}" \
+      -print_final_stats=1 "$work" "${seeds[@]}" >"$build/fuzz-$t.log" 2>&1) &
+  pids+=($!)
+done
+
+summary=()
+failed=0
+for i in "${!targets[@]}"; do
+  t=${targets[$i]}
   log="$build/fuzz-$t.log"
-  echo "fuzzing $t for ${secs} s (seeds: ${seeds[*]:-none}; log: $log)"
   rc=0
-  "$build/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 "${args[@]}" \
-    -print_final_stats=1 "$work" "${seeds[@]}" >"$log" 2>&1 || rc=$?
+  wait "${pids[$i]}" || rc=$?
+  echo "---- fuzz_$t ----"
   tail -n 12 "$log"
   if [ "$rc" -ne 0 ]; then
     # The report's head (what failed and where) and the input, so a CI log alone reproduces it:
     # base64 -d > crash.bin; build-asan/fuzz/fuzz_gcode crash.bin
     echo "---- the report's first lines ----"
     sed -n '/ERROR: \|runtime error\|==[0-9]*==\|deadly signal/,$p' "$log" | head -n 60
-    for f in crash-* timeout-* leak-*; do
+    for f in "$build/fuzz-out-$t"/crash-* "$build/fuzz-out-$t"/timeout-* "$build/fuzz-out-$t"/leak-*; do
       [ -f "$f" ] || continue
       echo "---- $f ($(stat -c %s "$f") bytes), base64 ----"
       head -c 8192 "$f" | base64
     done
-    echo "fuzz.sh: fuzz_$t failed (exit $rc); see $log and the crash-*/timeout-*/leak-* file in $build" >&2
-    exit "$rc"
+    echo "fuzz.sh: fuzz_$t failed (exit $rc); see $log and the crash-*/timeout-*/leak-* file in $build/fuzz-out-$t" >&2
+    failed=$rc
+    continue
   fi
   # The last status line ("#N DONE cov: C ft: F ... exec/s: E") and the final stats.
   last=$(grep -E '^#[0-9]+' "$log" | tail -n 1)
@@ -72,4 +86,5 @@ for t in "${targets[@]}"; do
   ft=$(sed -n 's/.* ft: \([0-9]*\).*/\1/p' <<<"$last")
   summary+=("fuzz_$t: ${secs} s, ${execs} executions, ${rate} exec/s, cov ${cov}, ft ${ft}")
 done
+[ "$failed" -ne 0 ] && exit "$failed"
 printf '%s\n' "${summary[@]}"

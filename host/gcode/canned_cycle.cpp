@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "gcode/interpreter_text.hpp"
+#include "gcode/parser.hpp"
 
 namespace pcnc {
 
@@ -17,7 +18,6 @@ namespace {
 
 using interp::num;
 
-std::string g_name(int code10) { return "G" + std::to_string(code10 / 10); }
 
 bool uses_p(int code10) { return code10 == 820 || code10 == 890; }
 bool uses_q(int code10) { return code10 == 730 || code10 == 830; }

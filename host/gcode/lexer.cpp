@@ -12,12 +12,12 @@ namespace {
 
 constexpr double kMaxMagnitude = 1e9;  // larger word values are typos or corruption
 
-inline bool is_digit(char c) { return c >= '0' && c <= '9'; }
-inline bool is_alpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
-inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
+inline bool lex_digit(char c) { return c >= '0' && c <= '9'; }
+inline bool lex_alpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+inline char lex_upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
 inline char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c + 32) : c; }
 
-std::string describe(char c) {
+std::string describe_char(char c) {
   if (c >= 33 && c <= 126) return std::string("'") + c + "'";
   static const char* hex = "0123456789abcdef";
   const auto u = static_cast<unsigned char>(c);
@@ -28,13 +28,13 @@ bool is_function_name(const char* p, const char* e) {
   static constexpr const char* kNames[] = {"ABS", "ACOS", "ASIN", "ATAN",  "COS",  "EXP", "FIX",
                                            "FUP", "LN",   "ROUND", "SIN", "SQRT", "TAN", "EXISTS"};
   const char* s = p;
-  while (p < e && is_alpha(*p)) ++p;
+  while (p < e && lex_alpha(*p)) ++p;
   const std::string_view name(s, static_cast<std::size_t>(p - s));
   for (const char* n : kNames) {
     const std::string_view want(n);
     if (name.size() != want.size()) continue;
     bool same = true;
-    for (std::size_t i = 0; i < name.size(); ++i) same = same && upper(name[i]) == want[i];
+    for (std::size_t i = 0; i < name.size(); ++i) same = same && lex_upper(name[i]) == want[i];
     if (same) return true;
   }
   return false;
@@ -86,7 +86,7 @@ class LineLexer {
       if (!skip_blank(out)) return false;
       if (c_.at_end()) return true;
       const char* at = c_.p;
-      const char ch = upper(*c_.p);
+      const char ch = lex_upper(*c_.p);
       if ((ch >= 'A' && ch <= 'Z') || ch == '@' || ch == '^') {  // @ ^: LinuxCNC's polar radius and angle
         ++c_.p;
         if (ch == 'O') return o_word(at, out);
@@ -101,7 +101,7 @@ class LineLexer {
         continue;
       }
       if (ch == '[') return c_.fail(at, "expression without a word letter; expected a word such as X[1+2]");
-      return c_.fail(at, "unexpected " + describe(*at) +
+      return c_.fail(at, "unexpected " + describe_char(*at) +
                              "; expected a word (letter and number), a parameter assignment, a comment or end of line");
     }
   }
@@ -116,12 +116,12 @@ class LineLexer {
     inner.no_values_ = true;
     if (!inner.skip_blank(out)) return true;
     // An N word may come first.
-    if (!inner.c_.at_end() && upper(*inner.c_.p) == 'N') {
+    if (!inner.c_.at_end() && lex_upper(*inner.c_.p) == 'N') {
       ++inner.c_.p;
-      while (!inner.c_.at_end() && (is_digit(*inner.c_.p) || *inner.c_.p == ' ' || *inner.c_.p == '\t')) ++inner.c_.p;
+      while (!inner.c_.at_end() && (lex_digit(*inner.c_.p) || *inner.c_.p == ' ' || *inner.c_.p == '\t')) ++inner.c_.p;
       if (!inner.skip_blank(out)) return true;
     }
-    if (inner.c_.at_end() || upper(*inner.c_.p) != 'O') return true;
+    if (inner.c_.at_end() || lex_upper(*inner.c_.p) != 'O') return true;
     const char* at = inner.c_.p++;
     if (!inner.o_word(at, out)) out.oword.kind = OKind::kNone;
     out.message = MessageKind::kNone;
@@ -202,14 +202,14 @@ class LineLexer {
     const char c0 = *s;
     const char c1 = s + 1 < c_.end ? s[1] : '\0';
     // The common case, a plain number ("X12.5", "Y-.25"): straight to the number reader.
-    if (is_digit(c0) || (c0 == '.' && is_digit(c1)) || ((c0 == '-' || c0 == '+') && (is_digit(c1) || c1 == '.'))) {
+    if (lex_digit(c0) || (c0 == '.' && lex_digit(c1)) || ((c0 == '-' || c0 == '+') && (lex_digit(c1) || c1 == '.'))) {
       if (!expr_.number(v)) return false;
     } else {
-      if (is_alpha(c0) && !is_function_name(s, c_.end)) return no_value(s, ", found " + describe(c0));
+      if (lex_alpha(c0) && !is_function_name(s, c_.end)) return no_value(s, ", found " + describe_char(c0));
       if (c0 == '-' || c0 == '+') {
         const char* q = s + 1;
         while (q < c_.end && (*q == ' ' || *q == '\t')) ++q;
-        if (q == c_.end || (!is_digit(*q) && *q != '.' && *q != '#' && *q != '[' && !is_alpha(*q))) return no_value(s, "");
+        if (q == c_.end || (!lex_digit(*q) && *q != '.' && *q != '#' && *q != '[' && !lex_alpha(*q))) return no_value(s, "");
       }
       if (c0 == '.') return no_value(s, "");
       if (!expr_.real_value(v)) return false;
@@ -287,14 +287,14 @@ class LineLexer {
     }
     if (!skip_blank(out)) return false;
     if (c_.at_end()) {
-      if (!is_digit(o.label.empty() ? 'x' : o.label[0]))
+      if (!lex_digit(o.label.empty() ? 'x' : o.label[0]))
         return c_.fail(at, "O-word without a keyword; expected sub, endsub, return, call, if, elseif, else, endif, "
                            "while, endwhile, do, repeat, endrepeat, break or continue");
       out.program_number = true;
       return true;
     }
     const char* kw = c_.p;
-    while (!c_.at_end() && is_alpha(*c_.p)) ++c_.p;
+    while (!c_.at_end() && lex_alpha(*c_.p)) ++c_.p;
     const std::string_view word(kw, static_cast<std::size_t>(c_.p - kw));
     o.kind = OKind::kNone;
     for (const Keyword& k : kKeywords) {
@@ -315,7 +315,7 @@ class LineLexer {
       if (!skip_blank(out)) return false;
       if (c_.at_end()) break;
       if (*c_.p != '[') {
-        return c_.fail(c_.p, "unexpected " + describe(*c_.p) + " after the O-word keyword; expected '[expression]' or "
+        return c_.fail(c_.p, "unexpected " + describe_char(*c_.p) + " after the O-word keyword; expected '[expression]' or "
                                                               "end of line");
       }
       const char* arg_at = c_.p;

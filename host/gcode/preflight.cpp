@@ -15,7 +15,7 @@ namespace pcnc {
 namespace {
 constexpr double kLimitEps = 1e-6;  // mm: rounding of the program's own numbers
 
-std::string mm(double v) {
+std::string mm_text(double v) {
   char buf[48];
   std::snprintf(buf, sizeof buf, "%.4f", v);
   return buf;
@@ -54,9 +54,9 @@ void Preflight::check_point(const Move& m, const Vec3& p) {
     if (!below && !above) continue;
     std::uint64_t& count = violations_[static_cast<std::size_t>(2 * i + (above ? 1 : 0))];
     if (count++ == 0) {
-      std::string what = std::string(1, axis_name(i)) + " " + mm(p[k]) + " mm (machine) is " +
-                         (above ? "above the travel maximum " + mm(a.travel_max_mm)
-                                : "below the travel minimum " + mm(a.travel_min_mm)) +
+      std::string what = std::string(1, axis_name(i)) + " " + mm_text(p[k]) + " mm (machine) is " +
+                         (above ? "above the travel maximum " + mm_text(a.travel_max_mm)
+                                : "below the travel minimum " + mm_text(a.travel_min_mm)) +
                          " mm";
       if (m.kind == MoveKind::kArc && p != m.end) what += " (arc extreme point)";
       if (m.kind == MoveKind::kNurbs && p != m.end) what += " (a point of the NURBS curve)";

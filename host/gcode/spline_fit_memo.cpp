@@ -9,14 +9,14 @@
 namespace pcnc {
 namespace {
 
-struct Entry {
+struct FitMemoEntry {
   std::vector<Vec3> points;
   double tolerance = 0.0;
   SplineFit fit;
 };
 
-HandOverMemo<Entry>& memo() {
-  static HandOverMemo<Entry> m(kSplineFitMemoBytes);
+HandOverMemo<FitMemoEntry>& fit_memo() {
+  static HandOverMemo<FitMemoEntry> m(kSplineFitMemoBytes);
   return m;
 }
 
@@ -29,23 +29,23 @@ std::uint64_t hash_of(const std::vector<Vec3>& points, double tolerance) {
 
 std::size_t bytes_of(const std::vector<Vec3>& points, const SplineFit& f) {
   return (points.size() + f.curve.points.size()) * sizeof(Vec3) +
-         (f.curve.weights.size() + f.curve.knots.size()) * sizeof(double) + sizeof(Entry);
+         (f.curve.weights.size() + f.curve.knots.size()) * sizeof(double) + sizeof(FitMemoEntry);
 }
 
 }  // namespace
 
 SplineFit fit_polyline_memo(const std::vector<Vec3>& points, double tolerance) {
   const std::uint64_t h = hash_of(points, tolerance);
-  auto same = [&](const Entry& e) { return e.tolerance == tolerance && e.points == points; };
-  if (auto e = memo().take(h, same)) return std::move(e->fit);
+  auto same = [&](const FitMemoEntry& e) { return e.tolerance == tolerance && e.points == points; };
+  if (auto e = fit_memo().take(h, same)) return std::move(e->fit);
   SplineFit fit = fit_polyline(points, tolerance);
   const std::size_t bytes = bytes_of(points, fit);
-  memo().put(h, Entry{points, tolerance, fit}, bytes);
+  fit_memo().put(h, FitMemoEntry{points, tolerance, fit}, bytes);
   return fit;
 }
 
-SplineFitMemoStats spline_fit_memo_stats() { return memo().stats(); }
+SplineFitMemoStats spline_fit_memo_stats() { return fit_memo().stats(); }
 
-void spline_fit_memo_clear() { memo().clear(); }
+void spline_fit_memo_clear() { fit_memo().clear(); }
 
 }  // namespace pcnc

@@ -13,7 +13,7 @@
 namespace pcnc {
 namespace {
 
-constexpr double kStill = 1e-9;     // mm: the tip stands still
+constexpr double kTcpStill = 1e-9;     // mm: the tip stands still
 constexpr double kSameRad = 1e-6;   // rad: joints agree
 
 std::string deg(double rad) {
@@ -48,7 +48,7 @@ TcpMovePlan plan_tcp_move(const Move& m, const MachineConfig& cfg, double feed) 
   const TcpMove move{{m.start, p.axis_start}, {m.end, p.axis_end}};
   const double tip = norm(m.end - m.start);
   const double turn = angular_length(m, cfg);
-  if (tip > kStill) {
+  if (tip > kTcpStill) {
     p.length = tip;
   } else if (turn > 1e-12) {
     p.angular = true;

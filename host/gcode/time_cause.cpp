@@ -13,8 +13,8 @@
 namespace pcnc {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kCauseInf = std::numeric_limits<double>::infinity();
+constexpr double kCausePi = 3.14159265358979323846;
 constexpr double kRel = 1e-9;            // relative tolerance when comparing a speed with a limit
 constexpr double kStraightDeg = 0.5;     // a turn under this is no corner worth naming
 
@@ -102,7 +102,7 @@ TimeCause cruise_cause(const Block& b, const MachineConfig& cfg) {
     case BlockKind::kPause: return TimeCause::kPaused;
     case BlockKind::kEnd: return TimeCause::kOther;
     case BlockKind::kLine: {
-      double v_axes = kInf;
+      double v_axes = kCauseInf;
       int axis = -1;
       for (int i = 0; i < kAxes; ++i) {
         const double ui = std::fabs(b.dir_start[static_cast<std::size_t>(i)]);
@@ -124,7 +124,7 @@ TimeCause cruise_cause(const Block& b, const MachineConfig& cfg) {
       const double pitch = std::fabs(sweep) > 0.0 ? g.helix / std::fabs(sweep) : 0.0;
       const double rho = std::sqrt(r * r + pitch * pitch);
       const double s_max = max_abs_sin(g.start_angle, sweep), c_max = max_abs_cos(g.start_angle, sweep);
-      double v_axes = kInf;
+      double v_axes = kCauseInf;
       TimeCause cause = TimeCause::kFeed;
       auto term = [&](double v, TimeCause c) {
         if (v < v_axes) v_axes = v, cause = c;
@@ -143,7 +143,7 @@ TimeCause cruise_cause(const Block& b, const MachineConfig& cfg) {
 
 TimeCause accel_cause(const Block& b, const MachineConfig& cfg) {
   if (b.kind == BlockKind::kArc || b.kind == BlockKind::kNurbs) return TimeCause::kAccelArcCurve;
-  double a_min = kInf;
+  double a_min = kCauseInf;
   int axis = 0;
   for (int i = 0; i < kAxes; ++i) {
     const double ui = std::fabs(b.dir_start[static_cast<std::size_t>(i)]);
@@ -177,7 +177,7 @@ void PlanRecorder::add(const Block& b) {
   double angle = 0.0;
   if (has_prev_ && is_motion(prev_.kind) && is_motion(b.kind)) {
     const double c = std::clamp(dot(prev_.dir_end, b.dir_start), -1.0, 1.0);
-    angle = std::acos(c) * 180.0 / kPi;
+    angle = std::acos(c) * 180.0 / kCausePi;
     const bool under_angle = angle < config_.motion.contouring_angle_deg;
     const bool tolerance = prev_.path_tolerance_mm > 0.0f && angle < 179.0;  // the block's (G64 P, --tolerance)
     if (prev_.rotary.angular || b.rotary.angular) {

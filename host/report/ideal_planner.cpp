@@ -15,7 +15,7 @@
 namespace pcnc {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kIdealInf = std::numeric_limits<double>::infinity();
 const double kBendCos = std::cos(10.0 * 3.14159265358979323846 / 180.0);  // a bend turns by less than 10°
 
 struct Segment {
@@ -115,7 +115,7 @@ class Cutter {
     const double a0 = std::atan2(m.start[i1] - m.center[i1], m.start[i0] - m.center[i0]);
     const double r = m.radius;
     const double tol = std::min(options_.chord_tolerance_mm, r);
-    const double step = r > 0.0 ? 2.0 * std::acos(1.0 - tol / r) : kInf;
+    const double step = r > 0.0 ? 2.0 * std::acos(1.0 - tol / r) : kIdealInf;
     const int count = std::max(1, static_cast<int>(std::ceil(std::fabs(m.sweep) / step)));
     Vec3 prev = m.start;
     for (int k = 1; k <= count; ++k) {
@@ -193,7 +193,7 @@ double bend_radius(const Segment& in, const Segment& out) {
   const Vec3 b = in.length * in.u;
   const Vec3 c = b + out.length * out.u;
   const double area2 = norm(cross(b, c));
-  if (area2 <= 1e-15) return kInf;
+  if (area2 <= 1e-15) return kIdealInf;
   return norm(b) * norm(c - b) * norm(c) / (2.0 * area2);
 }
 

@@ -13,13 +13,13 @@ namespace {
 
 using svg::f1;
 
-struct P2 {
+struct AxisViewPoint {
   double x = 0.0, y = 0.0;
 };
 
 // the tool path view's isometric projection (report_html.cpp): X to the lower right, Y to the
 // upper right, Z up
-P2 iso(const Vec3& p) {
+AxisViewPoint axis_view_iso(const Vec3& p) {
   const double c = std::sqrt(3.0) / 2.0;
   return {(p[0] + p[1]) * c, p[2] + (p[1] - p[0]) * 0.5};
 }
@@ -39,7 +39,7 @@ std::string render_tool_axis_svg(const JointDigest& d) {
   }
   double minx = 1e300, maxx = -1e300, miny = 1e300, maxy = -1e300;
   auto extend = [&](const Vec3& p) {
-    const P2 q = iso(p);
+    const AxisViewPoint q = axis_view_iso(p);
     minx = std::min(minx, q.x);
     maxx = std::max(maxx, q.x);
     miny = std::min(miny, q.y);
@@ -52,17 +52,17 @@ std::string render_tool_axis_svg(const JointDigest& d) {
   const double ox = M + (avail_w - (maxx - minx) * scale) / 2 - minx * scale;
   const double oy = M + (avail_h + (maxy - miny) * scale) / 2 + miny * scale;
   auto screen = [&](const Vec3& p) {
-    const P2 q = iso(p);
-    return P2{q.x * scale + ox, oy - q.y * scale};
+    const AxisViewPoint q = axis_view_iso(p);
+    return AxisViewPoint{q.x * scale + ox, oy - q.y * scale};
   };
   o << "<polyline class=\"tip-path\" fill=\"none\" stroke=\"#7fb2ff\" stroke-width=\"1.4\" stroke-linejoin=\"round\" points=\"";
   for (std::size_t i = 0; i < d.tip_path.size(); ++i) {
-    const P2 q = screen(d.tip_path[i]);
+    const AxisViewPoint q = screen(d.tip_path[i]);
     o << (i ? " " : "") << f1(q.x) << "," << f1(q.y);
   }
   o << "\"/>\n<g stroke=\"#f2b13a\" stroke-width=\"1.2\" stroke-opacity=\"0.9\">\n";
   for (const ToolAxisMark& m : d.marks) {
-    const P2 a = screen(m.tip), b = screen(m.tip + d.axis_length_mm * m.axis);
+    const AxisViewPoint a = screen(m.tip), b = screen(m.tip + d.axis_length_mm * m.axis);
     o << "<line class=\"tool-axis\" x1=\"" << f1(a.x) << "\" y1=\"" << f1(a.y) << "\" x2=\"" << f1(b.x) << "\" y2=\""
       << f1(b.y) << "\"/>\n";
   }
@@ -74,7 +74,7 @@ std::string render_tool_axis_svg(const JointDigest& d) {
   for (int i = 0; i < 3; ++i) {
     Vec3 e{0.0, 0.0, 0.0};
     e[static_cast<std::size_t>(i)] = 1.0;
-    const P2 q = iso(e);
+    const AxisViewPoint q = axis_view_iso(e);
     const double ex = lx + 30 * q.x, ey = ly - 30 * q.y;
     o << "<line x1=\"" << lx << "\" y1=\"" << ly << "\" x2=\"" << f1(ex) << "\" y2=\"" << f1(ey) << "\" stroke=\"#8c96ad\"/><text x=\""
       << f1(ex + 3) << "\" y=\"" << f1(ey + 4) << "\">" << names[i] << "</text>\n";

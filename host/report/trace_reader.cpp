@@ -12,7 +12,7 @@ namespace {
 
 constexpr std::size_t kMaxIdleTail = 20000;  // 10 s at 2 kHz: longer idle closes the program window
 
-bool busy(MachineState s) { return s != MachineState::kIdle && s != MachineState::kStarting; }
+bool trace_busy(MachineState s) { return s != MachineState::kIdle && s != MachineState::kStarting; }
 
 }  // namespace
 
@@ -92,7 +92,7 @@ void TraceDigester::add(const TraceSample& row) {
     started_ = true;
     t_start_ = row.t;
   }
-  if (!busy(row.state)) {
+  if (!trace_busy(row.state)) {
     if (idle_tail_.size() >= kMaxIdleTail) {
       ended_ = true;
       return;

@@ -58,7 +58,7 @@ std::string signal_list() {
   return list;
 }
 
-std::string trim(std::string_view s) {
+std::string trim_signal(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
   return std::string(s);
@@ -87,12 +87,12 @@ std::optional<Trigger> parse_trigger(std::string_view text, std::string& error) 
   else if (c0 == '<') t.op = TriggerOp::kLess;
   else return bad(std::string("'") + c0 + "' is not a comparison");
 
-  std::string lhs = trim(std::string_view(whole).substr(0, op_at));
-  const std::string rhs = trim(std::string_view(whole).substr(op_at + op_len));
+  std::string lhs = trim_signal(std::string_view(whole).substr(0, op_at));
+  const std::string rhs = trim_signal(std::string_view(whole).substr(op_at + op_len));
   if (lhs.empty()) return bad("no signal before the comparison");
   if (lhs.size() > 5 && lhs.rfind("abs(", 0) == 0 && lhs.back() == ')') {
     t.absolute = true;
-    lhs = trim(std::string_view(lhs).substr(4, lhs.size() - 5));
+    lhs = trim_signal(std::string_view(lhs).substr(4, lhs.size() - 5));
   }
   t.signal = scope_signal_index(lhs);
   if (t.signal < 0) return bad("unknown signal '" + lhs + "' (signals: " + signal_list() + ")");

@@ -28,24 +28,24 @@ const char* const kAxisKeys[3] = {"x", "y", "z"};
 
 json vec_json(const Vec3& v) { return json{{"x", v[0]}, {"y", v[1]}, {"z", v[2]}}; }
 
-[[noreturn]] void refuse(const std::string& origin, const std::string& why) {
+[[noreturn]] void refuse_state(const std::string& origin, const std::string& why) {
   throw WorkStateError("work-coordinate state " + origin + ": " + why);
 }
 
 Vec3 read_vec(const json& doc, const std::string& key, const std::string& origin) {
   const json& v = doc.at(key);
-  if (!v.is_object() || v.size() != 3) refuse(origin, "key '" + key + "' must be an object {\"x\": mm, \"y\": mm, \"z\": mm}");
+  if (!v.is_object() || v.size() != 3) refuse_state(origin, "key '" + key + "' must be an object {\"x\": mm, \"y\": mm, \"z\": mm}");
   Vec3 out{};
   for (std::size_t i = 0; i < 3; ++i) {
     const auto it = v.find(kAxisKeys[i]);
     if (it == v.end() || !it->is_number()) {
-      refuse(origin, "key '" + key + "' must be an object {\"x\": mm, \"y\": mm, \"z\": mm}");
+      refuse_state(origin, "key '" + key + "' must be an object {\"x\": mm, \"y\": mm, \"z\": mm}");
     }
     const double d = it->get<double>();
     if (!std::isfinite(d) || std::fabs(d) > kWorkStateLimitMm) {
       std::ostringstream os;
       os << "key '" << key << "." << kAxisKeys[i] << "': value " << d << " is not within ±" << kWorkStateLimitMm << " mm";
-      refuse(origin, os.str());
+      refuse_state(origin, os.str());
     }
     out[i] = d;
   }
@@ -95,19 +95,19 @@ namespace {
 
 // "tool": {"number": N, "offset_applied": bool, "offset": {x, y, z}}, all three keys required.
 void read_tool(const json& t, const std::string& origin, WorkState& s) {
-  if (!t.is_object()) refuse(origin, "key 'tool' must be an object with number, offset_applied and offset");
+  if (!t.is_object()) refuse_state(origin, "key 'tool' must be an object with number, offset_applied and offset");
   for (const auto& [key, value] : t.items()) {
-    if (key != "number" && key != "offset_applied" && key != "offset") refuse(origin, "unknown key 'tool." + key + "'");
+    if (key != "number" && key != "offset_applied" && key != "offset") refuse_state(origin, "unknown key 'tool." + key + "'");
   }
   for (const char* key : {"number", "offset_applied", "offset"}) {
-    if (!t.contains(key)) refuse(origin, std::string("missing key 'tool.") + key + "'");
+    if (!t.contains(key)) refuse_state(origin, std::string("missing key 'tool.") + key + "'");
   }
   const json& n = t["number"];
   if (!n.is_number_integer() || n.get<long long>() < 0 || n.get<long long>() > 99999) {
-    refuse(origin, "key 'tool.number' must be a tool number 0..99999, got " + n.dump());
+    refuse_state(origin, "key 'tool.number' must be a tool number 0..99999, got " + n.dump());
   }
   s.tool = static_cast<int>(n.get<long long>());
-  if (!t["offset_applied"].is_boolean()) refuse(origin, "key 'tool.offset_applied' must be true or false");
+  if (!t["offset_applied"].is_boolean()) refuse_state(origin, "key 'tool.offset_applied' must be true or false");
   s.tool_offset_applied = t["offset_applied"].get<bool>();
   s.tool_offset = read_vec(t, "offset", origin);
 }
@@ -119,29 +119,29 @@ WorkState parse_work_state(const std::string& text, const std::string& origin) {
   try {
     doc = json::parse(text);
   } catch (const json::exception& e) {
-    refuse(origin, std::string("not valid JSON: ") + e.what());
+    refuse_state(origin, std::string("not valid JSON: ") + e.what());
   }
-  if (!doc.is_object()) refuse(origin, "expected a JSON object");
+  if (!doc.is_object()) refuse_state(origin, "expected a JSON object");
   std::set<std::string> expected = {"version", "units", "active", "G92", "G92_applied", "G28", "G30"};
   for (int i = 0; i < kWorkSystems; ++i) expected.insert(work_system_name(i));
   for (const auto& [key, value] : doc.items()) {
-    if (!expected.count(key) && key != "tool") refuse(origin, "unknown key '" + key + "'");
+    if (!expected.count(key) && key != "tool") refuse_state(origin, "unknown key '" + key + "'");
   }
   for (const auto& key : expected) {
-    if (!doc.contains(key)) refuse(origin, "missing key '" + key + "'");
+    if (!doc.contains(key)) refuse_state(origin, "missing key '" + key + "'");
   }
   const json& v = doc["version"];
   if (!v.is_number_integer() || v.get<long long>() != kWorkStateVersion) {
-    refuse(origin, "key 'version' is " + v.dump() + "; this pcnc reads version " + std::to_string(kWorkStateVersion));
+    refuse_state(origin, "key 'version' is " + v.dump() + "; this pcnc reads version " + std::to_string(kWorkStateVersion));
   }
-  if (doc["units"] != "mm") refuse(origin, "key 'units' must be \"mm\"");
+  if (doc["units"] != "mm") refuse_state(origin, "key 'units' must be \"mm\"");
   WorkState s;
   const json& active = doc["active"];
   s.active = active.is_string() ? parse_work_system_name(active.get<std::string>()) : -1;
-  if (s.active < 0) refuse(origin, "key 'active' must name a system G54..G59.3, got " + active.dump());
+  if (s.active < 0) refuse_state(origin, "key 'active' must name a system G54..G59.3, got " + active.dump());
   for (int i = 0; i < kWorkSystems; ++i) s.g5x[static_cast<std::size_t>(i)] = read_vec(doc, work_system_name(i), origin);
   s.g92 = read_vec(doc, "G92", origin);
-  if (!doc["G92_applied"].is_boolean()) refuse(origin, "key 'G92_applied' must be true or false");
+  if (!doc["G92_applied"].is_boolean()) refuse_state(origin, "key 'G92_applied' must be true or false");
   s.g92_applied = doc["G92_applied"].get<bool>();
   s.g28 = read_vec(doc, "G28", origin);
   s.g30 = read_vec(doc, "G30", origin);
@@ -155,17 +155,17 @@ WorkState load_work_state(const MachineConfig& config, const std::string& path) 
   const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
     if (errno == ENOENT) return default_work_state(config);
-    if (errno == ELOOP) refuse(path, "is a symbolic link; refused (remove it, or replace it with the file itself)");
-    refuse(path, std::string("cannot be opened: ") + std::strerror(errno));
+    if (errno == ELOOP) refuse_state(path, "is a symbolic link; refused (remove it, or replace it with the file itself)");
+    refuse_state(path, std::string("cannot be opened: ") + std::strerror(errno));
   }
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd);
-    refuse(path, "is not a regular file");
+    refuse_state(path, "is not a regular file");
   }
   if (static_cast<std::size_t>(st.st_size) > kMaxWorkStateFileBytes) {
     ::close(fd);
-    refuse(path, "is " + std::to_string(st.st_size) + " bytes, more than a work-coordinate state can be");
+    refuse_state(path, "is " + std::to_string(st.st_size) + " bytes, more than a work-coordinate state can be");
   }
   std::string text;
   char buf[4096];
@@ -175,7 +175,7 @@ WorkState load_work_state(const MachineConfig& config, const std::string& path) 
     if (n < 0) {
       const int e = errno;
       ::close(fd);
-      refuse(path, std::string("cannot be read: ") + std::strerror(e));
+      refuse_state(path, std::string("cannot be read: ") + std::strerror(e));
     }
     if (n == 0) break;
     text.append(buf, static_cast<std::size_t>(n));

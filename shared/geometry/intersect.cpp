@@ -8,7 +8,7 @@
 namespace pcnc {
 
 namespace {
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kFullTurn = 2.0 * std::numbers::pi;
 
 // Parameter along a segment, clamped to [0, 1].
 double seg_param(Vec2 a, Vec2 b, Vec2 q) {
@@ -72,14 +72,14 @@ Hits intersect_circles(Vec2 c0, double r0, Vec2 c1, double r1) {
 }
 
 bool within_sweep(const Piece& arc, Vec2 q) {
-  if (std::fabs(arc.sweep) >= kTwoPi - 1e-15) return true;
+  if (std::fabs(arc.sweep) >= kFullTurn - 1e-15) return true;
   const double a0 = angle_of(arc.a - arc.c);
   const double aq = angle_of(q - arc.c);
   double t = arc.sweep >= 0.0 ? aq - a0 : a0 - aq;  // how far along the sweep's direction
-  while (t < 0.0) t += kTwoPi;
-  while (t >= kTwoPi) t -= kTwoPi;
+  while (t < 0.0) t += kFullTurn;
+  while (t >= kFullTurn) t -= kFullTurn;
   const double s = std::fabs(arc.sweep);
-  return t <= s + 1e-12 || t >= kTwoPi - 1e-12;
+  return t <= s + 1e-12 || t >= kFullTurn - 1e-12;
 }
 
 Vec2 closest_point(const Piece& p, Vec2 q) {

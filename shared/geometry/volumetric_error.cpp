@@ -86,7 +86,7 @@ std::string column_name(const VolumetricError& layout, const Columns& c, int col
   return "?";
 }
 
-void summarise(const std::vector<double>& v, double& rms, double& max_abs) {
+void summarise_errors(const std::vector<double>& v, double& rms, double& max_abs) {
   double ss = 0.0;
   max_abs = 0.0;
   for (double x : v) {
@@ -234,8 +234,8 @@ VolumetricCalibration calibrate_volumetric(const std::vector<LengthMeasurement>&
     out.before_mm.push_back(norm(m.b - m.a) - m.length_mm);
     out.after_mm.push_back(norm(actual_position(out.model, m.b) - actual_position(out.model, m.a)) - m.length_mm);
   }
-  summarise(out.before_mm, out.rms_before, out.max_before);
-  summarise(out.after_mm, out.rms_after, out.max_after);
+  summarise_errors(out.before_mm, out.rms_before, out.max_before);
+  summarise_errors(out.after_mm, out.rms_after, out.max_after);
   return out;
 }
 
