@@ -11,7 +11,6 @@
 namespace pcnc {
 namespace {
 
-constexpr double kPreprocessPi = 3.14159265358979323846;
 constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 constexpr double kAxisEps = 1e-9;  // mm: displacements below this do not count as moving
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "geometry/arc_limits.hpp"
 #include "geometry/plane.hpp"
@@ -14,7 +15,6 @@ namespace pcnc {
 namespace {
 
 constexpr double kCauseInf = std::numeric_limits<double>::infinity();
-constexpr double kCausePi = 3.14159265358979323846;
 constexpr double kRel = 1e-9;            // relative tolerance when comparing a speed with a limit
 constexpr double kStraightDeg = 0.5;     // a turn under this is no corner worth naming
 
@@ -177,7 +177,7 @@ void PlanRecorder::add(const Block& b) {
   double angle = 0.0;
   if (has_prev_ && is_motion(prev_.kind) && is_motion(b.kind)) {
     const double c = std::clamp(dot(prev_.dir_end, b.dir_start), -1.0, 1.0);
-    angle = std::acos(c) * 180.0 / kCausePi;
+    angle = std::acos(c) * 180.0 / std::numbers::pi;
     const bool under_angle = angle < config_.motion.contouring_angle_deg;
     const bool tolerance = prev_.path_tolerance_mm > 0.0f && angle < 179.0;  // the block's (G64 P, --tolerance)
     if (prev_.rotary.angular || b.rotary.angular) {
