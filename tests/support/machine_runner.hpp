@@ -62,7 +62,8 @@ class MachineRunner {
   std::vector<CycleRecord> records_;
 };
 
-/// The default config loaded from configs/desktop-mill.toml.
+/// configs/desktop-mill.toml with path tolerance 0 (the seed's contouring rule, no smoothing);
+/// service_procs.hpp's mill_config() is the config as shipped.
 MachineConfig default_machine_config();
 /// configs/desktop-5axis.toml loaded as shipped.
 MachineConfig five_axis_config();
