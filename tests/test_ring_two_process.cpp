@@ -170,7 +170,7 @@ TEST(RingTwoProcess, VirtualClockLockStepOnOneCoreFeedsEveryBlockIntoAFullRing) 
     // the host's settings under the virtual clock (job_runner.cpp): into the replay stage
     produce(config, total,
             [](RtLink& link) {
-              RingFeeder f(link, 0.02, 20000, 20000);
+              RingFeeder f(link, 0.02, 20000);
               f.set_via_stage(true);
               return f;
             },
@@ -180,7 +180,7 @@ TEST(RingTwoProcess, VirtualClockLockStepOnOneCoreFeedsEveryBlockIntoAFullRing) 
   std::uint64_t expected = 1, bad = 0, timeouts = 0, max_stage = 0;
   while (expected <= total) {
     shm.header.rt_heartbeat_ns.store(monotonic_ns());
-    shm.scope.publish(TraceSample{});  // a "cycle": the feeder spins while these count up
+    shm.scope.publish(TraceSample{});  // a "cycle"
     // the rt's rule under the virtual clock: the ring filled from the stage before each
     // cycle; a full ring, or everything there is
     max_stage = std::max<std::uint64_t>(max_stage, shm.stage.size());

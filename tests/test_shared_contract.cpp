@@ -79,7 +79,7 @@ TEST(Seqlock, ReaderNeverSeesATornSnapshot) {
 // Layout version 10 (issue 14): the replay stage, kStageSlots blocks after the motion ring
 // that the host writes under the virtual clock and the rt empties into the ring itself.
 TEST(SharedContract, LayoutVersionTenCarriesTheReplayStage) {
-  EXPECT_EQ(kLayoutVersion, 10u);
+  EXPECT_EQ(kLayoutVersion, 11u);
   EXPECT_EQ(kRingSlots, 4u) << "the ring the rt runs from stays the seed's four slots";
   EXPECT_EQ(StageRing::kCapacity, kStageSlots);
   EXPECT_GT(offsetof(SharedSegment, stage), offsetof(SharedSegment, motion));

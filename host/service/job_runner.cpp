@@ -97,9 +97,9 @@ JobResult JobRunner::run_source(const BlockSource& source, bool contouring, cons
     }
   }
 
-  // Waiting for a free slot: spin 20 µs, then sleep; under the virtual clock spin first for as
-  // long as the rt keeps running (it ran a cycle within the last 20 µs; see RingFeeder).
-  RingFeeder feeder(link_, 0.02, 20000, st.clock_virtual ? 20000 : 0);
+  // Waiting for a free slot: spin 20 µs, then sleep; under the virtual clock nap until the
+  // rt has drained the replay stage to its low-water mark (see RingFeeder).
+  RingFeeder feeder(link_, 0.02, 20000);
   feeder.set_staging(staging_);
   feeder.set_via_stage(st.clock_virtual);  // the rt fills its ring from the replay stage
   Command start;

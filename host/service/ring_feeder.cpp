@@ -1,6 +1,8 @@
 // ring_feeder.cpp — the blocking part of the feeder: sleeping until the rt frees a slot.
 #include "service/ring_feeder.hpp"
 
+#include <time.h>
+
 namespace pcnc {
 
 const char* to_string(FeedResult r) {
@@ -13,44 +15,40 @@ const char* to_string(FeedResult r) {
   return "?";
 }
 
-RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_ns, std::uint64_t follow_rt_ns)
-    : link_(link), check_period_s_(check_period_s), spin_ns_(spin_ns), follow_rt_ns_(follow_rt_ns) {}
+RingFeeder::RingFeeder(RtLink& link, double check_period_s, std::uint64_t spin_ns)
+    : link_(link), check_period_s_(check_period_s), spin_ns_(spin_ns) {}
 
 bool RingFeeder::slot_free() {
   auto& shm = link_.shm();
   return via_stage_ ? shm.stage.begin_push() != nullptr : shm.motion.begin_push() != nullptr;
 }
 
-// Spins while the rt runs (its cycles count up the scope ring), for 1 ms at most: a block that lasts longer costs one wake-up
-// (tens of µs) at its end, a small part of it, and the host's core is not held meanwhile.
-bool RingFeeder::follow_rt() {
-  constexpr std::uint64_t kFollowAtMostNs = 1000000;
+// The replay stage (virtual clock): nap on the host's own timer until the rt has drained the
+// stage to its low-water mark, then let the caller refill it. The rt never wakes the host
+// here: a wake-up per block cost the rt a system call each (tens of µs in a virtual machine),
+// and following the rt by spinning held a core the rt's trace writer and the report need.
+// A nap is about 30 µs plus the timer's slack; the stage's other blocks last longer than that
+// on a CAM program, and when they do not, the rt waits for the host as it always may (the
+// replay stays deterministic).
+FeedResult RingFeeder::wait_for_stage_room(const std::atomic<bool>* abort) {
   auto& shm = link_.shm();
-  std::uint64_t beat = shm.scope.written();  // one more every rt cycle
-  std::uint64_t moved = monotonic_ns();
-  const std::uint64_t give_up = moved + kFollowAtMostNs;
-  for (unsigned i = 1;; ++i) {
-    if (slot_free()) return true;
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
-    if ((i & 63) == 0) {
-      const std::uint64_t now = monotonic_ns();
-      const std::uint64_t b = shm.scope.written();
-      if (b != beat) {
-        beat = b;
-        moved = now;
-      } else if (now - moved >= follow_rt_ns_) {
-        return false;
-      }
-      if (now >= give_up) return false;
-    }
+  const std::uint64_t check_ns = static_cast<std::uint64_t>(check_period_s_ * 1e9);
+  for (;;) {
+    const std::uint64_t until = monotonic_ns() + check_ns;
+    do {
+      if (shm.stage.size() <= kStageLowWater) return FeedResult::kPushed;
+      const timespec nap{0, 30000};
+      nanosleep(&nap, nullptr);
+    } while (monotonic_ns() < until);
+    if (while_waiting_) while_waiting_();
+    if (abort && abort->load()) return FeedResult::kAborted;
+    if (!link_.rt_alive()) return FeedResult::kRtLost;
   }
 }
 
 FeedResult RingFeeder::wait_for_slot(const std::atomic<bool>* abort) {
+  if (via_stage_) return wait_for_stage_room(abort);
   auto& shm = link_.shm();
-  if (follow_rt_ns_ > 0 && follow_rt()) return FeedResult::kPushed;
   for (;;) {
     if (shm.slot_freed.wait_until([&] { return slot_free(); }, check_period_s_, spin_ns_)) {
       return FeedResult::kPushed;

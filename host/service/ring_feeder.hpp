@@ -28,19 +28,13 @@ const char* to_string(FeedResult r);
 
 class RingFeeder {
  public:
-  /// `spin_ns`: how long to spin before sleeping when the ring is full. `follow_rt_ns` > 0
-  /// (the virtual clock, where the rt frees a slot every few µs to ms of wall time and both
-  /// processes race through the program): before that, spin for as long as the rt is running
-  /// (1 ms at most), i.e. it ran a cycle (the scope ring's count, one more every cycle) within
-  /// the last `follow_rt_ns`; when it stands still that long the rt has no core (a busy
-  /// machine) or waits for its trace writer, and the host sleeps instead of taking the core
-  /// from it.
-  explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000,
-                      std::uint64_t follow_rt_ns = 0);
+  /// `spin_ns`: how long to spin before sleeping when the ring is full.
+  explicit RingFeeder(RtLink& link, double check_period_s = 0.02, std::uint64_t spin_ns = 20000);
 
   /// Under the virtual clock: write into the replay stage (SharedSegment::stage), from which
   /// the rt fills its ring before each cycle, instead of into the ring itself. The ring the
-  /// rt sees is the same; the host waits when the stage (8 blocks) is full, not the ring.
+  /// rt sees is the same; the host waits when the stage (kStageSlots blocks) is full, not the
+  /// ring, and then naps until the rt has drained it to kStageLowWater (wait_for_stage_room).
   void set_via_stage(bool on) { via_stage_ = on; }
 
   /// Puts the next block into the ring (or the stage). `fill(Block&)` is a stream: each call
@@ -113,14 +107,13 @@ class RingFeeder {
   }
 
   FeedResult wait_for_slot(const std::atomic<bool>* abort);
-  bool follow_rt();  // true when a slot came free while the rt kept running
+  FeedResult wait_for_stage_room(const std::atomic<bool>* abort);
   bool slot_free();  // a free slot in the ring (or the stage) the feeder writes to
   void record_refill_latency();
 
   RtLink& link_;
   double check_period_s_;
   std::uint64_t spin_ns_;
-  std::uint64_t follow_rt_ns_;
   std::uint64_t seq_ = 0;
   bool staging_ = true;
   bool via_stage_ = false;

@@ -27,13 +27,18 @@
 namespace pcnc {
 
 constexpr std::uint64_t kSegmentMagic = 0x314D48534E434350ull;  // "PCCNSHM1" little-endian
-constexpr std::uint32_t kLayoutVersion = 10;  // bump on any change of the types below (10: the replay stage, SharedSegment::stage; 9: the ruled block: BlockKind::kRuled, Block::ruled; 8: rotary joints: Block::rotary, Status::rot_*; 4: the scope ring; 5: Block::path_tolerance_mm; 6: NurbsGeometry::schedule_accel and schedule_s; 7: the probe: Block::probe_rule, Status::probe_*)
+constexpr std::uint32_t kLayoutVersion = 11;  // bump on any change of the types below (11: the stage holds 16 blocks; 10: the replay stage, SharedSegment::stage; 9: the ruled block: BlockKind::kRuled, Block::ruled; 8: rotary joints: Block::rotary, Status::rot_*; 4: the scope ring; 5: Block::path_tolerance_mm; 6: NurbsGeometry::schedule_accel and schedule_s; 7: the probe: Block::probe_rule, Status::probe_*)
 constexpr std::size_t kRingSlots = 4;        // the seed's 4-line circular buffer
 constexpr std::size_t kMailboxSlots = 64;
-// The replay stage (virtual clock only): 8 blocks the host has prepared ahead of the ring.
-constexpr std::size_t kStageSlots = 8;
+// The replay stage (virtual clock only): 16 blocks the host has prepared ahead of the ring.
+constexpr std::size_t kStageSlots = 16;
+// A host that finds the stage full naps on its own timer (a few tens of µs at a time; the rt
+// never has to wake it) until the rt has drained the stage to this many blocks, then refills
+// it (host/service/ring_feeder.cpp): it no longer follows the rt block by block on a core of its
+// own, which leaves that core to the rt's trace writer and the report.
+constexpr std::size_t kStageLowWater = kStageSlots * 3 / 4;
 // 1.02 s of cycles at 2 kHz: how far a capture may lag (it reads every 5 ms). 2048 x 104 bytes
-// is 213 KB of the segment's 342 KB (it is a file: RLIMIT_FSIZE applies to its creation).
+// is 213 KB of the segment's 426 KB (it is a file: RLIMIT_FSIZE applies to its creation).
 constexpr std::size_t kScopeSlots = 2048;
 
 /// The motion ring: host -> rt, preprocessed blocks (the executor consumes it).
