@@ -95,6 +95,15 @@ int main(int argc, char** argv) {
   std::printf("  rt writer thread, per row:  CSV text %.0f ns   compact trace %.0f ns   (%.1f ms and %.1f ms in all)\n",
               t_csv / n * 1e9, t_compact / n * 1e9, t_csv * 1e3, t_compact * 1e3);
 
+  // the run's summary: pcnc-host writes it after the run, the front process reads it back
+  const RunSummary parsed = read_run_summary(summary);
+  const std::string summary_copy = trace + ".summary.json";
+  const double t_write_summary = fastest(repeat, [&] { write_run_summary(parsed, summary_copy); });
+  const double t_read_summary = fastest(repeat, [&] { sink += read_run_summary(summary_copy).plan.size(); });
+  std::printf("  summary (%zu plan entries): write %.1f ms, read %.1f ms\n", parsed.plan.size(), t_write_summary * 1e3,
+              t_read_summary * 1e3);
+  std::remove(summary_copy.c_str());
+
   ReportPage page;
   const double t_read_csv = fastest(repeat, [&] { page = load_report_page(summary, trace); });
   const double t_read_compact = fastest(repeat, [&] { page = load_report_page(summary, compact); });

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <thread>
 
@@ -619,13 +620,74 @@ TEST(RunSummary, PlanEntriesRoundTripAndMalformedOnesAreRefused) {
     std::snprintf(buf, sizeof buf, "%.4g", x.angle_after_deg);
     EXPECT_EQ(y.angle_after_deg, std::strtod(buf, nullptr)) << i;
   }
-  const std::string good = j["check"]["plan"][0].get<std::string>();
+  // the plan is one string, its entries separated by ';'
+  const std::string text = j["check"]["plan"].get<std::string>();
+  const std::string good = text.substr(0, text.find(';'));
+  const std::string rest = text.substr(good.size());
+  EXPECT_EQ(std::count(text.begin(), text.end(), ';'), static_cast<long>(a.plan.size()) - 1);
   for (const std::string& bad : {good.substr(0, good.rfind(',')), good + ",1", "x" + good, std::string("1,2,feed,nokey,3,0,0,0,0"),
-                                std::string("1,2,feed,feed,3,0,9,0,0"), std::string("1,2,feed,feed,fast,0,0,0,0")}) {
+                                std::string("1,2,feed,feed,3,0,9,0,0"), std::string("1,2,feed,feed,fast,0,0,0,0"), std::string()}) {
     nlohmann::json broken = j;
-    broken["check"]["plan"][0] = bad;
+    broken["check"]["plan"] = bad + rest;
     EXPECT_THROW(run_summary_from_json(broken), std::runtime_error) << bad;
   }
+  // a summary written before: the plan as an array of entries, read the same
+  nlohmann::json older = j;
+  older["check"]["plan"] = nlohmann::json::array();
+  for (std::size_t at = 0; at <= text.size();) {
+    const std::size_t end = std::min(text.find(';', at), text.size());
+    older["check"]["plan"].push_back(text.substr(at, end - at));
+    at = end + 1;
+  }
+  const RunSummary c = run_summary_from_json(older);
+  ASSERT_EQ(c.plan.size(), a.plan.size());
+  for (std::size_t i = 0; i < a.plan.size(); ++i) {
+    EXPECT_EQ(c.plan[i].first, b.plan[i].first);
+    EXPECT_EQ(c.plan[i].speed, b.plan[i].speed);
+    EXPECT_EQ(c.plan[i].angle_after_deg, b.plan[i].angle_after_deg);
+  }
+}
+
+// write_run_summary writes the plan's text around nlohmann's writer, and read_run_summary takes
+// it out before the parse (the plan is nearly all of a summary's bytes): the file is exactly what
+// nlohmann writes for the whole summary, and reads back to the same summary, even when another
+// string holds the text of the plan's key; a summary without the pretty-printer's spacing
+// (edited by hand, or by a tool) reads the same through the parser alone.
+TEST(RunSummary, TheFileIsNlohmannsTextAndReadsBackTheSame) {
+  RunSummary a = sample_summary();
+  a.program = "odd \"plan\": \"name\".ngc";
+  a.message = R"("plan": "x;y")";
+  a.plan.clear();
+  for (std::uint32_t k = 1; k <= 300; ++k) {
+    LinePlan p;
+    p.first = k;
+    p.last = k + 2;
+    p.speed = 1.0 / k;
+    p.angle_after_deg = 3.0 * k;
+    a.plan.push_back(p);
+  }
+  const std::string dir = test::make_temp_dir("summary_text");
+  const std::string path = dir + "/s.json";
+  write_run_summary(a, path);
+  std::ifstream f(path);
+  const std::string text{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+  EXPECT_EQ(text, to_json(a).dump(2) + "\n");
+  const RunSummary b = read_run_summary(path);
+  EXPECT_EQ(b.program, a.program);
+  EXPECT_EQ(b.message, a.message);
+  ASSERT_EQ(b.plan.size(), a.plan.size());
+  for (std::size_t i = 0; i < a.plan.size(); ++i) {
+    EXPECT_EQ(b.plan[i].last, a.plan[i].last) << i;
+    EXPECT_NEAR(b.plan[i].speed, a.plan[i].speed, 1e-8 * a.plan[i].speed) << i;  // nine digits
+  }
+  {
+    std::ofstream compact(path);
+    compact << to_json(a).dump() << "\n";
+  }
+  const RunSummary c = read_run_summary(path);
+  ASSERT_EQ(c.plan.size(), a.plan.size());
+  EXPECT_EQ(c.plan.back().first, a.plan.back().first);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(RunSummary, RapidLinesRoundTripAndOlderSummariesHaveNone) {

@@ -4,7 +4,10 @@
 // order (p50 <= p99 <= max).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <numeric>
+#include <string>
 
 #include "gcode_test_util.hpp"
 #include "ipc/latency_histogram.hpp"
@@ -260,6 +263,35 @@ TEST(TimeCauseSummary, PlanAndTimesRoundTrip) {
     TimeCause back{};
     ASSERT_TRUE(parse_time_cause(time_cause_key(static_cast<TimeCause>(c)), back));
     EXPECT_EQ(static_cast<int>(back), c);
+  }
+}
+
+// The summary's plan entry (one plan's text is its entries separated by ';') is the text
+// "first,last,cruise,accel,speed,before,after,angle_before,angle_after" with printf's %.9g for the speed and %.4g for the angles (the file format; the
+// writer uses std::to_chars): the same text for ordinary, tiny, huge and negative values.
+TEST(TimeCauseSummary, PlanEntryTextIsPrintfsFormat) {
+  const double values[] = {0.0, 12.345678901, 13.3333333333, 1e-7, 123456789012.0, 90.0, 4.5, -0.00012345, 179.99999,
+                           5e-324, 1.0 / 3.0, 250.0};
+  for (const double v : values) {
+    RunSummary s;
+    LinePlan p;
+    p.first = 4294967295u;
+    p.last = 12;
+    p.cruise = TimeCause::kFeed;
+    p.accel = TimeCause::kAccelY;
+    p.speed = v;
+    p.before = JunctionKind::kCorner;
+    p.after = JunctionKind::kStartEnd;
+    p.angle_before_deg = v;
+    p.angle_after_deg = -v;
+    s.plan = {p};
+    char want[256];
+    std::snprintf(want, sizeof want, "%u,%u,%s,%s,%.9g,%d,%d,%.4g,%.4g", p.first, p.last, time_cause_key(p.cruise),
+                  time_cause_key(p.accel), p.speed, static_cast<int>(p.before), static_cast<int>(p.after),
+                  p.angle_before_deg, p.angle_after_deg);
+    EXPECT_EQ(to_json(s).at("check").at("plan").get<std::string>(), std::string(want)) << v;
+    const double back = run_summary_from_json(to_json(s)).plan.at(0).speed;
+    EXPECT_NEAR(back, v, std::abs(v) * 1e-8) << "the speed read back, to its nine digits";
   }
 }
 

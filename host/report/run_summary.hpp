@@ -87,6 +87,8 @@ RunSummary make_run_summary(const RunReport& report, const MachineConfig& config
                             bool contouring_at_start);
 
 nlohmann::json to_json(const RunSummary& s);
+/// The same without the plan's entries when `with_plan` is false (its text left empty).
+nlohmann::json to_json(const RunSummary& s, bool with_plan);
 /// Throws nlohmann::json::exception (or std::runtime_error) on a missing or mistyped field.
 RunSummary run_summary_from_json(const nlohmann::json& j);
 
