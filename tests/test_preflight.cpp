@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 #include "gcode_test_util.hpp"
 #include "gcode/preflight.hpp"
@@ -67,6 +68,72 @@ TEST(Preflight, ManyViolationsAreCountedNotListed) {
   EXPECT_FALSE(r.check.ok);
   EXPECT_LT(r.check.diagnostics.size(), 5u);
   EXPECT_TRUE(r.has_error("1000 points leave the travel above the maximum of axis X"));
+}
+
+// A NURBS move whose control polygon lies inside what the extents already hold skips the search
+// for its extreme points (Preflight::within_seen): it must still count as outside the travel
+// when it is, change no extents when it is inside them, and a curve that reaches past them must
+// move them to its true extreme (the convex hull's corner is farther than the curve).
+TEST(Preflight, ACurveInsideTheSeenExtentsChangesNothingButIsStillCheckedAgainstTheTravel) {
+  const MachineConfig config = mill_config();
+  DiagnosticSink sink("t.ngc");
+  Preflight pf(config, sink, true);
+  auto line = [](Vec3 a, Vec3 b) {
+    Move m;
+    m.kind = MoveKind::kLine;
+    m.start = a;
+    m.end = b;
+    m.feed_mm_s = 10.0;
+    m.line = 1;
+    return m;
+  };
+  // a quadratic Bezier from (2,2,5) to (10,2,5), its middle control point at y = 8: the curve
+  // peaks at y = 5 (the polygon's corner is at 8)
+  auto curve = [](double y_mid, double z) {
+    auto c = std::make_shared<NurbsCurve>();
+    c->degree = 2;
+    c->points = {{2, 2, z}, {6, y_mid, z}, {10, 2, z}};
+    c->weights = {1, 1, 1};
+    c->knots = {0, 0, 0, 1, 1, 1};
+    Move m;
+    m.kind = MoveKind::kNurbs;
+    m.start = c->points.front();
+    m.end = c->points.back();
+    m.nurbs = c;
+    m.feed_mm_s = 10.0;
+    m.line = 2;
+    return m;
+  };
+  pf.add(line({0, 0, 5}, {1, 1, 5}));  // the preflight sees end points: (1,1,5) and (12,9,5)
+  pf.add(line({1, 1, 5}, {12, 9, 5}));
+  const Box seen = pf.extents();
+  pf.add(curve(8.0, 5.0));  // inside the box the line made: nothing changes
+  EXPECT_EQ(pf.extents().min, seen.min);
+  EXPECT_EQ(pf.extents().max, seen.max);
+  pf.add(curve(16.0, 5.0));  // its polygon passes y = 9: the box grows to the curve's peak, y = 9
+  EXPECT_NEAR(pf.extents().max[1], 9.0, 1e-9) << "the curve's own extreme, not its polygon's";
+  EXPECT_FALSE(sink.has_errors());
+  // outside the travel (z below 0) and inside the extents it has seen: still counted
+  pf.add(line({12, 9, 5}, {1, 1, -2}));
+  pf.add(line({1, 1, -2}, {12, 9, -2}));
+  pf.finish();
+  const std::vector<Diagnostic> lines_only = sink.take();
+  DiagnosticSink sink2("t.ngc");
+  Preflight pf2(config, sink2, true);
+  pf2.add(line({0, 0, 5}, {1, 1, 5}));
+  pf2.add(line({1, 1, 5}, {12, 9, 5}));
+  pf2.add(line({12, 9, 5}, {1, 1, -2}));
+  pf2.add(line({1, 1, -2}, {12, 9, -2}));
+  pf2.add(curve(8.0, -1.0));
+  pf2.finish();
+  auto below_z = [](const std::vector<Diagnostic>& ds) {
+    for (const Diagnostic& d : ds) {
+      const std::size_t at = d.message.find(" points leave the travel below the minimum of axis Z");
+      if (at != std::string::npos) return std::stoi(d.message.substr(0, at));
+    }
+    return 1;  // one point: reported on its own, without a count
+  };
+  EXPECT_GT(below_z(sink2.take()), below_z(lines_only)) << "the curve's points below Z 0 are counted too";
 }
 
 TEST(Preflight, FitScalesDownAndCentres) {

@@ -70,6 +70,7 @@ class Preflight {
  private:
   void check_point(const Move& m, const Vec3& p);
   void add_nurbs(const Move& m);
+  bool within_seen(const Move& m) const;  // a NURBS move that cannot change the extents nor leave the travel
   const MachineConfig& config_;
   DiagnosticSink& sink_;
   bool check_limits_;
