@@ -3,6 +3,8 @@
 
 #include <time.h>
 
+#include <algorithm>
+
 namespace pcnc {
 
 const char* to_string(FeedResult r) {
@@ -29,15 +31,23 @@ bool RingFeeder::slot_free() {
 // and following the rt by spinning held a core the rt's trace writer and the report need.
 // A nap is about 30 µs plus the timer's slack; the stage's other blocks last longer than that
 // on a CAM program, and when they do not, the rt waits for the host as it always may (the
-// replay stays deterministic).
+// replay stays deterministic). While the stage does not move (a pause, a dwell, a long slow
+// block) each nap doubles, up to 2 ms, so that a paused replay does not wake the host 10,000s
+// of times a second; the first block the rt takes brings the naps back to 30 µs.
 FeedResult RingFeeder::wait_for_stage_room(const std::atomic<bool>* abort) {
+  constexpr long kNapNs = 30000, kLongestNapNs = 2000000;
   auto& shm = link_.shm();
   const std::uint64_t check_ns = static_cast<std::uint64_t>(check_period_s_ * 1e9);
+  std::size_t seen = kStageSlots + 1;  // none yet: the first nap is the short one
+  long nap_ns = kNapNs;
   for (;;) {
     const std::uint64_t until = monotonic_ns() + check_ns;
     do {
-      if (shm.stage.size() <= kStageLowWater) return FeedResult::kPushed;
-      const timespec nap{0, 30000};
+      const std::size_t staged = shm.stage.size();
+      if (staged <= kStageLowWater) return FeedResult::kPushed;
+      nap_ns = staged == seen ? std::min(2 * nap_ns, kLongestNapNs) : kNapNs;
+      seen = staged;
+      const timespec nap{0, nap_ns};
       nanosleep(&nap, nullptr);
     } while (monotonic_ns() < until);
     if (while_waiting_) while_waiting_();
