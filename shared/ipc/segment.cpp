@@ -53,8 +53,7 @@ std::size_t take_staged(SharedSegment& shm) {
     shm.stage.pop();
     ++moved;
   }
-  if (moved > 0) shm.slot_freed.notify();
-  return moved;
+  return moved;  // no wake-up: a host waiting for stage room naps on its own timer (ring_feeder.cpp)
 }
 
 int claim_host(SegmentHeader& h, int pid) {

@@ -67,7 +67,7 @@ struct SharedSegment {
   SegmentHeader header;
   MotionRing motion;                         // host -> rt, preprocessed blocks
   StageRing stage;                           // host -> rt under the virtual clock: blocks ahead of the ring
-  Wakeup slot_freed;                         // rt -> host: a ring slot (a stage slot, virtual clock) was freed
+  Wakeup slot_freed;                         // rt -> host: a ring slot was freed (real clock)
   Wakeup block_published;                    // host -> rt: a block was published (virtual clock)
   SpscRing<Command, kMailboxSlots> commands; // host -> rt
   Seqlock<Status> status;                    // rt -> host
@@ -88,8 +88,8 @@ std::uint64_t monotonic_ns();
 bool process_alive(int pid);
 
 /// The rt's side under the virtual clock: moves the blocks the host staged (stage) into the
-/// motion ring while it has a free slot, oldest first, and wakes a host waiting for a stage
-/// slot. Returns how many moved.
+/// motion ring while it has a free slot, oldest first. It wakes nobody: a host that waits for
+/// room in the stage naps on its own timer (kStageLowWater). Returns how many moved.
 std::size_t take_staged(SharedSegment& shm);
 
 /// The rt serves one host at a time: header.host_pid is a claim. claim_host takes it for
